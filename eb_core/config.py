@@ -1,0 +1,141 @@
+"""Pydantic models that validate the composed Hydra config (``extra="forbid"``: a typo names its key)."""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+__all__ = ["AblationConfig", "EnvConfig", "ModelConfig", "PlannerConfig", "RunConfig", "RunnerConfig", "ConfigError",
+           "validate_config"]
+
+
+class ConfigError(ValueError):
+    """The config is invalid; the message is one line naming the key and what is allowed."""
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class EnvConfig(_Strict):
+    """``conf/env/<name>.yaml``, shipped by the env plugin."""
+
+    name: str
+    """Registered env name (``eb list`` shows them)."""
+    max_steps: int = Field(gt=0)
+    """Environment-step budget per episode (ALFRED 30, Habitat 30, Navigation 20, Manipulation 15)."""
+    max_invalid_actions: int | None = None
+    """End the episode after this many invalid actions (10 for ALFRED and Habitat); None = no cap."""
+    replan_on_failure: bool = True
+    """Stop executing a plan at its first failed action and ask the model again."""
+    empty_plan_ends: bool = True
+    """An empty plan ends the episode (ALFRED, Habitat, Manipulation); else it counts as an output error."""
+    default_n_shot: int = Field(default=3, ge=0)
+    """In-context examples shown when ``planner.n_shot`` is null."""
+    resolution: int = Field(default=500, ge=64, le=2048)
+    """Image side in pixels (the paper's ablation uses 300, 500, 700)."""
+    multi_view: bool = False
+    """Render the extra view (navigation: overhead; manipulation: wrist) and send it to the model."""
+    params: dict[str, Any] = Field(default_factory=dict)
+    """Env-specific constructor arguments, validated by the env itself."""
+
+
+class ModelConfig(BaseModel):
+    """``conf/model/<name>.yaml``. Common keys are checked here; the backend validates the rest."""
+
+    model_config = ConfigDict(extra="allow")
+
+    name: str
+    """Preset name (``gpt-4o``, ``oracle``...)."""
+    backend: str
+    """Registered model backend (``litellm``, ``oracle``, ``random``, ``replay``, ``human``)."""
+
+    def backend_kwargs(self) -> dict[str, Any]:
+        return {k: v for k, v in self.model_dump().items() if k not in ("name", "backend")}
+
+
+class PlannerConfig(_Strict):
+    """``conf/planner/vlm.yaml``: the paper's agent pipeline and its ablation switches."""
+
+    name: str = "vlm"
+    n_shot: int | None = Field(default=None, ge=0)
+    """In-context examples to show; null = the env's default."""
+    feedback: bool = True
+    """Show the environment's feedback text in the action history."""
+    chat_history: bool = False
+    """Send earlier turns as chat messages (the paper found this can hurt; off by default)."""
+    history_window: int = Field(default=5, ge=1)
+    """How many earlier turns to keep when ``chat_history`` is on."""
+    multi_step_images: int = Field(default=1, ge=1)
+    """Send the last k frames instead of only the current one."""
+    language_only: bool = False
+    """Send no image; the observation's text description stands in for it."""
+    json_schema: Literal["auto", "always", "never"] = "auto"
+    """Ask for schema-constrained output: auto = when the backend supports it."""
+    max_plan_length: int = Field(default=20, ge=1)
+    """Plans longer than this are cut (the guidelines tell the model so)."""
+
+
+class AblationConfig(_Strict):
+    name: str = "none"
+    description: str = ""
+
+
+class AugmenterConfig(BaseModel):
+    model_config = ConfigDict(extra="allow")
+    name: str
+
+
+class RunnerConfig(_Strict):
+    workers: int = Field(default=1, ge=1, le=256)
+    """Episodes run in parallel worker processes, each owning its env and model backend."""
+    save_images: bool = True
+    """Write the image the model saw at every planner step as PNG."""
+    quiet: bool = False
+    """Plain progress lines instead of the live display."""
+    episode_timeout_s: float | None = None
+    """Kill a worker whose episode runs longer than this (recorded as an error episode)."""
+
+
+class RunConfig(_Strict):
+    env: EnvConfig
+    model: ModelConfig
+    planner: PlannerConfig
+    ablation: AblationConfig
+    augmenters: list[AugmenterConfig] = Field(default_factory=list)
+    runner: RunnerConfig = Field(default_factory=RunnerConfig)
+    seed: int = 0
+    subset: str | list[str] | None = None
+    """One subset name, a list, or null for all."""
+    limit: int | None = Field(default=None, ge=1)
+    """Take the first N tasks of the selection in their stable order."""
+    tasks: list[str] | None = None
+    """Explicit task ids (overrides subset and limit)."""
+    experiment: str = "default"
+    """Part of the run directory name; re-running the same command with it resumes."""
+
+
+def _loc(err: dict[str, Any]) -> str:
+    return ".".join(str(p) for p in err["loc"])
+
+
+def validate_config(cfg: dict[str, Any]) -> RunConfig:
+    """Validate a plain-dict config; raise :class:`ConfigError` with one line on the first problem."""
+    try:
+        return RunConfig.model_validate(cfg)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        key = _loc(err)
+        if err["type"] == "extra_forbidden":
+            parent = key.rsplit(".", 1)[0] if "." in key else ""
+            model: Any = RunConfig
+            for part in parent.split(".") if parent else []:
+                field = model.model_fields.get(part)
+                model = field.annotation if field is not None else None
+                if not (isinstance(model, type) and issubclass(model, BaseModel)):
+                    model = None
+                    break
+            allowed = ", ".join(model.model_fields) if model is not None else "see --cfg job"
+            raise ConfigError(f"unknown config key '{key}'; allowed here: {allowed}. Fix the spelling.") from None
+        raise ConfigError(f"invalid config value for '{key}': {err['msg']} (got {err.get('input')!r})") from None

@@ -1,0 +1,291 @@
+"""The environment contract every world plugin implements.
+
+An environment is a small object with :meth:`Env.reset`, :meth:`Env.step` and :meth:`Env.close`
+(the Gymnasium shape), typed with pydantic. It also supplies what the planner needs to talk about
+it: the action space of the current episode and the prompt parts (role, action rules, guidelines,
+in-context examples) written for that world.
+
+Nothing here imports a simulator: plugins import theirs inside their own ``Env`` subclass, which the
+core only imports when a run selects it.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from typing import Any, ClassVar, Literal, Union
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+__all__ = [
+    "Action",
+    "ActionSpace",
+    "DiscreteActionSpace",
+    "Env",
+    "ObjectInfo",
+    "Observation",
+    "PlanItemError",
+    "PromptParts",
+    "StepResult",
+    "Task",
+    "VectorActionSpace",
+]
+
+#: An action is an action id for discrete spaces, or a tuple of ints for vector spaces.
+Action = Union[int, tuple[int, ...]]
+
+
+class PlanItemError(ValueError):
+    """A plan item from the model does not name a valid action. The plan is cut at that item."""
+
+
+class Task(BaseModel):
+    """One benchmark task. Tasks are data: plugins load them from versioned task files."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    id: str = Field(min_length=1)
+    """Stable id, unique within its environment (used for resume, seeding and reports)."""
+    subset: str = Field(min_length=1)
+    """The evaluation subset, e.g. ``base`` or ``long_horizon``."""
+    instruction: str = Field(min_length=1)
+    """The natural-language instruction shown to the model."""
+    metadata: dict[str, Any] = Field(default_factory=dict)
+    """Everything else the environment needs to set the task up (scene seed, start pose, goal...)."""
+
+
+class ObjectInfo(BaseModel):
+    """What an augmenter or a report may know about one object in view."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    name: str
+    """Instance name as the world calls it, e.g. ``Apple_2`` or ``object 3``."""
+    type: str | None = None
+    box: tuple[int, int, int, int] | None = None
+    """2-D box ``(x0, y0, x1, y1)`` in pixels of the primary image, if visible."""
+    position: tuple[float, ...] | None = None
+    """3-D position in the world frame (metres), or in the env's discrete frame if it says so."""
+    label: str | None = None
+    """Short text drawn beside the box (manipulation draws object indices)."""
+    is_target: bool = False
+    """True for the object(s) the task is about (for the target-only box ablation)."""
+
+
+class Observation(BaseModel):
+    """What the agent perceives after a reset or a step."""
+
+    model_config = ConfigDict(arbitrary_types_allowed=True, extra="forbid")
+
+    images: dict[str, Any] = Field(default_factory=dict)
+    """Named RGB images, ``HxWx3`` uint8 numpy arrays (``first_person``, ``overhead``, ``front``, ``wrist``...)."""
+    primary: str | None = None
+    """Key of the main image in ``images``; the others are extra views for the multi-view ablation."""
+    text: str | None = None
+    """A text description of what the agent perceives, for language-only runs."""
+    objects: list[ObjectInfo] = Field(default_factory=list)
+    """Per-object metadata (names, boxes, positions) that augmenters can draw."""
+    extra_prompt: str | None = None
+    """Text the env adds to every prompt for this observation (manipulation's object coordinates)."""
+
+    @field_validator("images")
+    @classmethod
+    def _rgb_images(cls, images: dict[str, Any]) -> dict[str, Any]:
+        for key, img in images.items():
+            if not isinstance(img, np.ndarray) or img.dtype != np.uint8 or img.ndim != 3 or img.shape[2] != 3:
+                raise ValueError(f"image {key!r} must be an HxWx3 uint8 numpy array")
+        return images
+
+    @property
+    def primary_image(self) -> np.ndarray | None:
+        if self.primary is None:
+            return None
+        return self.images.get(self.primary)
+
+
+class StepResult(BaseModel):
+    """The outcome of one :meth:`Env.step`."""
+
+    model_config = ConfigDict(arbitrary_types_allowed=True, extra="forbid")
+
+    observation: Observation
+    action_success: bool
+    """Whether the action could be executed (a collision, a closed receptacle... make it False)."""
+    feedback: str
+    """Text feedback from the world, in our wording (why an action failed, what is now held...)."""
+    done: bool = False
+    """The world ended the episode (task solved or a terminal state). Step limits are the runner's."""
+    task_success: bool = False
+    progress: float = Field(default=0.0, ge=0.0, le=1.0)
+    """Fraction of goal conditions met so far (the paper's subgoal success); 1.0 when solved."""
+    info: dict[str, Any] = Field(default_factory=dict)
+
+
+class DiscreteActionSpace(BaseModel):
+    """Named actions with ids ``0..n-1`` (ALFRED, Habitat, Navigation)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    kind: Literal["discrete"] = "discrete"
+    actions: tuple[str, ...]
+
+    def __len__(self) -> int:
+        return len(self.actions)
+
+    def describe(self) -> str:
+        """The numbered list shown to the model, one ``action id i: name`` line each."""
+        return "\n".join(f"action id {i}: {name}" for i, name in enumerate(self.actions))
+
+    def plan_item_schema(self) -> dict[str, Any]:
+        return {
+            "type": "object",
+            "properties": {
+                "action_id": {"type": "integer"},
+                "action_name": {"type": "string"},
+            },
+            "required": ["action_id", "action_name"],
+            "additionalProperties": False,
+        }
+
+    def plan_item_example(self) -> Any:
+        return {"action_id": 0, "action_name": self.actions[0] if self.actions else "..."}
+
+    def parse_plan_item(self, item: Any) -> int:
+        """Turn one model plan item into an action id, or raise :class:`PlanItemError`."""
+        if isinstance(item, dict):
+            raw = item.get("action_id", item.get("id"))
+            if raw is None and isinstance(item.get("action_name"), str):
+                name = item["action_name"].strip()
+                if name in self.actions:
+                    return self.actions.index(name)
+                raise PlanItemError(f"unknown action name {name!r} and no action_id")
+        else:
+            raw = item
+        if isinstance(raw, bool):
+            raise PlanItemError(f"action id must be an integer, got {raw!r}")
+        if isinstance(raw, str) and raw.strip().lstrip("-").isdigit():
+            raw = int(raw.strip())
+        if isinstance(raw, float) and raw.is_integer():
+            raw = int(raw)
+        if not isinstance(raw, int):
+            raise PlanItemError(f"action id must be an integer, got {raw!r}")
+        if not 0 <= raw < len(self.actions):
+            raise PlanItemError(f"action id {raw} is out of range 0..{len(self.actions) - 1}")
+        return raw
+
+    def name_of(self, action: Action) -> str:
+        return self.actions[int(action)]  # type: ignore[arg-type]
+
+
+class VectorActionSpace(BaseModel):
+    """A fixed-length vector of bounded integers (manipulation's ``[x, y, z, roll, pitch, yaw, gripper]``)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    kind: Literal["vector"] = "vector"
+    names: tuple[str, ...]
+    low: tuple[int, ...]
+    high: tuple[int, ...]
+    """Inclusive upper bounds."""
+
+    def describe(self) -> str:
+        parts = [f"{n} in [{lo}, {hi}]" for n, lo, hi in zip(self.names, self.low, self.high)]
+        return "Each action is a list of integers [" + ", ".join(self.names) + "]: " + "; ".join(parts) + "."
+
+    def plan_item_schema(self) -> dict[str, Any]:
+        n = len(self.names)
+        return {
+            "type": "object",
+            "properties": {"action": {"type": "array", "items": {"type": "integer"}, "minItems": n, "maxItems": n}},
+            "required": ["action"],
+            "additionalProperties": False,
+        }
+
+    def plan_item_example(self) -> Any:
+        return {"action": [(lo + hi) // 2 for lo, hi in zip(self.low, self.high)]}
+
+    def parse_plan_item(self, item: Any) -> tuple[int, ...]:
+        if isinstance(item, dict):
+            item = item.get("action", item.get("action_id"))
+        if isinstance(item, str):
+            import json
+
+            try:
+                item = json.loads(item)
+            except ValueError as exc:
+                raise PlanItemError(f"action {item!r} is not a list of integers") from exc
+        if not isinstance(item, (list, tuple)) or len(item) != len(self.names):
+            raise PlanItemError(f"action must be a list of {len(self.names)} integers, got {item!r}")
+        out = []
+        for name, value, lo, hi in zip(self.names, item, self.low, self.high):
+            if isinstance(value, float) and value.is_integer():
+                value = int(value)
+            if isinstance(value, bool) or not isinstance(value, int):
+                raise PlanItemError(f"{name} must be an integer, got {value!r}")
+            if not lo <= value <= hi:
+                raise PlanItemError(f"{name}={value} is outside [{lo}, {hi}]")
+            out.append(value)
+        return tuple(out)
+
+    def name_of(self, action: Action) -> str:
+        return "[" + ", ".join(str(int(v)) for v in action) + "]"  # type: ignore[union-attr]
+
+
+ActionSpace = Union[DiscreteActionSpace, VectorActionSpace]
+
+
+class PromptParts(BaseModel):
+    """The world-specific text the planner assembles into a prompt (our wording, the paper's structure)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    role: str
+    """Who the agent is and what it is asked to do."""
+    action_rules: str = ""
+    """How each kind of action works and when it is valid."""
+    guidelines: tuple[str, ...] = ()
+    """Numbered advice lines (no empty plan, find before interacting, learn from feedback...)."""
+    examples: tuple[str, ...] = ()
+    """In-context examples, most useful first; the planner shows the first ``n_shot``."""
+    output_notes: str = ""
+    """Extra notes on the answer format for this world (e.g. how to write a 7-D action)."""
+
+
+class Env(ABC):
+    """Base class for benchmark environments.
+
+    Subclasses set :attr:`name` and implement the abstract methods. The runner creates one instance
+    per worker process with the ``env.params`` mapping of the config as keyword arguments, then calls
+    ``reset(task, seed)`` / ``step(action)`` until the episode ends, and ``close()`` at the end.
+    """
+
+    #: Registered name, e.g. ``"navigation"``.
+    name: ClassVar[str] = ""
+
+    @classmethod
+    @abstractmethod
+    def load_tasks(cls, **params: Any) -> list[Task]:
+        """All tasks of the environment in their stable order, without starting a simulator."""
+
+    @abstractmethod
+    def reset(self, task: Task, seed: int) -> Observation:
+        """Set the world up for ``task`` and return the first observation."""
+
+    @abstractmethod
+    def step(self, action: Action) -> StepResult:
+        """Execute one action."""
+
+    @abstractmethod
+    def action_space(self) -> ActionSpace:
+        """The action space of the current episode (ALFRED's depends on the scene)."""
+
+    @abstractmethod
+    def prompt_parts(self) -> PromptParts:
+        """Role, action rules, guidelines and examples for the current episode's subset."""
+
+    def expert_plan(self) -> list[Action] | None:
+        """A plan from the current state that solves the task, for the ``oracle`` model; None if unknown."""
+        return None
+
+    def close(self) -> None:
+        """Release simulator resources. Called once; must be safe to call again."""

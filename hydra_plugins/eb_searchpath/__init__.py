@@ -1,0 +1,18 @@
+"""Hydra search-path plugin: adds every EmbodiedBench plugin's config options (``conf/env/*.yaml``...)."""
+
+from __future__ import annotations
+
+from hydra.core.config_search_path import ConfigSearchPath
+from hydra.plugins.search_path_plugin import SearchPathPlugin
+
+
+class EmbodiedBenchSearchPathPlugin(SearchPathPlugin):
+    def manipulate_search_path(self, search_path: ConfigSearchPath) -> None:
+        # Only for our own app: other Hydra apps on the machine must not see (or pay for) our plugins.
+        primary = [e for e in search_path.get_path() if e.provider == "main"]
+        if not any(str(e.path).startswith("pkg://eb_conf") for e in primary):
+            return
+        from eb_core.plugins import Registry
+
+        for path in Registry.create().config_searchpath():
+            search_path.append(provider="eb-plugin", path=path)
