@@ -44,8 +44,8 @@ class Task(BaseModel):
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    id: str = Field(min_length=1)
-    """Stable id, unique within its environment (used for resume, seeding and reports)."""
+    id: str = Field(min_length=1, max_length=120, pattern=r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
+    """Stable id, unique within its environment (used for resume, seeding, file names and reports)."""
     subset: str = Field(min_length=1)
     """The evaluation subset, e.g. ``base`` or ``long_horizon``."""
     instruction: str = Field(min_length=1)
@@ -150,6 +150,10 @@ class DiscreteActionSpace(BaseModel):
     def plan_item_example(self) -> Any:
         return {"action_id": 0, "action_name": self.actions[0] if self.actions else "..."}
 
+    def plan_item(self, action: Action) -> dict[str, Any]:
+        """The JSON plan item a model should write for ``action`` (used by offline baselines)."""
+        return {"action_id": int(action), "action_name": self.actions[int(action)]}  # type: ignore[arg-type]
+
     def parse_plan_item(self, item: Any) -> int:
         """Turn one model plan item into an action id, or raise :class:`PlanItemError`."""
         if isinstance(item, dict):
@@ -203,6 +207,9 @@ class VectorActionSpace(BaseModel):
 
     def plan_item_example(self) -> Any:
         return {"action": [(lo + hi) // 2 for lo, hi in zip(self.low, self.high)]}
+
+    def plan_item(self, action: Action) -> dict[str, Any]:
+        return {"action": [int(v) for v in action]}  # type: ignore[union-attr]
 
     def parse_plan_item(self, item: Any) -> tuple[int, ...]:
         if isinstance(item, dict):
