@@ -50,9 +50,11 @@ class ModelConfig(BaseModel):
     """Preset name (``gpt-4o``, ``oracle``...)."""
     backend: str
     """Registered model backend (``litellm``, ``oracle``, ``random``, ``replay``, ``human``)."""
+    max_cost_usd: float | None = Field(default=None, gt=0)
+    """Stop the run cleanly (finished episodes kept) once model calls have cost this much."""
 
     def backend_kwargs(self) -> dict[str, Any]:
-        return {k: v for k, v in self.model_dump().items() if k not in ("name", "backend")}
+        return {k: v for k, v in self.model_dump().items() if k not in ("name", "backend", "max_cost_usd")}
 
 
 class PlannerConfig(_Strict):

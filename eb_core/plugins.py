@@ -8,7 +8,9 @@ errors that list what exists.
 
 from __future__ import annotations
 
+import importlib
 import importlib.metadata as md
+import os
 from collections.abc import Iterable
 from typing import Any, TypeVar
 
@@ -20,6 +22,8 @@ from eb_core.specs import AugmenterSpec, ComponentSpec, EnvSpec, MetricSpec, Mod
 __all__ = ["ENTRY_POINT_GROUP", "PluginError", "Registry", "get_plugin_manager", "plugin_versions"]
 
 ENTRY_POINT_GROUP = "eb.plugins"
+#: Comma-separated importable modules registered as plugins without installing them (development, tests).
+PLUGINS_ENV_VAR = "EB_PLUGINS"
 
 S = TypeVar("S", bound=ComponentSpec)
 
@@ -63,8 +67,18 @@ def get_plugin_manager(*, load_entrypoints: bool = True, plugins: Iterable[Any] 
             pm.register(plugin, name=ep.name)
             if dist := getattr(ep, "dist", None):
                 _DIST_OF[ep.name] = (dist.name, dist.version)
+    extra = [m.strip() for m in os.environ.get(PLUGINS_ENV_VAR, "").split(",") if m.strip()]
+    for module_name in extra:
+        if pm.get_plugin(module_name) is not None:
+            continue
+        try:
+            pm.register(importlib.import_module(module_name), name=module_name)
+        except ImportError as exc:
+            raise PluginError(f"{PLUGINS_ENV_VAR} names {module_name!r}, which cannot be imported: {exc}") from exc
     for i, plugin in enumerate(plugins):
-        pm.register(plugin, name=getattr(plugin, "__name__", None) or f"local-{i}")
+        name = getattr(plugin, "__name__", None) or f"local-{i}"
+        if pm.get_plugin(name) is None:
+            pm.register(plugin, name=name)
     try:
         pm.check_pending()
     except pluggy.PluginValidationError as exc:

@@ -14,5 +14,21 @@ class EmbodiedBenchSearchPathPlugin(SearchPathPlugin):
             return
         from eb_core.plugins import Registry
 
+        present = {str(e.path) for e in search_path.get_path()}
         for path in Registry.create().config_searchpath():
-            search_path.append(provider="eb-plugin", path=path)
+            if path not in present:
+                search_path.append(provider="eb-plugin", path=path)
+                present.add(path)
+
+
+def ensure_registered() -> None:
+    """Register the plugin with Hydra explicitly.
+
+    Hydra discovers plugins by listing the ``hydra_plugins`` namespace, which setuptools' editable
+    installs hide behind an import hook; registering by hand works for every kind of install.
+    """
+    from hydra.core.plugins import Plugins
+
+    plugins = Plugins.instance()
+    if EmbodiedBenchSearchPathPlugin not in plugins.discover(SearchPathPlugin):
+        plugins.register(EmbodiedBenchSearchPathPlugin)

@@ -1,0 +1,371 @@
+"""The ``eb`` command: ``run`` (a Hydra app), ``list``, ``report`` and ``tasks``.
+
+Bad input ends with one line on stderr that says what was wrong, what is allowed and how to fix it.
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+import sys
+from collections.abc import Sequence
+from typing import Any
+
+USAGE = """usage: eb <command> [args]
+
+commands:
+  run [key=value ...]        run a benchmark (a Hydra app: -m sweeps, --cfg job shows the config)
+                             e.g. eb run env=navigation model=oracle limit=10
+  list                       installed envs (subsets, task counts), models, planners, augmenters,
+                             metrics and ablations, each with its plugin
+  report RUN_DIR [...]       paper-style table of runs [--format rich|markdown|csv] [--out FILE]
+  tasks generate env=NAME [key=value ...]   write a task file with the env's generator
+"""
+
+GROUPS = ("env", "model", "planner", "ablation")
+
+
+class CliError(Exception):
+    """One line for the user."""
+
+
+def _fail(msg: str, code: int = 2) -> int:
+    print(f"eb: error: {msg}", file=sys.stderr)
+    return code
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if not argv or argv[0] in ("-h", "--help", "help"):
+        print(USAGE)
+        return 0 if argv else 2
+    cmd, rest = argv[0], argv[1:]
+    try:
+        if cmd == "run":
+            return cmd_run(rest)
+        if cmd == "list":
+            return cmd_list(rest)
+        if cmd == "report":
+            return cmd_report(rest)
+        if cmd == "tasks":
+            return cmd_tasks(rest)
+    except CliError as exc:
+        return _fail(str(exc))
+    except KeyboardInterrupt:
+        return _fail("interrupted; finished episodes are saved, re-run the same command to resume", 130)
+    hint = difflib.get_close_matches(cmd, ["run", "list", "report", "tasks"], n=1)
+    return _fail(f"unknown command {cmd!r}; commands: run, list, report, tasks"
+                 + (f" (did you mean {hint[0]!r}?)" if hint else ""))
+
+
+# -- config composition (shared by run, list and tasks) -----------------------------------------------
+
+
+def _group_options(group: str) -> list[str]:
+    from hydra.core.global_hydra import GlobalHydra
+
+    return sorted(GlobalHydra.instance().config_loader().get_group_options(group))
+
+
+def _hydra_context():
+    from hydra import initialize_config_module
+
+    from hydra_plugins.eb_searchpath import ensure_registered
+
+    ensure_registered()
+    return initialize_config_module(config_module="eb_conf", version_base=None)
+
+
+def _check_overrides(overrides: list[str]) -> list[str]:
+    """Validate overrides (expanding sweeps) and return one override list to compose with."""
+    from hydra.core.override_parser.overrides_parser import OverridesParser
+
+    try:
+        parsed = OverridesParser.create().parse_overrides(overrides)
+    except Exception as exc:
+        raise CliError(f"cannot parse overrides {' '.join(overrides)!r}: {str(exc).splitlines()[0]}. "
+                       f"Write key=value, e.g. env=navigation limit=5") from None
+    first: list[str] = []
+    for ov in parsed:
+        key = ov.get_key_element()
+        values: list[str]
+        if ov.is_sweep_override():
+            values = [str(v) for v in ov.sweep_string_iterator()]
+        else:
+            values = [ov.get_value_element_as_str()]
+        if key in GROUPS:
+            options = _group_options(key)
+            for v in values:
+                if v not in options:
+                    raise CliError(_unknown_option_message(key, v, options))
+        first.append(f"{key}={values[0]}" if ov.is_sweep_override() else ov.input_line)
+    return first
+
+
+def _unknown_option_message(group: str, value: str, options: list[str]) -> str:
+    close = difflib.get_close_matches(value, options, n=1)
+    hint = f" Did you mean {close[0]!r}?" if close else ""
+    plugin = {"env": " Is its plugin installed? (pip install a plugin, e.g. plugins/eb_navigation, then `eb list`)",
+              "model": " For any other model use model=openai-compatible model.model_id=... model.api_base=...",
+              }.get(group, "")
+    return f"unknown {group} {value!r}; available: {', '.join(options) or 'none'}.{hint}{plugin}"
+
+
+def compose(overrides: list[str]) -> dict[str, Any]:
+    """Compose the config for ``overrides`` and return it as a resolved plain dict (run dir excluded)."""
+    from hydra import compose as hydra_compose
+    from omegaconf import OmegaConf
+
+    with _hydra_context():
+        checked = _check_overrides(overrides)
+        try:
+            cfg = hydra_compose(config_name="config", overrides=checked)
+        except Exception as exc:
+            raise CliError(_hydra_error_line(exc)) from None
+        cfg_dict = OmegaConf.to_container(cfg, resolve=True)
+    assert isinstance(cfg_dict, dict)
+    cfg_dict.pop("hydra", None)
+    return cfg_dict
+
+
+def _hydra_error_line(exc: Exception) -> str:
+    text = str(exc)
+    lines = [ln.strip() for ln in text.splitlines() if ln.strip()]
+    import re
+
+    m = re.search(r"Key '([^']+)' is not in struct", text) or re.search(r"Could not override '([^']+)'", text)
+    if m:
+        key = m.group(1)
+        full = re.search(r"full_key: (\S+)", text)
+        full_key = full.group(1) if full else key
+        return (f"unknown config key '{full_key}'. Check the spelling; `eb run --cfg job` prints every key "
+                f"(add a new key with +{full_key}=VALUE only if a plugin reads it)")
+    return (lines[0] if lines else type(exc).__name__) + " (see `eb run --cfg job`)"
+
+
+def _validate(cfg_dict: dict[str, Any]):
+    from eb_core.config import ConfigError, validate_config
+
+    try:
+        return validate_config(cfg_dict)
+    except ConfigError as exc:
+        raise CliError(str(exc)) from None
+
+
+# -- eb run --------------------------------------------------------------------------------------------
+
+
+def _split_hydra_args(args: list[str]) -> tuple[list[str], bool]:
+    """Config overrides (for pre-validation) and whether Hydra flags make this a non-run call."""
+    overrides: list[str] = []
+    info_only = False
+    skip_next = False
+    for i, a in enumerate(args):
+        if skip_next:
+            skip_next = False
+            continue
+        if a in ("--cfg", "-c", "--package", "-p", "--info", "-i", "--help", "-h", "--hydra-help", "--shell-completion",
+                 "-sc"):
+            info_only = info_only or a not in ("--package", "-p")
+            if a in ("--cfg", "-c", "--package", "-p", "--info", "-i") and i + 1 < len(args) \
+                    and not args[i + 1].startswith("-") and "=" not in args[i + 1]:
+                skip_next = True
+            continue
+        if a.startswith("-"):
+            continue
+        if a.startswith("hydra.") or a.startswith("hydra/") or a.startswith("+hydra") or a.startswith("~hydra"):
+            continue
+        overrides.append(a)
+    return overrides, info_only
+
+
+def cmd_run(args: list[str]) -> int:
+    overrides, info_only = _split_hydra_args(args)
+    cfg_dict = compose(overrides)
+    _validate(cfg_dict)
+    # Fail fast on unknown components before Hydra starts a job.
+    from eb_core.plugins import PluginError, Registry
+
+    try:
+        registry = Registry.create()
+        registry.get("env", cfg_dict["env"]["name"])
+        registry.get("model backend", cfg_dict["model"]["backend"])
+        registry.get("planner", cfg_dict["planner"]["name"])
+        for aug in cfg_dict.get("augmenters") or []:
+            registry.get("augmenter", aug["name"])
+    except PluginError as exc:
+        raise CliError(str(exc)) from None
+    return _hydra_main(args)
+
+
+def _hydra_main(args: list[str]) -> int:
+    import hydra
+
+    from hydra_plugins.eb_searchpath import ensure_registered
+
+    ensure_registered()
+    saved = sys.argv
+    sys.argv = ["eb run", *args]
+    try:
+        app = hydra.main(version_base=None, config_path="pkg://eb_conf", config_name="config")(_hydra_task)
+        app()
+    finally:
+        sys.argv = saved
+    return 0
+
+
+def _hydra_task(cfg: Any) -> None:
+    """The Hydra job: validate, run, print the summary. Known errors become one line and exit 2."""
+    from hydra.core.hydra_config import HydraConfig
+    from omegaconf import OmegaConf
+
+    from eb_core.config import ConfigError
+    from eb_core.plugins import PluginError
+    from eb_core.runner import RunError, run
+    from eb_core.specs import MissingDependencyError
+
+    run_dir = HydraConfig.get().runtime.output_dir
+    cfg_dict = OmegaConf.to_container(cfg, resolve=True)
+    assert isinstance(cfg_dict, dict)
+    cfg_dict.pop("hydra", None)
+    try:
+        rc = _validate(cfg_dict)
+        summary = run(rc, run_dir, cfg_dict=cfg_dict)
+    except (CliError, ConfigError, PluginError, RunError, MissingDependencyError) as exc:
+        print(f"eb: error: {exc}", file=sys.stderr)
+        raise SystemExit(2) from None
+    from eb_core.report import print_summary
+
+    print_summary(summary, run_dir)
+
+
+# -- eb list -------------------------------------------------------------------------------------------
+
+
+def cmd_list(args: list[str]) -> int:
+    from rich.console import Console
+    from rich.table import Table
+
+    from eb_core.plugins import PluginError, Registry
+
+    try:
+        registry = Registry.create()
+    except PluginError as exc:
+        raise CliError(str(exc)) from None
+    console = Console(width=max(100, Console().width))
+    t = Table(title="Environments", show_lines=False)
+    for col in ("name", "plugin", "subsets (tasks)", "description"):
+        t.add_column(col)
+    for name, spec in registry.envs.items():
+        subsets = ", ".join(f"{k} ({v})" for k, v in spec.subsets.items())
+        total = sum(spec.subsets.values())
+        t.add_row(name, spec.plugin, f"{subsets}\n= {total} tasks" if subsets else "", spec.description)
+    console.print(t)
+
+    with _hydra_context():
+        presets = _group_options("model")
+        ablations = _group_options("ablation")
+        from hydra.core.global_hydra import GlobalHydra
+
+        repo = GlobalHydra.instance().config_loader()
+        backends: dict[str, str] = {}
+        for p in presets:
+            try:
+                from hydra import compose as hydra_compose
+
+                c = hydra_compose(config_name="config", overrides=[f"model={p}"])
+                backends[p] = str(c.model.get("backend", "?"))
+            except Exception:  # a broken preset is shown, not hidden
+                backends[p] = "(invalid preset)"
+        del repo
+    m = Table(title="Models (model=NAME)")
+    for col in ("preset", "backend", "backend plugin"):
+        m.add_column(col)
+    for p in presets:
+        b = backends[p]
+        spec = registry.model_backends.get(b)
+        m.add_row(p, b, spec.plugin if spec else "[red]backend not installed[/red]")
+    console.print(m)
+    for title, specs in (("Planners", registry.planners), ("Augmenters", registry.augmenters),
+                         ("Metrics", registry.metrics)):
+        tt = Table(title=title)
+        for col in ("name", "plugin", "description"):
+            tt.add_column(col)
+        for name, spec in specs.items():
+            tt.add_row(name, spec.plugin, spec.description)
+        console.print(tt)
+    a = Table(title="Ablations (ablation=NAME)")
+    a.add_column("name")
+    for name in ablations:
+        a.add_row(name)
+    console.print(a)
+    return 0
+
+
+# -- eb report -----------------------------------------------------------------------------------------
+
+
+def cmd_report(args: list[str]) -> int:
+    from eb_core.report import render_report
+
+    fmt, out, dirs = "rich", None, []
+    it = iter(args)
+    for a in it:
+        if a == "--format":
+            fmt = next(it, "")
+        elif a.startswith("--format="):
+            fmt = a.split("=", 1)[1]
+        elif a == "--out":
+            out = next(it, None)
+        elif a.startswith("--out="):
+            out = a.split("=", 1)[1]
+        elif a.startswith("-"):
+            raise CliError(f"unknown option {a!r} for report; options: --format rich|markdown|csv, --out FILE")
+        else:
+            dirs.append(a)
+    if fmt not in ("rich", "markdown", "csv"):
+        raise CliError(f"unknown --format {fmt!r}; use rich, markdown or csv")
+    if not dirs:
+        raise CliError("report needs at least one run directory, e.g. eb report runs/navigation/oracle/none/default")
+    render_report(dirs, fmt, out)
+    return 0
+
+
+# -- eb tasks ------------------------------------------------------------------------------------------
+
+
+def cmd_tasks(args: list[str]) -> int:
+    import yaml
+
+    from eb_core.plugins import PluginError, Registry
+    from eb_core.specs import load_entry_point
+
+    if not args or args[0] != "generate":
+        raise CliError("usage: eb tasks generate env=NAME [key=value ...] [out=PATH]")
+    kwargs: dict[str, Any] = {}
+    for a in args[1:]:
+        key, sep, value = a.partition("=")
+        if not sep or not key:
+            raise CliError(f"expected key=value, got {a!r}")
+        kwargs[key] = yaml.safe_load(value) if value else ""
+    env_name = kwargs.pop("env", None)
+    if not env_name:
+        raise CliError("tasks generate needs env=NAME (`eb list` shows the envs)")
+    try:
+        spec = Registry.create().get("env", str(env_name))
+    except PluginError as exc:
+        raise CliError(str(exc)) from None
+    if not spec.task_generator:
+        raise CliError(f"env {env_name!r} (plugin {spec.plugin}) ships no task generator")
+    fn = load_entry_point(spec.task_generator, spec.install_hint)
+    try:
+        result = fn(**kwargs)
+    except TypeError as exc:
+        raise CliError(f"{spec.task_generator}: {exc}") from None
+    if result is not None:
+        print(result if isinstance(result, str) else f"generated {result}")
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

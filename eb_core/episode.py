@@ -1,0 +1,217 @@
+"""One episode: the paper's execution rules around a planner, a model backend and an env.
+
+Rules (from the paper, with our documented deviation on output errors):
+
+* Run the plan in order, cut to the remaining step budget.
+* Stop at the first failed action and re-plan (``env.replan_on_failure``; manipulation runs the whole plan).
+* An empty plan ends the episode (``env.empty_plan_ends``); elsewhere it counts as an output error.
+* A plan item that is not a valid action cuts the plan there; if nothing is left it is an invalid action.
+* An unusable answer is an output error: it counts as an invalid action, uses one step of the budget
+  (the original executed a random action instead) and the next prompt says why it was rejected.
+* End at ``env.max_steps`` or at ``env.max_invalid_actions`` invalid actions.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+import traceback
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+from eb_core.config import EnvConfig
+from eb_core.env import Env, Observation, Task
+from eb_core.events import EpisodeStartEvent, StepEndEvent
+from eb_core.model import EpisodeContext, ModelBackend, ModelBudgetExceeded, ModelFatalError, Usage
+from eb_core.planner import VLMPlanner, encode_png
+from eb_core.records import EpisodeRecord
+
+__all__ = ["BudgetGuard", "run_episode"]
+
+
+class BudgetGuard:
+    """Adds up the cost of model calls (across processes when given a shared value) and enforces the cap."""
+
+    def __init__(self, max_cost_usd: float | None, shared: Any = None) -> None:
+        self.max_cost_usd = max_cost_usd
+        self.shared = shared
+        self.local = 0.0
+
+    def add(self, cost: float) -> None:
+        if self.shared is not None:
+            with self.shared.get_lock():
+                self.shared.value += cost
+                total = self.shared.value
+        else:
+            self.local += cost
+            total = self.local
+        if self.max_cost_usd is not None and total >= self.max_cost_usd:
+            raise ModelBudgetExceeded(f"model.max_cost_usd={self.max_cost_usd} reached (spent {total:.4f} USD)")
+
+    def exhausted(self) -> bool:
+        total = self.shared.value if self.shared is not None else self.local
+        return self.max_cost_usd is not None and total >= self.max_cost_usd
+
+
+def _jsonable(obj: Any) -> Any:
+    if isinstance(obj, tuple):
+        return list(obj)
+    return obj
+
+
+def run_episode(
+    *,
+    env: Env,
+    task: Task,
+    seed: int,
+    planner: VLMPlanner,
+    backend: ModelBackend,
+    env_config: EnvConfig,
+    step_dir: Path | None = None,
+    save_images: bool = True,
+    augmenters: Sequence[Callable[[Observation], Observation]] = (),
+    budget: BudgetGuard | None = None,
+    hook: Any = None,
+    run_dir: str = "",
+) -> EpisodeRecord:
+    """Play ``task`` to the end and return its record. Model transient errors and env exceptions give
+    ``status="error"``; :class:`ModelFatalError` and :class:`ModelBudgetExceeded` propagate."""
+    started = time.perf_counter()
+    usage = Usage()
+    rec: dict[str, Any] = dict(task_id=task.id, subset=task.subset, instruction=task.instruction, seed=seed)
+    env_steps = planner_steps = invalid = output_errors = 0
+    progress, success, empty_plan = 0.0, False, False
+    end_reason = "max_steps"
+    steps_file = None
+    if step_dir is not None:
+        step_dir.mkdir(parents=True, exist_ok=True)
+        steps_file = open(step_dir / "steps.jsonl", "w", encoding="utf-8")
+    if hook is not None:
+        hook.eb_on_episode_start(event=EpisodeStartEvent(
+            run_dir=run_dir, task_id=task.id, subset=task.subset, instruction=task.instruction, seed=seed))
+
+    def budget_left() -> int:
+        return env_config.max_steps - env_steps - output_errors
+
+    try:
+        obs = env.reset(task, seed)
+        space = env.action_space()
+        planner.reset(task, env.prompt_parts(), space)
+        backend.start_episode(EpisodeContext(env=env, task=task, seed=seed, run_dir=run_dir or None))
+        done = False
+        while not done and budget_left() > 0:
+            if env_config.max_invalid_actions is not None and invalid >= env_config.max_invalid_actions:
+                end_reason = "invalid_cap"
+                break
+            for aug in augmenters:
+                obs = aug(obs)
+            planner.set_action_space(env.action_space())
+            request = planner.build_request(obs, seed=seed)
+            planner_steps += 1
+            step_rec: dict[str, Any] = {"planner_step": planner_steps, "env_step_before": env_steps,
+                                        "prompt": request.messages[-1].text}
+            if save_images and step_dir is not None and obs.primary_image is not None:
+                name = f"step{planner_steps:03d}_{obs.primary}.png"
+                (step_dir / name).write_bytes(encode_png(obs.primary_image))
+                step_rec["image"] = name
+            response = backend.complete(request)
+            call_usage = response.usage if response.usage.calls else response.usage.model_copy(update={"calls": 1})
+            usage = usage + call_usage
+            if budget is not None:
+                budget.add(response.usage.cost_usd)
+            step_rec["raw_output"] = response.text
+            step_rec["usage"] = response.usage.model_dump()
+            planner.record_answer(response.text)
+            parsed = planner.parse(response.text)
+            step_rec["parsed"] = None if parsed.output is None else parsed.output.model_dump()
+            step_rec["error"] = parsed.error
+            step_rec["plan_error"] = parsed.plan_error
+            actions_log: list[dict[str, Any]] = []
+            step_rec["actions"] = actions_log
+
+            if parsed.error is not None:
+                output_errors += 1
+                invalid += 1
+                planner.record_output_error(parsed.error)
+            elif not parsed.actions and parsed.truncated_at is None:
+                empty_plan = True
+                if env_config.empty_plan_ends:
+                    end_reason = "empty_plan"
+                    done = True
+                else:
+                    output_errors += 1
+                    planner.record_output_error("the plan was empty but the task is not finished")
+            elif not parsed.actions:
+                invalid += 1
+                planner.record_output_error(parsed.plan_error or "the first plan item was invalid")
+            else:
+                space = env.action_space()
+                for action in parsed.actions[: max(0, budget_left())]:
+                    result = env.step(action)
+                    env_steps += 1
+                    obs = result.observation
+                    progress = max(0.0, min(1.0, result.progress))
+                    success = result.task_success
+                    name = space.name_of(action)
+                    planner.record_action(env_steps, name, f"action {json.dumps(_jsonable(action))}",
+                                          result.action_success, result.feedback)
+                    actions_log.append({"env_step": env_steps, "action": _jsonable(action), "action_name": name,
+                                        "success": result.action_success, "feedback": result.feedback,
+                                        "progress": progress})
+                    if hook is not None:
+                        hook.eb_on_step_end(event=StepEndEvent(
+                            run_dir=run_dir, task_id=task.id, env_step=env_steps, planner_step=planner_steps,
+                            action=_jsonable(action), action_name=name, action_success=result.action_success,
+                            feedback=result.feedback, progress=progress))
+                    if not result.action_success:
+                        invalid += 1
+                    if result.done:
+                        done = True
+                        end_reason = "success" if result.task_success else "done"
+                        break
+                    if not result.action_success and env_config.replan_on_failure:
+                        break
+                    if (env_config.max_invalid_actions is not None
+                            and invalid >= env_config.max_invalid_actions):
+                        break
+                    if budget_left() <= 0:
+                        break
+                if parsed.plan_error and not done:
+                    planner.record_plan_cut(parsed.plan_error)
+            if steps_file is not None:
+                steps_file.write(json.dumps(step_rec, default=str) + "\n")
+                steps_file.flush()
+        if not done and end_reason == "max_steps" and env_config.max_invalid_actions is not None \
+                and invalid >= env_config.max_invalid_actions:
+            end_reason = "invalid_cap"
+        status = "ok"
+        error = None
+    except (ModelFatalError, ModelBudgetExceeded):
+        raise
+    except Exception as exc:  # a model that stayed unreachable, or an env bug: recorded, the run goes on
+        status = "error"
+        end_reason = "error"
+        error = f"{type(exc).__name__}: {exc}\n{traceback.format_exc(limit=20)}"
+    finally:
+        if steps_file is not None:
+            steps_file.close()
+    return EpisodeRecord(
+        **rec,
+        status=status,  # type: ignore[arg-type]
+        success=bool(success) if status == "ok" else False,
+        progress=1.0 if success and status == "ok" else progress,
+        end_reason=end_reason,  # type: ignore[arg-type]
+        env_steps=env_steps,
+        planner_steps=planner_steps,
+        invalid_actions=invalid,
+        output_errors=output_errors,
+        empty_plan=empty_plan,
+        prompt_tokens=usage.prompt_tokens,
+        completion_tokens=usage.completion_tokens,
+        model_calls=usage.calls,
+        cost_usd=usage.cost_usd,
+        model_latency_s=usage.latency_s,
+        wall_time_s=time.perf_counter() - started,
+        error=error,
+    )

@@ -1,0 +1,81 @@
+"""The paper's metrics. Each metric maps a list of episode records to named numbers.
+
+Metrics are computed over measured episodes (status ``ok``); ``errors`` also counts the others.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+from eb_core.records import EpisodeRecord
+
+__all__ = ["compute_summary", "errors", "steps", "subgoal_success", "success_rate", "usage"]
+
+Metric = Callable[[Sequence[EpisodeRecord]], dict[str, float]]
+
+
+def _ok(eps: Sequence[EpisodeRecord]) -> list[EpisodeRecord]:
+    return [e for e in eps if e.status == "ok"]
+
+
+def _mean(values: list[float]) -> float:
+    return sum(values) / len(values) if values else 0.0
+
+
+def success_rate(eps: Sequence[EpisodeRecord]) -> dict[str, float]:
+    ok = _ok(eps)
+    return {"success_rate": _mean([1.0 if e.success else 0.0 for e in ok])}
+
+
+def subgoal_success(eps: Sequence[EpisodeRecord]) -> dict[str, float]:
+    ok = _ok(eps)
+    return {"subgoal_success": _mean([e.progress for e in ok])}
+
+
+def steps(eps: Sequence[EpisodeRecord]) -> dict[str, float]:
+    ok = _ok(eps)
+    return {
+        "avg_planner_steps": _mean([e.planner_steps for e in ok]),
+        "avg_env_steps": _mean([e.env_steps for e in ok]),
+    }
+
+
+def errors(eps: Sequence[EpisodeRecord]) -> dict[str, float]:
+    ok = _ok(eps)
+    total_actions = sum(e.env_steps for e in ok)
+    return {
+        "invalid_action_ratio": (sum(e.invalid_actions for e in ok) / total_actions) if total_actions else 0.0,
+        "output_error_rate": (sum(e.output_errors for e in ok) / max(1, sum(e.planner_steps for e in ok))),
+        "empty_plan_rate": _mean([1.0 if e.empty_plan else 0.0 for e in ok]),
+        "error_episodes": float(sum(1 for e in eps if e.status == "error")),
+    }
+
+
+def usage(eps: Sequence[EpisodeRecord]) -> dict[str, float]:
+    return {
+        "prompt_tokens": float(sum(e.prompt_tokens for e in eps)),
+        "completion_tokens": float(sum(e.completion_tokens for e in eps)),
+        "model_calls": float(sum(e.model_calls for e in eps)),
+        "cost_usd": round(sum(e.cost_usd for e in eps), 6),
+        "model_latency_s": round(sum(e.model_latency_s for e in eps), 3),
+        "wall_time_s": round(sum(e.wall_time_s for e in eps), 3),
+    }
+
+
+def compute_summary(eps: Sequence[EpisodeRecord], metrics: dict[str, Metric],
+                    subsets: Sequence[str] | None = None) -> dict[str, object]:
+    """``{"overall": {...}, "subsets": {name: {...}}}`` with ``episodes`` counts in each block."""
+
+    def block(group: Sequence[EpisodeRecord]) -> dict[str, float]:
+        out: dict[str, float] = {"episodes": float(len(_ok(group)))}
+        for fn in metrics.values():
+            out.update(fn(group))
+        return out
+
+    names = list(subsets) if subsets else sorted({e.subset for e in eps})
+    per = {name: block([e for e in eps if e.subset == name]) for name in names}
+    overall = block(eps)
+    # The paper's "average" is the mean of per-subset success rates.
+    measured = [v["success_rate"] for v in per.values() if v["episodes"] > 0 and "success_rate" in v]
+    overall["avg_subset_success_rate"] = _mean(measured)
+    return {"overall": overall, "subsets": per}

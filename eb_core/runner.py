@@ -1,0 +1,413 @@
+"""The runner: task selection, resume, parallel workers, progress, summary.
+
+Crash safety: an episode is appended to ``episodes.jsonl`` (one ``os.write`` + fsync, by the main
+process only) after its step files were moved into place; re-running the same command skips finished
+episodes, redoes unfinished and ``error`` ones, and never writes an episode twice.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import json
+import multiprocessing as mp
+import os
+import queue
+import sys
+import time
+import traceback
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import Any
+
+from eb_core.config import ConfigError, RunConfig
+from eb_core.env import Env, Task
+from eb_core.episode import BudgetGuard, run_episode
+from eb_core.events import EpisodeEndEvent, RunEndEvent, RunStartEvent
+from eb_core.metrics import compute_summary
+from eb_core.model import ModelBackend, ModelBudgetExceeded, ModelFatalError
+from eb_core.plugins import Registry, get_plugin_manager, plugin_versions
+from eb_core.records import EpisodeRecord, RunFiles
+
+__all__ = ["RunError", "Components", "episode_seed", "run", "select_tasks"]
+
+#: Config keys whose change makes old episodes incomparable with new ones.
+_FINGERPRINT_KEYS = ("env", "model", "planner", "ablation", "augmenters", "seed")
+
+
+class RunError(RuntimeError):
+    """The run cannot start or had to stop; the message is one line for the user."""
+
+
+def episode_seed(run_seed: int, task_id: str) -> int:
+    """Every episode is seeded from the run seed and its task id (independent of order and workers)."""
+    digest = hashlib.sha256(f"{run_seed}:{task_id}".encode()).digest()
+    return int.from_bytes(digest[:4], "little")
+
+
+class Components:
+    """Everything one process needs to play episodes, built from a validated config."""
+
+    def __init__(self, cfg: RunConfig, registry: Registry) -> None:
+        self.cfg = cfg
+        self.registry = registry
+        self.env_spec = registry.get("env", cfg.env.name)
+        self.env_cls: type[Env] = self.env_spec.load()
+        self.backend_spec = registry.get("model backend", cfg.model.backend)
+        self.backend_cls: type[ModelBackend] = self.backend_spec.load()
+        self.planner_cls = registry.get("planner", cfg.planner.name).load()
+        self.augmenters = []
+        for aug in cfg.augmenters:
+            cls = registry.get("augmenter", aug.name).load()
+            kwargs = {k: v for k, v in aug.model_dump().items() if k != "name"}
+            try:
+                self.augmenters.append(cls(**kwargs))
+            except (TypeError, ValueError) as exc:
+                raise ConfigError(f"augmenter {aug.name!r}: {exc}") from None
+
+    def load_tasks(self) -> list[Task]:
+        return self.env_cls.load_tasks(**self.cfg.env.params)
+
+    def make_env(self) -> Env:
+        e = self.cfg.env
+        return self.env_cls(resolution=e.resolution, multi_view=e.multi_view, **e.params)
+
+    def make_backend(self) -> ModelBackend:
+        try:
+            return self.backend_cls(**self.cfg.model.backend_kwargs())
+        except TypeError as exc:
+            raise ConfigError(f"model {self.cfg.model.name!r} (backend {self.cfg.model.backend!r}): {exc}") from None
+
+    def make_planner(self, backend: ModelBackend) -> Any:
+        return self.planner_cls(self.cfg.planner, self.cfg.env, supports_json_schema=backend.supports_json_schema,
+                                supports_images=backend.supports_images)
+
+
+def select_tasks(tasks: Sequence[Task], cfg: RunConfig) -> list[Task]:
+    """Apply ``tasks=``, ``subset=`` and ``limit=`` (first N of the selection, in the stable order)."""
+    if cfg.tasks:
+        by_id = {t.id: t for t in tasks}
+        missing = [t for t in cfg.tasks if t not in by_id]
+        if missing:
+            raise ConfigError(f"unknown task id(s) {', '.join(missing[:5])} for env {cfg.env.name!r}; "
+                              f"ids look like {tasks[0].id!r} (see the env's task file)")
+        return [by_id[t] for t in cfg.tasks]
+    selected = list(tasks)
+    if cfg.subset is not None:
+        wanted = [cfg.subset] if isinstance(cfg.subset, str) else list(cfg.subset)
+        known = list(dict.fromkeys(t.subset for t in tasks))
+        bad = [s for s in wanted if s not in known]
+        if bad:
+            raise ConfigError(f"unknown subset {bad[0]!r} for env {cfg.env.name!r}; available: {', '.join(known)}")
+        selected = [t for t in selected if t.subset in wanted]
+    if cfg.limit is not None:
+        selected = selected[: cfg.limit]
+    return selected
+
+
+def _fingerprint(cfg_dict: dict[str, Any]) -> dict[str, Any]:
+    return {k: cfg_dict.get(k) for k in _FINGERPRINT_KEYS}
+
+
+def _diff_keys(a: Any, b: Any, prefix: str = "") -> list[str]:
+    if isinstance(a, dict) and isinstance(b, dict):
+        out: list[str] = []
+        for k in sorted(set(a) | set(b)):
+            out += _diff_keys(a.get(k), b.get(k), f"{prefix}{k}.")
+        return out
+    return [] if a == b else [prefix.rstrip(".")]
+
+
+# -- worker processes -------------------------------------------------------------------------------
+
+
+def _build_registry(plugin_modules: Sequence[str]) -> Registry:
+    plugins = [importlib.import_module(m) for m in plugin_modules]
+    return Registry(get_plugin_manager(plugins=plugins))
+
+
+def _worker_main(cfg_dict: dict[str, Any], run_dir: str, plugin_modules: list[str], tasks_q: Any,
+                 results_q: Any, shared_cost: Any, worker_id: int) -> None:
+    cfg = RunConfig.model_validate(cfg_dict)
+    registry = _build_registry(plugin_modules)
+    comps = Components(cfg, registry)
+    env = comps.make_env()
+    backend = comps.make_backend()
+    files = RunFiles(run_dir)
+    budget = BudgetGuard(cfg.model.max_cost_usd, shared_cost)
+    try:
+        while True:
+            item = tasks_q.get()
+            if item is None:
+                break
+            task = Task.model_validate_json(item)
+            seed = episode_seed(cfg.seed, task.id)
+            results_q.put(("start", worker_id, task.id))
+            try:
+                record = run_episode(
+                    env=env, task=task, seed=seed, planner=comps.make_planner(backend), backend=backend,
+                    env_config=cfg.env, step_dir=files.staging_dir(task.id), save_images=cfg.runner.save_images,
+                    augmenters=comps.augmenters, budget=budget, hook=registry.pm.hook, run_dir=run_dir,
+                )
+            except ModelFatalError as exc:
+                results_q.put(("fatal", worker_id, str(exc)))
+                break
+            except ModelBudgetExceeded as exc:
+                results_q.put(("budget", worker_id, str(exc)))
+                break
+            results_q.put(("done", worker_id, record.model_dump_json()))
+    finally:
+        env.close()
+        backend.close()
+        results_q.put(("exit", worker_id, None))
+
+
+# -- progress ----------------------------------------------------------------------------------------
+
+
+class _Progress:
+    def __init__(self, total: int, quiet: bool, label: str) -> None:
+        self.total, self.quiet, self.label = total, quiet, label
+        self.done = self.succ = self.errors = 0
+        self.tokens = 0
+        self.cost = 0.0
+        self.start = time.perf_counter()
+        self._rich = None
+        if not quiet and sys.stderr.isatty():
+            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+            self._rich = Progress(
+                TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
+                TextColumn("{task.fields[stats]}"), transient=False,
+            )
+            self._rich.start()
+            self._task = self._rich.add_task(label, total=total, stats="")
+
+    def update(self, rec: EpisodeRecord) -> None:
+        self.done += 1
+        self.succ += int(rec.success)
+        self.errors += int(rec.status == "error")
+        self.tokens += rec.prompt_tokens + rec.completion_tokens
+        self.cost += rec.cost_usd
+        measured = self.done - self.errors
+        rate = 100.0 * self.succ / measured if measured else 0.0
+        stats = f"success {rate:.1f}%  errors {self.errors}  tokens {self.tokens}  cost ${self.cost:.4f}"
+        if self._rich is not None:
+            self._rich.update(self._task, advance=1, stats=stats)
+        elif not self.quiet:
+            elapsed = time.perf_counter() - self.start
+            eta = elapsed / self.done * (self.total - self.done)
+            mark = "error" if rec.status == "error" else ("success" if rec.success else "fail")
+            print(f"[{self.done}/{self.total}] {rec.task_id}: {mark} ({rec.end_reason}, {rec.env_steps} steps) | "
+                  f"{stats} | eta {eta:.0f}s", file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        if self._rich is not None:
+            self._rich.stop()
+
+
+# -- the run -----------------------------------------------------------------------------------------
+
+
+def run(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, Any] | None = None,
+        plugins: Iterable[Any] = (), registry: Registry | None = None) -> dict[str, Any]:
+    """Run (or resume) every selected episode of ``cfg`` into ``run_dir`` and return the summary.
+
+    ``plugins`` are extra plugin modules registered directly (tests); they must be importable by name
+    so worker processes can register them too.
+    """
+    plugins = list(plugins)
+    plugin_modules = [p.__name__ for p in plugins]
+    registry = registry or Registry(get_plugin_manager(plugins=plugins))
+    cfg_dict = cfg_dict if cfg_dict is not None else cfg.model_dump()
+    files = RunFiles(run_dir)
+    comps = Components(cfg, registry)
+    all_tasks = comps.load_tasks()
+    selected = select_tasks(all_tasks, cfg)
+
+    # Resume bookkeeping: refuse to mix results of different configs in one directory.
+    fp_path = files.root / "fingerprint.json"
+    fp = _fingerprint(json.loads(json.dumps(cfg_dict, default=str)))
+    if fp_path.exists():
+        old = json.loads(fp_path.read_text())
+        diff = _diff_keys(old, fp)
+        if diff:
+            raise RunError(
+                f"{files.root} holds results of a different config (differs in: {', '.join(diff[:6])}); "
+                f"pick a new experiment=NAME or hydra.run.dir=DIR, or delete that directory"
+            )
+    else:
+        files.write_json("fingerprint.json", fp)
+    import yaml  # shipped with omegaconf
+
+    (files.root / "config.yaml").write_text(yaml.safe_dump(cfg_dict, sort_keys=False))
+    files.write_json("plugins.json", plugin_versions(registry.pm))
+
+    previous = files.load_episodes()
+    kept = [r for r in previous if r.status == "ok"]
+    if len(kept) != len(previous):
+        files.rewrite_episodes(kept)  # error episodes are redone
+    finished = {r.task_id for r in kept}
+    files.clean_partial(finished)
+    pending = [t for t in selected if t.id not in finished]
+
+    hook = registry.pm.hook
+    hook.eb_on_run_start(event=RunStartEvent(run_dir=str(files.root), env=cfg.env.name, model=cfg.model.name,
+                                             n_tasks=len(selected), n_pending=len(pending), config=cfg_dict))
+    stopped: str | None = None
+    progress = _Progress(len(pending), cfg.runner.quiet, f"{cfg.env.name} / {cfg.model.name}")
+    try:
+        if pending:
+            backend = comps.make_backend()
+            try:
+                backend.preflight()
+            except ModelFatalError as exc:
+                raise RunError(str(exc)) from None
+            finally:
+                backend.close()
+            if cfg.runner.workers <= 1:
+                stopped = _run_inline(cfg, comps, files, pending, progress, hook)
+            else:
+                stopped = _run_workers(cfg, cfg_dict, files, pending, progress, hook, plugin_modules)
+    finally:
+        progress.close()
+
+    records = [r for r in files.load_episodes() if r.task_id in {t.id for t in selected}]
+    metric_fns = {name: spec.load() for name, spec in registry.metrics.items()}
+    subsets = list(dict.fromkeys(t.subset for t in selected))
+    summary: dict[str, Any] = {
+        "env": cfg.env.name,
+        "model": cfg.model.name,
+        "ablation": cfg.ablation.name,
+        "experiment": cfg.experiment,
+        "n_selected": len(selected),
+        "n_finished": sum(1 for r in records if r.status == "ok"),
+        "complete": stopped is None and all(t.id in {r.task_id for r in records} for t in selected),
+        "stopped_early": stopped,
+        **compute_summary(records, metric_fns, subsets),
+        "plugins": plugin_versions(registry.pm),
+    }
+    files.write_json("summary.json", summary)
+    hook.eb_on_run_end(event=RunEndEvent(run_dir=str(files.root), summary=summary, stopped_early=stopped))
+    return summary
+
+
+def _finish(files: RunFiles, rec: EpisodeRecord, progress: _Progress, hook: Any) -> None:
+    files.finalize_episode_dir(rec.task_id)
+    files.append_episode(rec)
+    progress.update(rec)
+    hook.eb_on_episode_end(event=EpisodeEndEvent(run_dir=str(files.root), record=rec.model_dump()))
+
+
+def _run_inline(cfg: RunConfig, comps: Components, files: RunFiles, pending: list[Task], progress: _Progress,
+                hook: Any) -> str | None:
+    env = comps.make_env()
+    backend = comps.make_backend()
+    budget = BudgetGuard(cfg.model.max_cost_usd)
+    try:
+        for task in pending:
+            try:
+                rec = run_episode(
+                    env=env, task=task, seed=episode_seed(cfg.seed, task.id), planner=comps.make_planner(backend),
+                    backend=backend, env_config=cfg.env, step_dir=files.staging_dir(task.id),
+                    save_images=cfg.runner.save_images, augmenters=comps.augmenters, budget=budget, hook=hook,
+                    run_dir=str(files.root),
+                )
+            except ModelFatalError as exc:
+                raise RunError(str(exc)) from None
+            except ModelBudgetExceeded as exc:
+                return f"budget: {exc}"
+            _finish(files, rec, progress, hook)
+    finally:
+        env.close()
+        backend.close()
+    return None
+
+
+def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pending: list[Task],
+                 progress: _Progress, hook: Any, plugin_modules: list[str]) -> str | None:
+    ctx = mp.get_context("spawn")
+    tasks_q = ctx.Queue()
+    results_q = ctx.Queue()
+    shared_cost = ctx.Value("d", 0.0)
+    n_workers = min(cfg.runner.workers, len(pending))
+    by_id = {t.id: t for t in pending}
+    for t in pending:
+        tasks_q.put(t.model_dump_json())
+
+    def spawn(wid: int) -> Any:
+        p = ctx.Process(target=_worker_main, args=(cfg_dict, str(files.root), plugin_modules, tasks_q, results_q,
+                                                   shared_cost, wid), daemon=True)
+        p.start()
+        return p
+
+    workers = {wid: spawn(wid) for wid in range(n_workers)}
+    current: dict[int, tuple[str, float]] = {}
+    exited: set[int] = set()
+    remaining = set(by_id)
+    stopped: str | None = None
+    next_id = n_workers
+    timeout = cfg.runner.episode_timeout_s
+    try:
+        while remaining and stopped is None:
+            try:
+                kind, wid, payload = results_q.get(timeout=0.5)
+            except queue.Empty:
+                kind = None
+            if kind == "start":
+                current[wid] = (payload, time.monotonic())
+            elif kind == "done":
+                rec = EpisodeRecord.model_validate_json(payload)
+                current.pop(wid, None)
+                if rec.task_id in remaining:
+                    remaining.discard(rec.task_id)
+                    _finish(files, rec, progress, hook)
+            elif kind == "fatal":
+                raise RunError(payload)
+            elif kind == "budget":
+                stopped = f"budget: {payload}"
+                break
+            elif kind == "exit":
+                exited.add(wid)
+            # Crashed or hung workers: record their episode as an error and replace them.
+            for wid_, proc in list(workers.items()):
+                started = current.get(wid_)
+                hung = started is not None and timeout is not None and time.monotonic() - started[1] > timeout
+                if hung and proc.is_alive():
+                    proc.kill()
+                    proc.join(5)
+                if not proc.is_alive() and wid_ not in exited:
+                    del workers[wid_]
+                    if started is not None:
+                        task_id = started[0]
+                        current.pop(wid_, None)
+                        why = (f"episode exceeded runner.episode_timeout_s={timeout}" if hung
+                               else f"worker process died (exit code {proc.exitcode})")
+                        if task_id in remaining:
+                            remaining.discard(task_id)
+                            t = by_id[task_id]
+                            _finish(files, EpisodeRecord(task_id=t.id, subset=t.subset, instruction=t.instruction,
+                                                         status="error", end_reason="error", error=why,
+                                                         seed=episode_seed(cfg.seed, t.id)), progress, hook)
+                    if remaining:
+                        workers[next_id] = spawn(next_id)
+                        next_id += 1
+                elif not proc.is_alive():
+                    del workers[wid_]
+            if not workers and remaining:
+                stopped = "all workers exited"
+                break
+    finally:
+        for _ in workers:
+            tasks_q.put(None)
+        deadline = time.monotonic() + (10 if stopped is None else 2)
+        for proc in workers.values():
+            proc.join(max(0.1, deadline - time.monotonic()))
+            if proc.is_alive():
+                proc.kill()
+                proc.join(2)
+    return stopped
+
+
+def format_traceback() -> str:
+    return traceback.format_exc()
