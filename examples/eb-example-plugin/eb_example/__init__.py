@@ -1,0 +1,1 @@
+"""An example EmbodiedBench plugin: the ``gridworld`` environment."""
