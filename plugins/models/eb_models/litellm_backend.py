@@ -1,0 +1,395 @@
+"""The ``litellm`` backend: OpenAI, Anthropic, Gemini, Azure, Bedrock and any OpenAI-compatible server.
+
+litellm is imported here, when a litellm model is constructed, never by the plugin's entry point (the
+import alone takes seconds). ``LITELLM_LOCAL_MODEL_COST_MAP=True`` is set first so litellm reads its
+bundled price map instead of fetching one: a run talks to the model endpoint and to nothing else.
+
+Faults never loop forever and never pass silently:
+
+* 429, 5xx, timeouts, connection errors and unreadable bodies are retried with exponential backoff and
+  jitter, honouring ``Retry-After``, for at most ``max_retries`` retries and ``retry_max_seconds``;
+  then :class:`~eb_core.model.ModelTransientError` (the runner records the episode as ``error``).
+* 401 / 403 / 404 (bad key, no access, unknown model) raise :class:`~eb_core.model.ModelFatalError` with
+  one line; :meth:`LiteLLMBackend.preflight` makes one tiny call so this happens before the first episode.
+* Any other 4xx (prompt too long, content refused) is not retried: ``ModelTransientError`` at once.
+
+API keys are read only from the environment variable named by ``api_key_env``; they are scrubbed from
+every message this module raises or logs and never written anywhere.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import random
+import re
+import time
+from typing import Any
+
+from pydantic import Field, field_validator
+
+from eb_core.model import (
+    ImagePart,
+    ModelBackend,
+    ModelFatalError,
+    ModelRequest,
+    ModelResponse,
+    ModelTransientError,
+    Usage,
+)
+from eb_models._secrets import Secret, scrub, secret_values
+from eb_models._settings import BackendSettings, ModelConfigError, validate_settings
+from eb_models.cache import ResponseCache, request_fingerprint
+from eb_models.limits import RequestLimiter
+from eb_models.retry import ErrorKind, RetryPolicy, classify_status, retry_after_seconds
+
+__all__ = ["LiteLLMBackend", "LiteLLMSettings"]
+
+log = logging.getLogger("eb_models.litellm")
+
+#: Sent as the key to OpenAI-compatible servers that need none, so litellm never falls back to a real
+#: ``OPENAI_API_KEY`` from the environment and hands it to a local server.
+NO_KEY = "no-key"
+
+_SECRET_PARAM_WORDS = ("key", "secret", "token", "password", "credential")
+
+
+#: litellm repeats the class name: "litellm.RateLimitError: RateLimitError: OpenAIException - ...".
+_LITELLM_PREFIX = re.compile(r"^(?:(?:litellm\.)?\w*(?:Error|Timeout):\s*)+")
+
+
+class LiteLLMSettings(BackendSettings):
+    """The keys of a litellm model preset (``conf/model/<name>.yaml``)."""
+
+    model_id: str = Field(min_length=1)
+    """litellm model string ``provider/model``: ``openai/gpt-4o-2024-08-06``, ``anthropic/...``,
+    ``gemini/...``, ``azure/<deployment>``, ``bedrock/...``; ``openai/<served name>`` for a local server."""
+    api_base: str | None = None
+    """Endpoint URL, e.g. ``http://127.0.0.1:8000/v1`` for vLLM / lmdeploy / SGLang / Ollama."""
+    api_key_env: str | None = None
+    """Name of the environment variable holding the API key (never the key itself)."""
+    api_version: str | None = None
+    """Azure API version."""
+    description: str = ""
+    """Human-readable model name and where it comes from (not sent anywhere)."""
+    supports_images: bool = True
+    """Whether the model takes images; language-only models get the observation's text instead."""
+    supports_json_schema: bool = False
+    """Send the planner's JSON schema as ``response_format`` (else the prompt carries a textual format)."""
+    json_schema_strict: bool | None = None
+    """OpenAI ``strict`` flag for the schema; null = on when the schema fits strict mode's rules."""
+    max_tokens: int = Field(default=2048, ge=1)
+    """Output limit requested per call (the planner asks for 2048; the smaller of the two is sent)."""
+    temperature: float | None = Field(default=None, ge=0)
+    """Overrides the planner's temperature (0) when set."""
+    timeout_s: float = Field(default=120.0, gt=0)
+    """Per-request timeout."""
+    max_retries: int = Field(default=5, ge=0)
+    """Retries after the first attempt on 429 / 5xx / timeouts / connection errors."""
+    retry_max_seconds: float = Field(default=300.0, gt=0)
+    """Total time budget of one call's retries."""
+    backoff_base_s: float = Field(default=1.0, gt=0)
+    backoff_max_s: float = Field(default=60.0, gt=0)
+    max_concurrency: int | None = Field(default=None, ge=1)
+    """Calls in flight at once for this model, across all worker processes (null = no limit)."""
+    rpm: int | None = Field(default=None, ge=1)
+    """Calls started per minute for this model, across all worker processes (null = no limit)."""
+    limits_dir: str | None = None
+    """Where the cross-process limit files live (default ``<tmp>/eb_models_limits``)."""
+    cache_dir: str | None = None
+    """Response cache directory (null = no cache)."""
+    input_cost_per_token: float | None = Field(default=None, ge=0)
+    """USD per prompt token; null = litellm's bundled price map (0 if the model is not in it)."""
+    output_cost_per_token: float | None = Field(default=None, ge=0)
+    """USD per completion token."""
+    extra_params: dict[str, Any] = Field(default_factory=dict)
+    """Further ``litellm.completion`` arguments (``aws_region_name``, ``top_p``...). No secrets here."""
+
+    @field_validator("extra_params")
+    @classmethod
+    def _no_secrets(cls, value: dict[str, Any]) -> dict[str, Any]:
+        for k in value:
+            if any(w in k.lower() for w in _SECRET_PARAM_WORDS):
+                raise ValueError(f"extra_params may not hold {k!r}: secrets come only from environment variables "
+                                 f"(model.api_key_env)")
+        return value
+
+
+def _import_litellm() -> Any:
+    # Must be set before the first import: otherwise litellm downloads its price map at import time.
+    os.environ["LITELLM_LOCAL_MODEL_COST_MAP"] = "True"
+    try:
+        import litellm
+    except ModuleNotFoundError as exc:
+        raise ModelFatalError("the litellm backend needs litellm: pip install 'litellm==1.106.2'") from exc
+    litellm.suppress_debug_info = True
+    litellm.set_verbose = False
+    litellm.telemetry = False
+    return litellm
+
+
+_STRICT_UNSUPPORTED = {"minItems", "maxItems", "minLength", "maxLength", "pattern", "format", "minimum",
+                       "maximum", "exclusiveMinimum", "exclusiveMaximum", "multipleOf", "minProperties",
+                       "maxProperties", "uniqueItems", "patternProperties"}
+
+
+def _fits_strict(schema: Any) -> bool:
+    """Whether ``schema`` follows OpenAI strict mode's rules (conservatively)."""
+    if isinstance(schema, list):
+        return all(_fits_strict(s) for s in schema)
+    if not isinstance(schema, dict):
+        return True
+    if _STRICT_UNSUPPORTED & schema.keys():
+        return False
+    if schema.get("type") == "object":
+        props = schema.get("properties", {})
+        if schema.get("additionalProperties") is not False or set(schema.get("required", [])) != set(props):
+            return False
+    return all(_fits_strict(v) for k, v in schema.items() if k not in ("required", "enum", "const"))
+
+
+class LiteLLMBackend(ModelBackend):
+    """One model reached through litellm. Constructed with the preset's keys as keyword arguments."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        self.settings = s = validate_settings(LiteLLMSettings, "litellm", kwargs)
+        self.supports_images = s.supports_images
+        self.supports_json_schema = s.supports_json_schema
+        self._litellm = _import_litellm()
+        try:
+            _, self.provider, _, _ = self._litellm.get_llm_provider(s.model_id, api_base=s.api_base)
+        except Exception:
+            raise ModelConfigError(
+                f"model.model_id {s.model_id!r} names no litellm provider; write it as 'provider/model' "
+                f"(openai/gpt-4o-2024-08-06, anthropic/claude-3-7-sonnet-20250219, gemini/gemini-1.5-pro, or "
+                f"openai/<served model> with model.api_base for a local server)"
+            ) from None
+        key: str | None = None
+        if s.api_key_env:
+            key = os.environ.get(s.api_key_env) or None
+            if key is None:
+                raise ModelFatalError(
+                    f"model {s.model_id}: environment variable {s.api_key_env} is not set; export your API key "
+                    f"in it (keys are read only from the environment)"
+                )
+        elif s.api_base:
+            key = NO_KEY
+        self._key = Secret(key)
+        self._secrets = secret_values([key])
+        self._policy = RetryPolicy(max_retries=s.max_retries, max_seconds=s.retry_max_seconds,
+                                   backoff_base_s=s.backoff_base_s, backoff_max_s=s.backoff_max_s)
+        self._limiter = RequestLimiter(f"{s.model_id}@{s.api_base or self.provider}",
+                                       max_concurrency=s.max_concurrency, rpm=s.rpm, root=s.limits_dir)
+        self._cache = ResponseCache(s.cache_dir) if s.cache_dir else None
+        self._rng = random.Random()
+        self._warned_cost = False
+
+    def __repr__(self) -> str:
+        return f"LiteLLMBackend(model_id={self.settings.model_id!r}, api_base={self.settings.api_base!r})"
+
+    # -- requests -----------------------------------------------------------------------------
+
+    def _messages(self, request: ModelRequest) -> list[dict[str, Any]]:
+        out: list[dict[str, Any]] = []
+        for m in request.messages:
+            has_image = any(isinstance(p, ImagePart) for p in m.content)
+            if has_image and not self.supports_images:
+                raise ModelFatalError(
+                    f"model {self.settings.model_id} takes no images (supports_images: false); "
+                    f"run it with planner.language_only=true"
+                )
+            if not has_image and len(m.content) == 1:
+                out.append({"role": m.role, "content": m.content[0].text})  # type: ignore[union-attr]
+                continue
+            parts: list[dict[str, Any]] = []
+            for p in m.content:
+                if isinstance(p, ImagePart):
+                    parts.append({"type": "image_url", "image_url": {"url": p.data_url()}})
+                else:
+                    parts.append({"type": "text", "text": p.text})
+            out.append({"role": m.role, "content": parts})
+        return out
+
+    def _response_format(self, schema: dict[str, Any] | None) -> dict[str, Any] | None:
+        if schema is None or not self.supports_json_schema:
+            return None
+        if isinstance(schema.get("schema"), dict):
+            name, body = str(schema.get("name") or "response"), schema["schema"]
+        else:
+            name, body = "response", schema
+        strict = self.settings.json_schema_strict
+        if strict is None:
+            strict = _fits_strict(body)
+        return {"type": "json_schema", "json_schema": {"name": name, "schema": body, "strict": bool(strict)}}
+
+    def _settings_payload(self, request: ModelRequest) -> dict[str, Any]:
+        """Everything sent besides the messages (also part of the cache key)."""
+        s = self.settings
+        payload: dict[str, Any] = {
+            "max_tokens": min(request.max_tokens, s.max_tokens),
+            "temperature": s.temperature if s.temperature is not None else request.temperature,
+        }
+        if request.seed is not None:
+            payload["seed"] = request.seed
+        fmt = self._response_format(request.response_schema)
+        if fmt is not None:
+            payload["response_format"] = fmt
+        payload.update(s.extra_params)
+        return payload
+
+    def _call(self, messages: list[dict[str, Any]], params: dict[str, Any]) -> Any:
+        """One completion with retries; returns litellm's response or raises a model error."""
+        s = self.settings
+        start = time.monotonic()
+        attempt = 0
+        while True:
+            attempt += 1
+            try:
+                with self._limiter.slot():
+                    return self._litellm.completion(
+                        model=s.model_id,
+                        messages=messages,
+                        api_base=s.api_base,
+                        api_key=self._key.get(),
+                        api_version=s.api_version,
+                        timeout=s.timeout_s,
+                        num_retries=0,  # retries are ours (Retry-After, time cap, cross-process limits)
+                        max_retries=0,
+                        drop_params=True,
+                        **params,
+                    )
+            except Exception as exc:  # classified below; programming errors are not retried
+                kind, status, headers = self._classify(exc)
+                detail = self._describe(exc, status)
+                if kind == "fatal":
+                    raise ModelFatalError(self._fatal_message(status, detail)) from None
+                if kind == "reject":
+                    raise ModelTransientError(
+                        f"model {s.model_id}: request rejected, not retried: {detail}"
+                    ) from None
+                elapsed = time.monotonic() - start
+                wait = self._policy.next_wait(attempt, retry_after_seconds(headers), elapsed, self._rng)
+                if wait is None:
+                    raise ModelTransientError(
+                        f"model {s.model_id}: gave up after {attempt} attempt(s) in {elapsed:.1f}s "
+                        f"(max_retries={s.max_retries}, retry_max_seconds={s.retry_max_seconds:g}); "
+                        f"last error: {detail}"
+                    ) from None
+                log.warning("model %s: %s; retry %d/%d in %.2fs", s.model_id, detail, attempt,
+                            s.max_retries, wait)
+                time.sleep(wait)
+
+    def _classify(self, exc: Exception) -> tuple[ErrorKind, int | None, Any]:
+        status = getattr(exc, "status_code", None)
+        response = getattr(exc, "response", None)
+        headers = getattr(exc, "litellm_response_headers", None)
+        if headers is None and response is not None:
+            headers = getattr(response, "headers", None)
+        lt = self._litellm
+        if isinstance(exc, (lt.Timeout, lt.APIConnectionError)):
+            return "retry", status, headers
+        if isinstance(exc, (lt.AuthenticationError, lt.PermissionDeniedError, lt.NotFoundError)):
+            return "fatal", status, headers
+        if isinstance(exc, (lt.RateLimitError, lt.InternalServerError, lt.ServiceUnavailableError,
+                            lt.APIResponseValidationError)):
+            return "retry", status, headers
+        if isinstance(exc, lt.BadRequestError) and "LLM Provider NOT provided" in str(exc):
+            return "fatal", status, headers
+        if isinstance(status, int):
+            return classify_status(status), status, headers
+        if isinstance(exc, (lt.APIError, ConnectionError, TimeoutError)):
+            return "retry", None, headers
+        return "reject", None, headers
+
+    def _describe(self, exc: Exception, status: int | None) -> str:
+        text = " ".join(str(exc).split())
+        text = _LITELLM_PREFIX.sub("", text) or "(no message)"
+        if len(text) > 400:
+            text = text[:397] + "..."
+        where = f" (HTTP {status})" if status else ""
+        return scrub(f"{type(exc).__name__}{where}: {text}", self._secrets)
+
+    def _fatal_message(self, status: int | None, detail: str) -> str:
+        s = self.settings
+        if status == 401:
+            why = f"authentication failed; check the API key in ${s.api_key_env}" if s.api_key_env else \
+                "authentication failed; set model.api_key_env to the variable holding the key"
+        elif status == 403:
+            why = "access denied for this key"
+        elif status == 404:
+            why = "unknown model or endpoint; check model.model_id and model.api_base"
+        else:
+            why = "the request cannot succeed"
+        where = f" at {s.api_base}" if s.api_base else ""
+        return f"model {s.model_id}{where}: {why}. {detail}"
+
+    # -- ModelBackend -------------------------------------------------------------------------
+
+    def preflight(self) -> None:
+        """One tiny call (with the JSON schema when the preset uses it): bad keys and models fail here."""
+        params: dict[str, Any] = {"max_tokens": 8, "temperature": 0.0}
+        if self.supports_json_schema:
+            params["response_format"] = self._response_format({
+                "name": "preflight",
+                "schema": {"type": "object", "properties": {"ok": {"type": "boolean"}}, "required": ["ok"],
+                           "additionalProperties": False},
+            })
+        params.update(self.settings.extra_params)
+        try:
+            self._call([{"role": "user", "content": "Reply with OK."}], params)
+        except ModelTransientError as exc:
+            hint = ""
+            if "rejected" in str(exc) and self.supports_json_schema:
+                hint = " If the server has no JSON-schema output, set model.supports_json_schema=false."
+            raise ModelFatalError(f"preflight failed: {exc}.{hint}") from None
+
+    def complete(self, request: ModelRequest) -> ModelResponse:
+        t0 = time.perf_counter()
+        s = self.settings
+        messages = self._messages(request)
+        params = self._settings_payload(request)
+        key = None
+        if self._cache is not None:
+            key = ResponseCache.key({"model_id": s.model_id, "api_base": s.api_base, "api_version": s.api_version,
+                                     "messages": request_fingerprint(request), "params": params})
+            hit = self._cache.get(key)
+            if hit is not None:
+                usage = Usage(prompt_tokens=int(hit.get("prompt_tokens", 0)),
+                              completion_tokens=int(hit.get("completion_tokens", 0)),
+                              cost_usd=0.0, latency_s=time.perf_counter() - t0, calls=1)
+                return ModelResponse(text=hit["text"], usage=usage, model=str(hit.get("model", s.model_id)),
+                                     cached=True)
+        resp = self._call(messages, params)
+        try:
+            choice = resp.choices[0]
+            text = choice.message.content or ""
+        except (AttributeError, IndexError, TypeError):
+            raise ModelTransientError(f"model {s.model_id}: the response held no answer (no choices)") from None
+        if not isinstance(text, str):
+            text = str(text)
+        u = getattr(resp, "usage", None)
+        pt = int(getattr(u, "prompt_tokens", 0) or 0)
+        ct = int(getattr(u, "completion_tokens", 0) or 0)
+        usage = Usage(prompt_tokens=pt, completion_tokens=ct, cost_usd=self._cost(resp, pt, ct),
+                      latency_s=time.perf_counter() - t0, calls=1)
+        model = str(getattr(resp, "model", "") or s.model_id)
+        if self._cache is not None and key is not None:
+            self._cache.put(key, {"text": text, "prompt_tokens": pt, "completion_tokens": ct, "model": model,
+                                  "model_id": s.model_id})
+        return ModelResponse(text=text, usage=usage, model=model)
+
+    def _cost(self, resp: Any, pt: int, ct: int) -> float:
+        s = self.settings
+        if s.input_cost_per_token is not None or s.output_cost_per_token is not None:
+            return pt * (s.input_cost_per_token or 0.0) + ct * (s.output_cost_per_token or 0.0)
+        try:
+            return float(self._litellm.completion_cost(completion_response=resp, model=s.model_id) or 0.0)
+        except Exception:
+            if not self._warned_cost:
+                self._warned_cost = True
+                log.warning("model %s: no price known (set input_cost_per_token / output_cost_per_token); "
+                            "cost is recorded as 0 and model.max_cost_usd cannot stop the run", s.model_id)
+            return 0.0
+
+    def close(self) -> None:
+        """Nothing to release: litellm's HTTP clients are shared per process. Safe to call twice."""

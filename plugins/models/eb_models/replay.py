@@ -1,0 +1,111 @@
+"""The ``replay`` backend: answers with the raw outputs recorded in an earlier run directory.
+
+For each episode it reads ``<run_dir>/episodes/<task_id>/steps.jsonl`` and returns the lines'
+``raw_output`` in ``planner_step`` order. With the same env, planner settings and seed, the replayed run
+comes out identical to the recorded one, without calling a model (re-scoring, debugging, demos). Asking
+for more answers than were recorded means the runs diverged: that is an error, never a made-up answer.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+from pydantic import Field
+
+from eb_core.model import (
+    EpisodeContext,
+    ModelBackend,
+    ModelFatalError,
+    ModelRequest,
+    ModelResponse,
+    ModelTransientError,
+    Usage,
+)
+from eb_models._settings import BackendSettings, ModelConfigError, validate_settings
+
+__all__ = ["ReplayBackend", "ReplaySettings", "load_recorded_outputs"]
+
+
+class ReplaySettings(BackendSettings):
+    run_dir: str = Field(min_length=1)
+    """The earlier run directory (the one holding ``episodes.jsonl`` and ``episodes/``)."""
+
+
+def load_recorded_outputs(steps_file: Path) -> list[dict[str, Any]]:
+    """The recorded planner steps of one episode, sorted by ``planner_step``."""
+    rows: list[dict[str, Any]] = []
+    with open(steps_file, encoding="utf-8") as fh:
+        for n, line in enumerate(fh, 1):
+            if not line.strip():
+                continue
+            try:
+                row = json.loads(line)
+            except ValueError:
+                raise ModelTransientError(f"replay: {steps_file} line {n} is not JSON") from None
+            if not isinstance(row, dict) or not isinstance(row.get("raw_output"), str):
+                raise ModelTransientError(f"replay: {steps_file} line {n} has no raw_output string")
+            rows.append(row)
+    rows.sort(key=lambda r: int(r.get("planner_step", 0)))
+    return rows
+
+
+class ReplayBackend(ModelBackend):
+    supports_images = True
+    supports_json_schema = False
+
+    def __init__(self, **kwargs: Any) -> None:
+        self.settings = validate_settings(ReplaySettings, "replay", kwargs)
+        self.run_dir = Path(self.settings.run_dir).expanduser().resolve()
+        if not (self.run_dir / "episodes").is_dir():
+            raise ModelConfigError(
+                f"replay: model.run_dir {str(self.run_dir)!r} has no episodes/ directory; point it at an earlier "
+                f"run directory"
+            )
+        self.task_id: str | None = None
+        self.steps_file: Path | None = None
+        self.rows: list[dict[str, Any]] = []
+        self.next_index = 0
+        self.load_error: str | None = None
+
+    def __repr__(self) -> str:
+        return f"ReplayBackend(run_dir={str(self.run_dir)!r})"
+
+    def start_episode(self, ctx: EpisodeContext) -> None:
+        if ctx.run_dir and Path(ctx.run_dir).expanduser().resolve() == self.run_dir:
+            raise ModelFatalError("replay: model.run_dir is the run being written; replay into another directory "
+                                  "(set experiment=<new name>)")
+        self.task_id = ctx.task.id
+        self.steps_file = self.run_dir / "episodes" / ctx.task.id / "steps.jsonl"
+        self.next_index = 0
+        self.rows = []
+        self.load_error = None
+        if not self.steps_file.is_file():
+            self.load_error = f"replay: no recorded steps for task {ctx.task.id!r} ({self.steps_file} is missing)"
+            return
+        self.rows = load_recorded_outputs(self.steps_file)
+
+    def complete(self, request: ModelRequest) -> ModelResponse:
+        t0 = time.perf_counter()
+        if self.task_id is None:
+            raise ModelFatalError("the replay backend needs an episode: start_episode() was not called")
+        if self.load_error:
+            raise ModelTransientError(self.load_error)
+        if self.next_index >= len(self.rows):
+            raise ModelTransientError(
+                f"replay: task {self.task_id!r} asked for answer {self.next_index + 1} but {self.steps_file} holds "
+                f"only {len(self.rows)}; this run diverged from the recorded one (other env version, planner "
+                f"settings or seed?)"
+            )
+        row = self.rows[self.next_index]
+        self.next_index += 1
+        recorded = row.get("usage") if isinstance(row.get("usage"), dict) else {}
+        usage = Usage(prompt_tokens=int(recorded.get("prompt_tokens", 0) or 0),
+                      completion_tokens=int(recorded.get("completion_tokens", 0) or 0),
+                      cost_usd=0.0, latency_s=time.perf_counter() - t0, calls=1)
+        return ModelResponse(text=row["raw_output"], usage=usage, model="replay")
+
+    def close(self) -> None:
+        self.rows = []
