@@ -24,6 +24,8 @@ __all__ = ["ENTRY_POINT_GROUP", "PluginError", "Registry", "get_plugin_manager",
 ENTRY_POINT_GROUP = "eb.plugins"
 #: Comma-separated importable modules registered as plugins without installing them (development, tests).
 PLUGINS_ENV_VAR = "EB_PLUGINS"
+#: Set to 1 to load no installed plugins (only built-ins and EB_PLUGINS), like PYTEST_DISABLE_PLUGIN_AUTOLOAD.
+AUTOLOAD_OFF_ENV_VAR = "EB_DISABLE_PLUGIN_AUTOLOAD"
 
 S = TypeVar("S", bound=ComponentSpec)
 
@@ -51,7 +53,7 @@ def get_plugin_manager(*, load_entrypoints: bool = True, plugins: Iterable[Any] 
     from eb_core import builtin_plugin
 
     pm.register(builtin_plugin, name="eb_core")
-    if load_entrypoints:
+    if load_entrypoints and not os.environ.get(AUTOLOAD_OFF_ENV_VAR):
         for ep in md.entry_points(group=ENTRY_POINT_GROUP):
             if pm.get_plugin(ep.name) is not None or pm.is_blocked(ep.name):
                 continue

@@ -272,7 +272,9 @@ def run(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, 
     finally:
         progress.close()
 
-    records = [r for r in files.load_episodes() if r.task_id in {t.id for t in selected}]
+    all_records = files.load_episodes()
+    files.clean_partial({r.task_id for r in all_records})  # staging dirs of episodes cut short by a stop
+    records = [r for r in all_records if r.task_id in {t.id for t in selected}]
     metric_fns = {name: spec.load() for name, spec in registry.metrics.items()}
     subsets = list(dict.fromkeys(t.subset for t in selected))
     summary: dict[str, Any] = {
