@@ -1,0 +1,174 @@
+"""``HabitatEnv``: the EB-Habitat environment (language rearrangement with 70 fixed high-level skills).
+
+The symbolic world (:mod:`eb_habitat.world`) decides everything; with ``render=True`` (the default) a MuJoCo
+apartment (:mod:`eb_habitat.render`) draws the first-person view after each step. ``render=False`` gives
+text-only observations without importing MuJoCo, for fast oracle and logic checks.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict, ValidationError
+
+from eb_core.env import (
+    Action,
+    DiscreteActionSpace,
+    Env,
+    ObjectInfo,
+    Observation,
+    PromptParts,
+    StepResult,
+    Task,
+)
+from eb_habitat import prompts
+from eb_habitat.goals import GoalTracker
+from eb_habitat.oracle import expert_plan
+from eb_habitat.skills import SKILL_NAMES, SKILLS
+from eb_habitat.tasks import TaskSpec, load_tasks, spec_of
+from eb_habitat.world import World, item_label
+
+__all__ = ["HabitatEnv", "HabitatParams"]
+
+
+class HabitatParams(BaseModel):
+    """The ``params:`` of ``conf/env/habitat.yaml``."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    render: bool = True
+    """Draw first-person images with MuJoCo. False: text observations only (no MuJoCo import)."""
+    task_dir: str | None = None
+    """Folder of task files to load instead of the shipped ones (``eb tasks generate env=habitat out=...``)."""
+
+
+def _params(params: dict[str, Any]) -> HabitatParams:
+    try:
+        return HabitatParams(**params)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        key = ".".join(str(p) for p in err["loc"])
+        if err["type"] == "extra_forbidden":
+            raise ValueError(f"habitat env: unknown param {key!r}; allowed: "
+                             f"{', '.join(HabitatParams.model_fields)}") from None
+        raise ValueError(f"habitat env: param {key!r}: {err['msg']}") from None
+
+
+class HabitatEnv(Env):
+    """EB-Habitat. One instance per worker; ``reset`` builds the task's apartment, ``step`` runs one skill."""
+
+    name = "habitat"
+
+    def __init__(self, resolution: int = 500, multi_view: bool = False, **params: Any) -> None:
+        self.params = _params(params)
+        self.resolution = int(resolution)
+        self.multi_view = bool(multi_view)
+        self._space = DiscreteActionSpace(actions=SKILL_NAMES)
+        self._renderer: Any = None
+        self._task: Task | None = None
+        self._spec: TaskSpec | None = None
+        self._world: World | None = None
+        self._tracker: GoalTracker | None = None
+        self._closed = False
+
+    # -- tasks -----------------------------------------------------------------------------------
+
+    @classmethod
+    def load_tasks(cls, **params: Any) -> list[Task]:
+        p = _params(params)
+        return load_tasks(p.task_dir)
+
+    # -- episode ---------------------------------------------------------------------------------
+
+    def reset(self, task: Task, seed: int) -> Observation:
+        if self._closed:
+            raise RuntimeError("HabitatEnv.reset() after close()")
+        self._task = task
+        self._spec = spec_of(task)
+        self._world = self._spec.world()
+        self._tracker = self._spec.tracker()
+        self._tracker.update(self._world)
+        if self.params.render:
+            if self._renderer is None:
+                from eb_habitat.render import ApartmentRenderer
+
+                self._renderer = ApartmentRenderer(self.resolution, multi_view=self.multi_view)
+            self._renderer.load(self._spec)
+        return self._observe()
+
+    def step(self, action: Action) -> StepResult:
+        if self._world is None or self._tracker is None:
+            raise RuntimeError("HabitatEnv.step() before reset()")
+        if isinstance(action, bool) or not isinstance(action, int) or not 0 <= action < len(SKILLS):
+            raise ValueError(f"habitat action must be an id in 0..{len(SKILLS) - 1}, got {action!r}")
+        outcome = self._world.step(int(action))
+        self._tracker.update(self._world)
+        success = self._tracker.success(self._world)
+        feedback = outcome.feedback
+        if success:
+            feedback += " Every goal of the task is now met."
+        return StepResult(
+            observation=self._observe(),
+            action_success=outcome.success,
+            feedback=feedback,
+            done=success,
+            task_success=success,
+            progress=self._tracker.progress(self._world),
+            info={
+                "skill": SKILL_NAMES[int(action)],
+                "agent_at": self._world.agent_at,
+                "holding": self._world.held,
+                "unmet_goals": [str(p) for p in self._tracker.unmet(self._world)],
+                "subgoals_reached": sum(self._tracker.reached),
+                "subgoals_total": len(self._tracker.subgoals),
+            },
+        )
+
+    def _observe(self) -> Observation:
+        assert self._world is not None and self._tracker is not None
+        w = self._world
+        targets = {p.obj for p in self._tracker.goal if p.obj is not None}
+        visible = w.visible_items()
+        boxes: dict[str, tuple[int, int, int, int]] = {}
+        positions: dict[str, tuple[float, float, float]] = {}
+        images: dict[str, Any] = {}
+        if self._renderer is not None and self.params.render:
+            images = self._renderer.render(w)
+            boxes = self._renderer.boxes()
+            positions = self._renderer.positions()
+        objects = [
+            ObjectInfo(
+                name=it.name,
+                type=it.type,
+                box=boxes.get(it.name),
+                position=positions.get(it.name),
+                label=item_label(it),
+                is_target=it.name in targets or f"?{it.type}" in targets,
+            )
+            for it in visible
+        ]
+        return Observation(
+            images=images,
+            primary="first_person" if images else None,
+            text=w.describe(),
+            objects=objects,
+        )
+
+    # -- planner support -------------------------------------------------------------------------
+
+    def action_space(self) -> DiscreteActionSpace:
+        return self._space
+
+    def prompt_parts(self) -> PromptParts:
+        return prompts.prompt_parts(self._task.subset if self._task is not None else None)
+
+    def expert_plan(self) -> list[Action] | None:
+        if self._world is None or self._tracker is None:
+            return None
+        return list(expert_plan(self._world, self._tracker.goal))
+
+    def close(self) -> None:
+        self._closed = True
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None

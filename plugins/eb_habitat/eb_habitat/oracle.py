@@ -1,0 +1,152 @@
+"""The expert planner: a plan of skill ids that solves a task from any state of the symbolic world.
+
+It knows where every object is (privileged information a model does not have) and simulates each action on
+a copy of the world, so the plan it returns is exactly what the env will execute.
+"""
+
+from __future__ import annotations
+
+from eb_habitat.catalog import RECEPTACLES
+from eb_habitat.goals import Predicate
+from eb_habitat.skills import skill_id
+from eb_habitat.world import Item, World
+
+__all__ = ["OracleError", "expert_plan"]
+
+
+class OracleError(RuntimeError):
+    """The goal cannot be reached by the expert from this state (a generator rejects such tasks)."""
+
+
+class _Planner:
+    def __init__(self, world: World, goal: list[Predicate]) -> None:
+        self.w = world.copy()
+        self.goal = goal
+        self.plan: list[int] = []
+
+    def do(self, kind: str, arg: str) -> None:
+        action = skill_id(kind, arg)
+        out = self.w.step(action)
+        if not out.success:
+            raise OracleError(f"expert step {kind}({arg}) failed: {out.feedback}")
+        self.plan.append(action)
+
+    def goto(self, key: str) -> None:
+        if self.w.agent_at != key:
+            self.do("navigate", key)
+
+    def ensure_open(self, key: str) -> None:
+        if not self.w.is_open(key):
+            self.goto(key)
+            self.do("open", key)
+
+    def placement_goals(self) -> list[Predicate]:
+        return [p for p in self.goal if p.name in ("on", "inside")]
+
+    def locked(self) -> set[str]:
+        """Instances that currently satisfy a placement goal (the expert leaves them alone)."""
+        out: set[str] = set()
+        for p in self.placement_goals():
+            for it in self.w.items_at(p.args[1]):
+                if p.matches(it.name, it.type):
+                    out.add(it.name)
+                    break
+        return out
+
+    def goal_targets(self) -> set[str]:
+        return {p.target for p in self.goal if p.target is not None}
+
+    def stash(self, avoid: frozenset[str] = frozenset()) -> None:
+        """Put the held object down where it harms no goal: here if possible, else the first free surface."""
+        here = self.w.agent_at
+        targets = self.goal_targets() | avoid
+        if here is not None and self.w.is_open(here) and self.w.free_slot(here) is not None and here not in targets:
+            self.do("place", here)
+            return
+        for r in RECEPTACLES:
+            if r.kind == "surface" and r.key not in targets and self.w.free_slot(r.key) is not None:
+                self.goto(r.key)
+                self.do("place", r.key)
+                return
+        raise OracleError("no free surface to put the held object on")
+
+    def deliver(self, item: Item, target: str) -> None:
+        """Bring ``item`` (held or lying somewhere) to ``target`` and put it there."""
+        if self.w.held != item.name:
+            if self.w.held is not None:
+                self.stash()
+            source = item.loc
+            self.ensure_open(source)
+            self.goto(source)
+            # `pick up the <type>` takes the leftmost instance of that type: move blockers out of the way.
+            for _ in range(8):
+                cand = self.w.pick_candidate(item.type)
+                if cand is None or cand.name == item.name:
+                    break
+                self.do("pick", item.type)
+                self.stash(avoid=frozenset({source}))
+                self.goto(source)
+            self.do("pick", item.type)
+            if self.w.held != item.name:
+                raise OracleError(f"could not pick {item.name}")
+        self.ensure_open(target)
+        self.goto(target)
+        if self.w.free_slot(target) is None:
+            raise OracleError(f"no room at {target}")
+        self.do("place", target)
+
+    def choose(self, p: Predicate) -> Item:
+        """The instance to bring for an unmet placement goal."""
+        locked = self.locked()
+        cands = [it for it in self.w.items.values() if p.matches(it.name, it.type) and it.name not in locked]
+        if not cands:
+            raise OracleError(f"no object left for {p}")
+        held = self.w.held
+        # Prefer what is already in hand, then what lies where we stand, then anything (stable order).
+        cands.sort(key=lambda it: (it.name != held, it.loc != self.w.agent_at, it.name))
+        return cands[0]
+
+    def solve(self) -> list[int]:
+        for _ in range(3):  # a later goal may be undone by an earlier one only in odd states: retry a little
+            # What is in hand first: deliver it if a goal wants it, else put it down harmlessly.
+            held = self.w.held_item
+            if held is not None:
+                wanted = [p for p in self.placement_goals() if not p.holds(self.w) and p.matches(held.name, held.type)]
+                holding_goal = any(p.name == "holding" and p.matches(held.name, held.type) for p in self.goal)
+                if wanted:
+                    self.deliver(held, wanted[0].args[1])
+                elif not holding_goal:
+                    self.stash()
+            for p in self.placement_goals():
+                if not p.holds(self.w):
+                    self.deliver(self.choose(p), p.args[1])
+            for p in self.goal:
+                if p.name == "open" and not p.holds(self.w):
+                    self.ensure_open(p.args[0])
+                elif p.name == "closed" and not p.holds(self.w):
+                    self.goto(p.args[0])
+                    self.do("close", p.args[0])
+            for p in self.goal:
+                if p.name == "holding" and not p.holds(self.w):
+                    if self.w.held is not None:
+                        self.stash()
+                    cands = sorted((it for it in self.w.items.values() if p.matches(it.name, it.type)
+                                    and it.name not in self.locked()), key=lambda it: it.name)
+                    if not cands:
+                        raise OracleError(f"nothing to hold for {p}")
+                    item = cands[0]
+                    self.ensure_open(item.loc)
+                    self.goto(item.loc)
+                    self.do("pick", item.type)
+            if all(p.holds(self.w) for p in self.goal):
+                return self.plan
+        raise OracleError("the expert could not satisfy every goal predicate")
+
+
+def expert_plan(world: World, goal: list[Predicate]) -> list[int]:
+    """Skill ids that take ``world`` (left unchanged) to a state where every goal predicate holds.
+
+    Returns an empty list when the goal already holds. Raises :class:`OracleError` if it cannot.
+    """
+    return _Planner(world, goal).solve()
+
