@@ -6,7 +6,7 @@ import os
 import re
 from collections.abc import Iterable
 
-__all__ = ["Secret", "scrub", "secret_values"]
+__all__ = ["Scrubber", "Secret", "scrub", "secret_values"]
 
 #: Environment variables whose values are never allowed into a message, besides the backend's own key.
 _SECRET_NAME = re.compile(r"(API_KEY|SECRET|TOKEN|PASSWORD|CREDENTIAL)", re.IGNORECASE)
@@ -48,3 +48,21 @@ def scrub(text: str, secrets: Iterable[str]) -> str:
         if s:
             text = text.replace(s, "***")
     return re.sub(r"(?i)(bearer\s+)[A-Za-z0-9._\-]{8,}", r"\1***", text)
+
+
+class Scrubber:
+    """Callable that scrubs a fixed set of secrets from text; its repr shows how many, never which."""
+
+    __slots__ = ("_secrets",)
+
+    def __init__(self, secrets: Iterable[str]) -> None:
+        self._secrets = tuple(secrets)
+
+    def __call__(self, text: str) -> str:
+        return scrub(text, self._secrets)
+
+    def __repr__(self) -> str:
+        return f"Scrubber({len(self._secrets)} secrets)"
+
+    def __reduce__(self):
+        raise TypeError("Scrubber objects cannot be pickled")

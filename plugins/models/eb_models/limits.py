@@ -48,8 +48,9 @@ class RequestLimiter:
     """Cross-process concurrency and requests-per-minute limits for one model (``key``)."""
 
     def __init__(self, key: str, *, max_concurrency: int | None = None, rpm: int | None = None,
-                 root: str | os.PathLike[str] | None = None, poll_s: float = 0.02) -> None:
+                 root: str | os.PathLike[str] | None = None, poll_s: float = 0.02, window_s: float = _WINDOW_S) -> None:
         self.key = key
+        self.window_s = window_s
         self.max_concurrency = max_concurrency
         self.rpm = rpm
         self.poll_s = poll_s
@@ -107,12 +108,12 @@ class RequestLimiter:
                     except (ValueError, TypeError):
                         starts = []  # a corrupt file only loses the window, never blocks
                     now = time.time()
-                    starts = sorted(t for t in starts if now - t < _WINDOW_S and t <= now + 1.0)
+                    starts = sorted(t for t in starts if now - t < self.window_s and t <= now + 1.0)
                     wait = 0.0
                     if len(starts) < self.rpm:
                         starts.append(now)
                     else:
-                        wait = starts[len(starts) - self.rpm] + _WINDOW_S - now
+                        wait = starts[len(starts) - self.rpm] + self.window_s - now
                     fh.seek(0)
                     fh.truncate()
                     fh.write(json.dumps(starts))

@@ -37,7 +37,7 @@ from eb_core.model import (
     ModelTransientError,
     Usage,
 )
-from eb_models._secrets import Secret, scrub, secret_values
+from eb_models._secrets import Scrubber, Secret, secret_values
 from eb_models._settings import BackendSettings, ModelConfigError, validate_settings
 from eb_models.cache import ResponseCache, request_fingerprint
 from eb_models.limits import RequestLimiter
@@ -175,7 +175,7 @@ class LiteLLMBackend(ModelBackend):
         elif s.api_base:
             key = NO_KEY
         self._key = Secret(key)
-        self._secrets = secret_values([key])
+        self._scrub = Scrubber(secret_values([key]))
         self._policy = RetryPolicy(max_retries=s.max_retries, max_seconds=s.retry_max_seconds,
                                    backoff_base_s=s.backoff_base_s, backoff_max_s=s.backoff_max_s)
         self._limiter = RequestLimiter(f"{s.model_id}@{s.api_base or self.provider}",
@@ -307,7 +307,7 @@ class LiteLLMBackend(ModelBackend):
         if len(text) > 400:
             text = text[:397] + "..."
         where = f" (HTTP {status})" if status else ""
-        return scrub(f"{type(exc).__name__}{where}: {text}", self._secrets)
+        return self._scrub(f"{type(exc).__name__}{where}: {text}")
 
     def _fatal_message(self, status: int | None, detail: str) -> str:
         s = self.settings

@@ -74,6 +74,9 @@ class StubOpenAIServer:
         self.default: Responder = default if default is not None else StubReply()
         self.latency_s = latency_s
         self.requests: list[RecordedRequest] = []
+        self.in_flight = 0
+        self.max_in_flight = 0
+        """Most chat requests handled at the same time (checks client-side concurrency limits)."""
         self._lock = threading.Lock()
         self._server = _Server((host, port), _Handler)
         self._server.stub = self
@@ -176,6 +179,16 @@ class _Handler(BaseHTTPRequestHandler):
             self._send(404, b'{"error": {"message": "unknown path"}}')
             return
         reply = stub._next_reply(body)
+        with stub._lock:
+            stub.in_flight += 1
+            stub.max_in_flight = max(stub.max_in_flight, stub.in_flight)
+        try:
+            self._answer(stub, reply, body)
+        finally:
+            with stub._lock:
+                stub.in_flight -= 1
+
+    def _answer(self, stub: StubOpenAIServer, reply: StubReply, body: Any) -> None:
         delay = stub.latency_s + reply.delay_s
         if delay > 0:
             time.sleep(delay)
