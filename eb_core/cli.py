@@ -368,4 +368,7 @@ def cmd_tasks(args: list[str]) -> int:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    raise SystemExit(main())
+    # Import by name so exceptions raised in other modules match this module's classes.
+    from eb_core.cli import main as _main
+
+    raise SystemExit(_main())

@@ -102,3 +102,14 @@ class VectorReach(Env):
 
     def expert_plan(self) -> list[tuple[int, ...]]:
         return [self.target]
+
+
+# -- registered directly in runner tests (``run(..., plugins=[models_toyenv, eb_models.plugin])``) --------
+
+from eb_core import EnvSpec, hookimpl  # noqa: E402
+
+
+@hookimpl
+def eb_register_envs() -> list[EnvSpec]:
+    return [EnvSpec(name="button-line", entry_point="models_toyenv:ButtonLine", subsets={"base": 3},
+                    description="eb-models test world")]
