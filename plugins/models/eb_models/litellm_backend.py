@@ -24,6 +24,7 @@ import os
 import random
 import re
 import time
+import warnings
 from typing import Any
 
 from pydantic import Field, field_validator
@@ -119,7 +120,9 @@ def _import_litellm() -> Any:
     # Must be set before the first import: otherwise litellm downloads its price map at import time.
     os.environ["LITELLM_LOCAL_MODEL_COST_MAP"] = "True"
     try:
-        import litellm
+        with warnings.catch_warnings():  # litellm's typed dicts trip pydantic's ReadOnly warning at import
+            warnings.simplefilter("ignore", UserWarning)
+            import litellm
     except ModuleNotFoundError as exc:
         raise ModelFatalError("the litellm backend needs litellm: pip install 'litellm==1.106.2'") from exc
     litellm.suppress_debug_info = True
