@@ -1,0 +1,109 @@
+"""Typed scene and goal specs stored in task files (``Task.metadata``) and read by the world."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from eb_manipulation.shapes import COLOURS, SHAPES
+
+__all__ = ["DIRECTIONS", "FAMILIES", "GoalSpec", "ObjectSpec", "SceneSpec", "TASK_FORMAT"]
+
+#: Version of the task-file format; bump when the meaning of a field changes.
+TASK_FORMAT = 1
+
+FAMILIES = ("pick", "stack", "sorter", "wipe")
+#: Original VLMBench task ids per family (the spatial subset uses the ``_relative`` variants).
+VARIANTS = {
+    "pick": "pick_cube_shape",
+    "stack": "stack_cubes_color",
+    "sorter": "place_into_shape_sorter_color",
+    "wipe": "wipe_table_direction",
+}
+#: Wiping directions, named as seen in the front image.
+DIRECTIONS = ("left_to_right", "right_to_left", "front_to_back", "back_to_front")
+
+
+class ObjectSpec(BaseModel):
+    """One thing on the table."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    id: str = Field(pattern=r"^[a-z][a-z0-9_]*$")
+    kind: Literal["shape", "container", "sorter", "sponge", "area"]
+    shape: str | None = None
+    """For ``shape``: cube, cylinder, star, moon or triangle."""
+    colour: str | None = None
+    x: float
+    y: float
+    yaw: float = 0.0
+    """Rotation about the vertical, degrees."""
+    holes: tuple[str, ...] = ()
+    """For ``sorter``: the hole shapes, along the sorter's length (its local y axis)."""
+    size: tuple[float, float] | None = None
+    """For ``area``: extent along world x and y (m)."""
+
+    @model_validator(mode="after")
+    def _check(self) -> "ObjectSpec":
+        if self.colour is not None and self.colour not in COLOURS:
+            raise ValueError(f"unknown colour {self.colour!r}")
+        if self.kind == "shape" and self.shape not in SHAPES:
+            raise ValueError(f"shape object {self.id} needs a shape from {sorted(SHAPES)}")
+        if self.kind == "sorter" and not self.holes:
+            raise ValueError("a sorter needs holes")
+        if any(h not in SHAPES for h in self.holes):
+            raise ValueError(f"unknown hole shape in {self.holes}")
+        if self.kind == "area" and self.size is None:
+            raise ValueError("an area needs a size")
+        return self
+
+
+class GoalSpec(BaseModel):
+    """What success means, per family."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    family: Literal["pick", "stack", "sorter", "wipe"]
+    target: str | None = None
+    """pick / sorter: the object to move; wipe: the sponge."""
+    container: str | None = None
+    """pick: the container the target must end in."""
+    order: tuple[str, ...] = ()
+    """stack: cube ids from the bottom of the tower to its top."""
+    area: str | None = None
+    """wipe: the area to wipe."""
+    direction: Literal["left_to_right", "right_to_left", "front_to_back", "back_to_front"] | None = None
+
+
+class SceneSpec(BaseModel):
+    """The full set-up of one task (stored as ``Task.metadata``)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    format: int = TASK_FORMAT
+    family: Literal["pick", "stack", "sorter", "wipe"]
+    variant: str
+    """The original task id this mirrors (e.g. ``stack_cubes_color`` or ``pick_cube_relative``)."""
+    scene_seed: int
+    objects: tuple[ObjectSpec, ...]
+    goal: GoalSpec
+    target_ids: tuple[str, ...] = ()
+    """Objects the instruction is about (for the target-only box ablation)."""
+
+    @model_validator(mode="after")
+    def _refs(self) -> "SceneSpec":
+        ids = [o.id for o in self.objects]
+        if len(ids) != len(set(ids)):
+            raise ValueError("object ids must be unique")
+        g = self.goal
+        for ref in [g.target, g.container, g.area, *g.order, *self.target_ids]:
+            if ref is not None and ref not in ids:
+                raise ValueError(f"goal refers to unknown object {ref!r}")
+        return self
+
+    def get(self, obj_id: str) -> ObjectSpec:
+        for o in self.objects:
+            if o.id == obj_id:
+                return o
+        raise KeyError(obj_id)

@@ -1,0 +1,481 @@
+"""The simulated tabletop: moves the arm, grasps and releases, lets objects settle, checks success.
+
+The arm is driven kinematically along collision-checked paths (see :mod:`eb_manipulation.kinematics`);
+everything else is MuJoCo physics. A grasp is a contact rule: while the gripper closes, an object is
+attached to the hand only when the left *and* the right finger touch it; a single finger that touches a
+loose object pushes it sideways (as a real parallel gripper centres an object). Released objects fall
+and settle under gravity and friction before the next observation.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from eb_manipulation._gl import mujoco
+from eb_manipulation.actions import bin_to_angle, bin_to_pos, euler_to_matrix
+from eb_manipulation.kinematics import Arm, Blocker
+from eb_manipulation.robot import FINGER_OPEN, HOME_QPOS, REST_QPOS
+from eb_manipulation.scene import CONTAINER, SORTER, SPONGE, TABLE_TOP, build_scene, hole_centres
+from eb_manipulation.shapes import CUBE_HALF, SHAPES
+from eb_manipulation.spec import ObjectSpec, SceneSpec
+
+__all__ = ["ActionOutcome", "World", "WorldObject"]
+
+CONTACT_HEIGHT = 0.012
+"""The sponge wipes the table while its bottom is at most this far above the table top (m)."""
+SETTLE_MAX_STEPS = 900
+SETTLE_MIN_STEPS = 60
+
+
+@dataclass(frozen=True)
+class WorldObject:
+    """An entry of the object list the agent sees (shapes, sponge, containers, sorter holes, areas)."""
+
+    key: str
+    """Object id, or ``<sorter id>_hole<k>`` for a sorter hole."""
+    kind: str
+    description: str
+    """Plain description, e.g. ``red star`` or ``star-shaped hole of the shape sorter``."""
+    spec_id: str
+    """The scene object it belongs to."""
+
+
+@dataclass
+class ActionOutcome:
+    ok: bool
+    feedback: str
+    """Our wording; object references use ``{key}`` placeholders resolved by the env (``object 3``)."""
+    refs: dict[str, str] = field(default_factory=dict)
+
+
+class World:
+    """One task's world. Create it with a :class:`SceneSpec`; call :meth:`execute` with 7-D actions."""
+
+    def __init__(self, scene: SceneSpec, resolution: int = 500):
+        self.scene = scene
+        built = build_scene(scene, resolution=resolution)
+        self.model = mujoco.MjModel.from_xml_string(built.xml, assets=built.assets)
+        self.data = mujoco.MjData(self.model)
+        m = self.model
+        self.geom_owner: dict[int, str] = {}
+        for g in range(m.ngeom):
+            name = m.geom(g).name
+            if "#" in name:
+                self.geom_owner[g] = name.split("#")[0]
+        self.free_objects = list(built.free_objects)
+        self._free_qadr = {o: m.joint(f"{o}:joint").qposadr[0] for o in self.free_objects}
+        self._free_dadr = {o: m.joint(f"{o}:joint").dofadr[0] for o in self.free_objects}
+        self._free_geoms = {o: {g for g, own in self.geom_owner.items() if own == o} for o in self.free_objects}
+        self.arm = Arm(m, self.data, self.geom_owner)
+        self.arm.rest = np.array(REST_QPOS)
+        self.held: str | None = None
+        self._held_rel: tuple[np.ndarray, np.ndarray] | None = None  # object pose in the TCP frame
+        self.gripper_open = True
+        self.strokes: list[list[tuple[float, float]]] = []
+        """Sponge paths on the table: runs of (x, y) samples while held and touching the table."""
+        self._stroke_open = False
+        self.wiped_fraction = 0.0
+        self.objects = self._list_objects()
+        self.reset_state()
+
+    # --- set-up -----------------------------------------------------------------------------------------
+    def reset_state(self) -> None:
+        mujoco.mj_resetData(self.model, self.data)
+        self.arm.set_q(np.array(HOME_QPOS))
+        self.arm.set_fingers(FINGER_OPEN)
+        self.held, self._held_rel, self.gripper_open = None, None, True
+        self.strokes, self._stroke_open, self.wiped_fraction = [], False, 0.0
+        self._set_area_alpha()
+        mujoco.mj_forward(self.model, self.data)
+        self.settle()
+
+    def _list_objects(self) -> list[WorldObject]:
+        out: list[WorldObject] = []
+        for o in self.scene.objects:
+            if o.kind == "shape":
+                out.append(WorldObject(o.id, "shape", f"{o.colour} {o.shape}", o.id))
+            elif o.kind == "container":
+                out.append(WorldObject(o.id, "container", f"{o.colour} container", o.id))
+            elif o.kind == "sponge":
+                out.append(WorldObject(o.id, "sponge", "sponge", o.id))
+            elif o.kind == "area":
+                out.append(WorldObject(o.id, "area", f"{o.colour} marked area", o.id))
+            elif o.kind == "sorter":
+                for k, shape in enumerate(o.holes):
+                    out.append(WorldObject(f"{o.id}_hole{k}", "hole", f"{_hole_name(shape)} hole of the shape sorter",
+                                           o.id))
+        return out
+
+    # --- geometry queries -------------------------------------------------------------------------------
+    def body_pos(self, obj_id: str) -> np.ndarray:
+        return self.data.body(obj_id).xpos.copy()
+
+    def body_mat(self, obj_id: str) -> np.ndarray:
+        return self.data.body(obj_id).xmat.reshape(3, 3).copy()
+
+    def reference_point(self, key: str) -> np.ndarray:
+        """The point the object list reports for ``key`` (see README: centres, rims, hole centres)."""
+        for wo in self.objects:
+            if wo.key == key:
+                spec = self.scene.get(wo.spec_id)
+                if wo.kind in ("shape", "sponge"):
+                    return self.body_pos(key)
+                if wo.kind == "container":
+                    return np.array([spec.x, spec.y, TABLE_TOP + CONTAINER.height])
+                if wo.kind == "area":
+                    return np.array([spec.x, spec.y, TABLE_TOP])
+                if wo.kind == "hole":
+                    k = int(key.rsplit("_hole", 1)[1])
+                    hx, hy = hole_centres(spec)[k]
+                    return np.array([hx, hy, TABLE_TOP + SORTER.height])
+        raise KeyError(key)
+
+    def yaw_of(self, obj_id: str) -> float:
+        """Current yaw (degrees) of a free object about the vertical."""
+        R = self.body_mat(obj_id)
+        return math.degrees(math.atan2(R[1, 0], R[0, 0]))
+
+    # --- actions ----------------------------------------------------------------------------------------
+    def execute(self, action: tuple[int, ...], track: bool = True) -> ActionOutcome:
+        """Move to the pose of a validated 7-D action, then set the gripper, then let the world settle."""
+        x, y, z = (bin_to_pos(action[i], ax) for i, ax in enumerate("xyz"))
+        roll, pitch, yaw = (bin_to_angle(action[3 + i]) for i in range(3))
+        want_open = bool(action[6])
+        p_goal = np.array([x, y, z])
+        R_goal = euler_to_matrix(roll, pitch, yaw)
+        res = self.arm.plan(p_goal, R_goal, self.held, self._place_held)
+        if not res.ok:
+            return self._failure(res.reason, res.blocker)
+        for q in res.path:
+            self.arm.set_q(q)
+            self._place_held(q)
+            if track:
+                self._track_sponge()
+        mujoco.mj_forward(self.model, self.data)
+        parts = ["The arm reached the requested pose."]
+        refs: dict[str, str] = {}
+        if want_open and not self.gripper_open:
+            released = self._open()
+            if released:
+                parts.append("The gripper opened and let go of {obj}.")
+                refs["obj"] = released
+            else:
+                parts.append("The gripper opened.")
+        elif not want_open and self.gripper_open:
+            grabbed, note = self._close()
+            if grabbed:
+                parts.append("The gripper closed and is now holding {obj}.")
+                refs["obj"] = grabbed
+            else:
+                parts.append("The gripper closed but is not holding anything" + (f" ({note})." if note else "."))
+        self._end_stroke_if_lifted()
+        self.settle()
+        return ActionOutcome(ok=True, feedback=" ".join(parts), refs=refs)
+
+    def _failure(self, reason: str, blocker: Blocker | None) -> ActionOutcome:
+        if reason == "unreachable":
+            return ActionOutcome(False, "The action failed: the arm cannot reach that position with that gripper "
+                                        "orientation (no inverse-kinematics solution). The arm did not move.")
+        refs: dict[str, str] = {}
+        if blocker is None:
+            what = "an obstacle"
+        elif blocker.what == "table":
+            what = "the table"
+        else:
+            what = "{obj}"
+            refs["obj"] = blocker.what
+        who = "the object in the gripper" if blocker is not None and blocker.by_held else "the arm"
+        if reason == "goal_collision":
+            msg = f"The action failed: at that pose {who} would be inside {what}. The arm did not move."
+        else:
+            msg = f"The action failed: no collision-free path was found, {who} would hit {what}. The arm did not move."
+        return ActionOutcome(False, msg, refs)
+
+    # --- held objects -----------------------------------------------------------------------------------
+    def _tcp_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.arm.tcp()
+
+    def _place_held(self, q: np.ndarray) -> None:
+        if self.held is None or self._held_rel is None:
+            return
+        mujoco.mj_kinematics(self.model, self.data)
+        p, R = self._tcp_pose()
+        rp, rR = self._held_rel
+        self._set_free_pose(self.held, p + R @ rp, R @ rR)
+
+    def _set_free_pose(self, obj: str, pos: np.ndarray, R: np.ndarray) -> None:
+        a = self._free_qadr[obj]
+        quat = np.zeros(4)
+        mujoco.mju_mat2Quat(quat, R.ravel())
+        self.data.qpos[a:a + 3] = pos
+        self.data.qpos[a + 3:a + 7] = quat
+        d = self._free_dadr[obj]
+        self.data.qvel[d:d + 6] = 0.0
+
+    def _finger_contacts(self) -> tuple[dict[str, float], dict[str, float], bool]:
+        """Objects touched by the left and right finger (object id -> depth) and whether a static thing blocks."""
+        mujoco.mj_kinematics(self.model, self.data)
+        mujoco.mj_collision(self.model, self.data)
+        left: dict[str, float] = {}
+        right: dict[str, float] = {}
+        blocked = False
+        for i in range(self.data.ncon):
+            c = self.data.contact[i]
+            g1, g2 = int(c.geom1), int(c.geom2)
+            for gf, go in ((g1, g2), (g2, g1)):
+                side = left if gf in self.arm.left_geoms else right if gf in self.arm.right_geoms else None
+                if side is None or go in self.arm.robot_geoms:
+                    continue
+                owner = self.geom_owner.get(go)
+                if owner in self._free_geoms:
+                    side[owner] = max(side.get(owner, 0.0), -float(c.dist))
+                elif float(c.dist) < -0.002:
+                    blocked = True
+        return left, right, blocked
+
+    def _close(self) -> tuple[str | None, str]:
+        self.gripper_open = False
+        w = self.arm.fingers()
+        pushed: dict[str, float] = {}
+        note = ""
+        while w > 0.0:
+            w = max(0.0, w - 0.0015)
+            self.arm.set_fingers(w)
+            left, right, blocked = self._finger_contacts()
+            both = [o for o in left if o in right]
+            if both:
+                obj = max(both, key=lambda o: left[o] + right[o])
+                self._attach(obj)
+                return obj, ""
+            if blocked:
+                self.arm.set_fingers(w + 0.0015)
+                note = "the fingers are blocked"
+                break
+            # a single finger pressing on a loose object pushes it toward the other finger
+            for side, sign in ((left, 1.0), (right, -1.0)):
+                for obj, depth in side.items():
+                    if depth <= 0.0005:
+                        continue
+                    if pushed.get(obj, 0.0) + depth > 0.03:
+                        continue
+                    pushed[obj] = pushed.get(obj, 0.0) + depth
+                    self._push(obj, sign * depth)
+        return None, note
+
+    def _push(self, obj: str, amount: float) -> None:
+        """Slide a loose object along the fingers' closing axis (left finger pushes toward -y_tcp)."""
+        _, R = self._tcp_pose()
+        axis = R[:, 1]
+        a = self._free_qadr[obj]
+        # left finger sits on +y_tcp and closes toward -y_tcp
+        self.data.qpos[a:a + 3] -= axis * amount
+
+    def _attach(self, obj: str) -> None:
+        mujoco.mj_kinematics(self.model, self.data)
+        p, R = self._tcp_pose()
+        op, oR = self.body_pos(obj), self.body_mat(obj)
+        self.held = obj
+        self._held_rel = (R.T @ (op - p), R.T @ oR)
+
+    def _open(self) -> str | None:
+        self.gripper_open = True
+        released = self.held
+        self.held, self._held_rel = None, None
+        self._stroke_open = False
+        self.arm.set_fingers(FINGER_OPEN)
+        mujoco.mj_kinematics(self.model, self.data)
+        return released
+
+    # --- physics ----------------------------------------------------------------------------------------
+    def settle(self) -> None:
+        """Step physics until loose objects rest; the arm and a held object stay where they are."""
+        m, d = self.model, self.data
+        q = self.arm.q()
+        fw = self.arm.fingers()
+        loose = [o for o in self.free_objects if o != self.held]
+        calm = 0
+        for step in range(SETTLE_MAX_STEPS):
+            mujoco.mj_step(m, d)
+            self.arm.set_q(q)
+            self.arm.set_fingers(fw)
+            if self.held is not None:
+                self._place_held(q)
+            moving = False
+            for o in loose:
+                v = d.qvel[self._free_dadr[o]:self._free_dadr[o] + 6]
+                if np.linalg.norm(v[:3]) > 0.004 or np.linalg.norm(v[3:]) > 0.05:
+                    moving = True
+                    break
+            calm = 0 if moving else calm + 1
+            if step >= SETTLE_MIN_STEPS and calm >= 20:
+                break
+        mujoco.mj_forward(m, d)
+
+    # --- sponge tracking --------------------------------------------------------------------------------
+    def _sponge_id(self) -> str | None:
+        for o in self.scene.objects:
+            if o.kind == "sponge":
+                return o.id
+        return None
+
+    def _track_sponge(self) -> None:
+        sid = self._sponge_id()
+        if sid is None or self.held != sid:
+            return
+        mujoco.mj_kinematics(self.model, self.data)
+        bottom = self._lowest_point(sid)
+        if bottom - TABLE_TOP <= CONTACT_HEIGHT:
+            pos = self.body_pos(sid)
+            if not self._stroke_open:
+                self.strokes.append([])
+                self._stroke_open = True
+            self.strokes[-1].append((float(pos[0]), float(pos[1])))
+        else:
+            self._stroke_open = False
+        self._update_wiped()
+
+    def _end_stroke_if_lifted(self) -> None:
+        sid = self._sponge_id()
+        if sid is None or self.held != sid:
+            self._stroke_open = False
+
+    def _lowest_point(self, obj: str) -> float:
+        R = self.body_mat(obj)
+        p = self.body_pos(obj)
+        hx, hy, hz = (s / 2 for s in SPONGE.size)
+        corners = np.array([[sx * hx, sy * hy, sz * hz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+        return float(np.min((corners @ R.T)[:, 2] + p[2]))
+
+    def _update_wiped(self) -> None:
+        g = self.scene.goal
+        if g.family != "wipe" or g.area is None or g.direction is None:
+            return
+        self.wiped_fraction = max(self.wiped_fraction, wipe_coverage(self.scene.get(g.area), g.direction, self.strokes))
+        self._set_area_alpha()
+
+    def _set_area_alpha(self) -> None:
+        g = self.scene.goal
+        if g.family != "wipe" or g.area is None:
+            return
+        gid = self.model.geom(f"{g.area}#0").id
+        base = self.model.geom_rgba[gid].copy()
+        base[3] = 0.92 - 0.6 * self.wiped_fraction
+        self.model.geom_rgba[gid] = base
+
+    # --- success ----------------------------------------------------------------------------------------
+    def evaluate(self) -> tuple[bool, float]:
+        """(task solved, progress in [0, 1]) from the physical state."""
+        g = self.scene.goal
+        if g.family == "pick":
+            ok = self.held != g.target and self.in_container(g.target, g.container)  # type: ignore[arg-type]
+            return ok, 1.0 if ok else 0.0
+        if g.family == "sorter":
+            ok = self.held != g.target and self.in_matching_hole(g.target)  # type: ignore[arg-type]
+            return ok, 1.0 if ok else 0.0
+        if g.family == "stack":
+            done = 0
+            for below, above in zip(g.order[:-1], g.order[1:]):
+                if self.held not in (below, above) and self.on_top_of(above, below):
+                    done += 1
+                else:
+                    break
+            n = max(len(g.order) - 1, 1)
+            base_ok = self.resting_on_table(g.order[0])
+            ok = base_ok and done == n
+            return ok, 1.0 if ok else done / n * (1.0 if base_ok else 0.0)
+        if g.family == "wipe":
+            ok = self.wiped_fraction >= 1.0
+            return ok, 1.0 if ok else min(self.wiped_fraction, 0.99)
+        return False, 0.0
+
+    def in_container(self, obj: str, container: str) -> bool:
+        spec = self.scene.get(container)
+        p = self.body_pos(obj)
+        lx, ly = _to_local(spec, p)
+        half = CONTAINER.inner / 2
+        return abs(lx) < half and abs(ly) < half and p[2] < TABLE_TOP + CONTAINER.height
+
+    def in_matching_hole(self, obj: str) -> bool:
+        spec_obj = self.scene.get(obj)
+        p = self.body_pos(obj)
+        for sorter in self.scene.objects:
+            if sorter.kind != "sorter":
+                continue
+            lx, ly = _to_local(sorter, p)
+            n = len(sorter.holes)
+            if abs(lx) > SORTER.depth / 2 - SORTER.wall or p[2] > TABLE_TOP + SORTER.height - SORTER.plate:
+                continue
+            k = int(math.floor(ly / SORTER.pitch + n / 2))
+            if 0 <= k < n and abs(ly) < SORTER.length(n) / 2 - SORTER.wall:
+                return sorter.holes[k] == spec_obj.shape
+        return False
+
+    def on_top_of(self, above: str, below: str) -> bool:
+        pa, pb = self.body_pos(above), self.body_pos(below)
+        side = 2 * CUBE_HALF
+        return bool(np.linalg.norm(pa[:2] - pb[:2]) < 0.6 * side and 0.8 * side < pa[2] - pb[2] < 1.2 * side)
+
+    def resting_on_table(self, obj: str) -> bool:
+        spec = self.scene.get(obj)
+        half = SHAPES[spec.shape].height / 2 if spec.shape else CUBE_HALF
+        return abs(self.body_pos(obj)[2] - (TABLE_TOP + half)) < 0.01
+
+
+def _to_local(spec: ObjectSpec, p: np.ndarray) -> tuple[float, float]:
+    c, s = math.cos(math.radians(spec.yaw)), math.sin(math.radians(spec.yaw))
+    dx, dy = p[0] - spec.x, p[1] - spec.y
+    return c * dx + s * dy, -s * dx + c * dy
+
+
+def _hole_name(shape: str) -> str:
+    return {"cube": "square", "cylinder": "round"}.get(shape, f"{shape}-shaped")
+
+
+def wipe_axes(area: ObjectSpec, direction: str) -> tuple[int, float, float, float, float, float]:
+    """(axis index, sign, start edge, end edge, lateral min, lateral max) of a wiping direction.
+
+    Directions are as seen in the front image: right is +y, front (toward the camera) is +x.
+    """
+    dx, dy = area.size  # type: ignore[misc]
+    if direction in ("left_to_right", "right_to_left"):
+        axis, lo, hi, l_lo, l_hi = 1, area.y - dy / 2, area.y + dy / 2, area.x - dx / 2, area.x + dx / 2
+        sign = 1.0 if direction == "left_to_right" else -1.0
+    else:
+        axis, lo, hi, l_lo, l_hi = 0, area.x - dx / 2, area.x + dx / 2, area.y - dy / 2, area.y + dy / 2
+        sign = 1.0 if direction == "back_to_front" else -1.0
+    start, end = (lo, hi) if sign > 0 else (hi, lo)
+    return axis, sign, start, end, l_lo, l_hi
+
+
+def wipe_coverage(area: ObjectSpec, direction: str, strokes: list[list[tuple[float, float]]]) -> float:
+    """How much of the area's length one stroke covered in the named direction (1.0 = wiped).
+
+    A stroke counts from the first sample near the start edge while it moves the right way and stays over
+    the area (with a 2 cm lateral margin); it must start within 20 % of the length from the start edge and
+    reach within 20 % of the end edge for a full wipe.
+    """
+    axis, sign, start, end, l_lo, l_hi = wipe_axes(area, direction)
+    length = abs(end - start)
+    best = 0.0
+    for stroke in strokes:
+        origin: float | None = None
+        for pt in stroke:
+            u, v = pt[axis], pt[1 - axis]
+            if not (l_lo - 0.02 <= v <= l_hi + 0.02):
+                origin = None
+                continue
+            progress_from_start = sign * (u - start)
+            if origin is None:
+                if progress_from_start <= 0.2 * length:
+                    origin = progress_from_start
+                continue
+            if progress_from_start < origin - 0.01:  # moved backwards: restart here
+                origin = progress_from_start if progress_from_start <= 0.2 * length else None
+                continue
+            covered = (min(progress_from_start, length) - max(origin, 0.0)) / length
+            reach_end = progress_from_start >= 0.8 * length
+            best = max(best, 1.0 if reach_end and covered >= 0.6 else min(covered, 0.99))
+    return max(0.0, best)
