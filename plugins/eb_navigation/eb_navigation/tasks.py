@@ -1,0 +1,227 @@
+"""The navigation task file: schema, loading and one-line validation errors.
+
+A task file is JSON written by :mod:`eb_navigation.generate`::
+
+    {"format": "eb-navigation-tasks", "version": 1, "layout_version": 1,
+     "generator": {...the parameters it was made with...},
+     "tasks": [{"id": "base_000", "subset": "base", "instruction": "...",
+                "scene": {"kind": "kitchen", "seed": 3},
+                "start": {"x": 1.25, "y": 2.5, "yaw": 90, "tilt": 0},
+                "target": {"id": "fridge_1", "type": "fridge", "colour": "white", "position": [x, y, z]},
+                "extra_objects": [...], "oracle_steps": 9}, ...]}
+
+Loading validates everything and fails with ONE line naming the file, the task and the field.
+"""
+
+from __future__ import annotations
+
+import json
+from functools import lru_cache
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+from eb_core import Task
+from eb_navigation.catalogue import CATALOGUE, COLOURS
+from eb_navigation.geometry import STEP
+from eb_navigation.layout import KINDS, LAYOUT_VERSION, Placed
+
+__all__ = ["DEFAULT_TASK_FILE", "SUBSETS", "TASK_FILE_FORMAT", "TaskFileError", "NavTaskSpec", "load_task_file",
+           "spec_of", "task_file_path"]
+
+TASK_FILE_FORMAT = "eb-navigation-tasks"
+SUBSETS: tuple[str, ...] = ("base", "common_sense", "complex_instruction", "visual_appearance", "long_horizon")
+DEFAULT_TASK_FILE = Path(__file__).parent / "tasks" / "navigation_v1.json"
+
+
+class TaskFileError(ValueError):
+    """The task file is malformed; the message is one line naming file, task and field."""
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class SceneRef(_Strict):
+    kind: Literal["kitchen", "living_room", "bedroom", "bathroom"]
+    seed: int = Field(ge=0)
+
+
+class StartPose(_Strict):
+    x: float
+    y: float
+    yaw: int
+    """Heading in degrees counter-clockwise from +x: 0, 90, 180 or 270."""
+    tilt: int = 0
+
+    @field_validator("x", "y")
+    @classmethod
+    def _on_grid(cls, v: float) -> float:
+        if abs(round(v / STEP) * STEP - v) > 1e-6:
+            raise ValueError(f"must be a multiple of {STEP} m (the agent moves on a {STEP} m grid)")
+        return v
+
+    @field_validator("yaw")
+    @classmethod
+    def _quarter(cls, v: int) -> int:
+        if v not in (0, 90, 180, 270):
+            raise ValueError("must be 0, 90, 180 or 270")
+        return v
+
+    @field_validator("tilt")
+    @classmethod
+    def _tilt(cls, v: int) -> int:
+        if v not in (-60, -30, 0, 30):
+            raise ValueError("must be -60, -30, 0 or 30")
+        return v
+
+
+class TargetRef(_Strict):
+    id: str = Field(min_length=1)
+    type: str
+    colour: str
+    position: tuple[float, float, float]
+
+    @field_validator("type")
+    @classmethod
+    def _known_type(cls, v: str) -> str:
+        if v not in CATALOGUE:
+            raise ValueError(f"unknown object type {v!r}")
+        return v
+
+    @field_validator("colour")
+    @classmethod
+    def _known_colour(cls, v: str) -> str:
+        if v not in COLOURS:
+            raise ValueError(f"unknown colour {v!r}")
+        return v
+
+
+class ExtraObject(_Strict):
+    """An object added to the generated room for this task (visual-appearance distractors)."""
+
+    id: str = Field(min_length=1)
+    type: str
+    colour: str
+    x: float
+    y: float
+    z: float = 0.0
+    yaw: int = Field(default=0, ge=0, le=3)
+    on: str | None = None
+    variant: int = 0
+
+    @field_validator("type")
+    @classmethod
+    def _known_type(cls, v: str) -> str:
+        if v not in CATALOGUE:
+            raise ValueError(f"unknown object type {v!r}")
+        return v
+
+    def placed(self) -> Placed:
+        return Placed(**self.model_dump())
+
+
+class NavTaskSpec(_Strict):
+    """One task as stored in the file."""
+
+    id: str = Field(min_length=1, pattern=r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
+    subset: Literal["base", "common_sense", "complex_instruction", "visual_appearance", "long_horizon"]
+    instruction: str = Field(min_length=1)
+    scene: SceneRef
+    start: StartPose
+    target: TargetRef
+    extra_objects: tuple[ExtraObject, ...] = ()
+    oracle_steps: int = Field(ge=0)
+    """Length of the oracle's shortest plan from the start (recorded by the generator)."""
+
+    def to_task(self) -> Task:
+        meta = self.model_dump(mode="json", exclude={"id", "subset", "instruction"})
+        return Task(id=self.id, subset=self.subset, instruction=self.instruction, metadata=meta)
+
+
+class TaskFile(_Strict):
+    format: Literal["eb-navigation-tasks"]
+    version: int = Field(ge=1)
+    layout_version: int
+    generator: dict[str, Any]
+    tasks: tuple[NavTaskSpec, ...]
+
+    @model_validator(mode="after")
+    def _unique_ids(self) -> "TaskFile":
+        seen: set[str] = set()
+        for t in self.tasks:
+            if t.id in seen:
+                raise ValueError(f"duplicate task id {t.id!r}")
+            seen.add(t.id)
+        return self
+
+
+def task_file_path(task_file: str | Path | None) -> Path:
+    return DEFAULT_TASK_FILE if task_file is None else Path(task_file).expanduser()
+
+
+def _one_line(path: Path, raw: Any, exc: ValidationError) -> str:
+    err = exc.errors()[0]
+    loc = list(err["loc"])
+    where = ""
+    if len(loc) >= 2 and loc[0] == "tasks" and isinstance(loc[1], int):
+        idx = loc[1]
+        tid = None
+        try:
+            tid = raw["tasks"][idx].get("id")
+        except (KeyError, IndexError, TypeError, AttributeError):
+            pass
+        where = f"task {tid!r} (#{idx})" if tid else f"task #{idx}"
+        loc = loc[2:]
+    field = ".".join(str(p) for p in loc) or "(the whole entry)"
+    msg = err["msg"]
+    if err["type"] == "missing":
+        msg = "is missing"
+    elif err["type"] == "extra_forbidden":
+        msg = "is not a known field"
+    else:
+        msg = f"{msg} (got {err.get('input')!r})"
+    head = f"{path}: {where}: " if where else f"{path}: "
+    return f"{head}field {field}: {msg}"
+
+
+@lru_cache(maxsize=8)
+def _load_cached(path_str: str, mtime: float) -> TaskFile:
+    path = Path(path_str)
+    try:
+        raw = json.loads(path.read_text(encoding="utf-8"))
+    except json.JSONDecodeError as exc:
+        raise TaskFileError(f"{path}: not valid JSON: {exc.msg} at line {exc.lineno} column {exc.colno}") from None
+    if not isinstance(raw, dict):
+        raise TaskFileError(f"{path}: field (top level): must be a JSON object")
+    try:
+        tf = TaskFile.model_validate(raw)
+    except ValidationError as exc:
+        raise TaskFileError(_one_line(path, raw, exc)) from None
+    if tf.layout_version != LAYOUT_VERSION:
+        raise TaskFileError(f"{path}: field layout_version: the file was made for room layout version "
+                            f"{tf.layout_version} but this eb-navigation builds version {LAYOUT_VERSION}; "
+                            f"regenerate it with `eb tasks generate env=navigation`")
+    return tf
+
+
+def load_task_file(task_file: str | Path | None = None) -> TaskFile:
+    path = task_file_path(task_file)
+    if not path.is_file():
+        raise TaskFileError(f"{path}: task file not found")
+    return _load_cached(str(path.resolve()), path.stat().st_mtime)
+
+
+def spec_of(task: Task) -> NavTaskSpec:
+    """Rebuild the typed spec from a :class:`~eb_core.Task` (what the runner hands to ``reset``)."""
+    try:
+        return NavTaskSpec.model_validate({"id": task.id, "subset": task.subset, "instruction": task.instruction,
+                                           **task.metadata})
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        field = ".".join(str(p) for p in err["loc"])
+        raise TaskFileError(f"task {task.id!r}: field {field}: {err['msg']}") from None
+
+
+assert set(KINDS) == {"kitchen", "living_room", "bedroom", "bathroom"}
