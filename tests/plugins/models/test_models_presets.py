@@ -1,0 +1,114 @@
+"""The shipped presets, the plugin's registration and its cheap import."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from importlib import metadata
+from pathlib import Path
+
+import pytest
+import yaml
+
+import eb_models
+import eb_models.plugin
+from eb_core.config import ModelConfig
+from eb_core.plugins import Registry, get_plugin_manager
+
+CONF = Path(eb_models.__file__).parent / "conf" / "model"
+TABLE4 = {
+    "gpt-4o": "openai/gpt-4o-2024-08-06", "gpt-4o-mini": "openai/gpt-4o-mini-2024-07-18",
+    "claude-3.7": "anthropic/claude-3-7-sonnet-20250219", "claude-3.5": "anthropic/claude-3-5-sonnet-20241022",
+    "gemini-1.5-pro": "gemini/gemini-1.5-pro", "gemini-2.0-flash": "gemini/gemini-2.0-flash-exp",
+    "gemini-1.5-flash": "gemini/gemini-1.5-flash", "qwen-vl-max": "openai/qwen-vl-max-2025-01-25",
+    "llama-3.2-90b-vision": "openai/meta-llama/Llama-3.2-90B-Vision-Instruct",
+    "llama-3.2-11b-vision": "openai/meta-llama/Llama-3.2-11B-Vision-Instruct",
+    "internvl2.5-78b": "openai/OpenGVLab/InternVL2_5-78B", "internvl2.5-38b": "openai/OpenGVLab/InternVL2_5-38B",
+    "internvl2.5-8b": "openai/OpenGVLab/InternVL2_5-8B", "internvl3-78b": "openai/OpenGVLab/InternVL3-78B",
+    "internvl3-38b": "openai/OpenGVLab/InternVL3-38B", "internvl3-8b": "openai/OpenGVLab/InternVL3-8B",
+    "qwen2-vl-72b": "openai/Qwen/Qwen2-VL-72B-Instruct", "qwen2-vl-7b": "openai/Qwen/Qwen2-VL-7B-Instruct",
+    "qwen2.5-vl-72b": "openai/Qwen/Qwen2.5-VL-72B-Instruct", "qwen2.5-vl-7b": "openai/Qwen/Qwen2.5-VL-7B-Instruct",
+    "ovis2-34b": "openai/AIDC-AI/Ovis2-34B", "ovis2-16b": "openai/AIDC-AI/Ovis2-16B",
+    "gemma-3-27b": "openai/google/gemma-3-27b-it", "gemma-3-12b": "openai/google/gemma-3-12b-it",
+}
+OFFLINE = {"oracle", "random", "replay", "human", "openai-compatible"}
+API = {"gpt-4o", "gpt-4o-mini", "claude-3.7", "claude-3.5", "gemini-1.5-pro", "gemini-2.0-flash",
+       "gemini-1.5-flash", "qwen-vl-max"}
+
+
+def presets() -> dict[str, dict]:
+    return {p.stem: yaml.safe_load(p.read_text()) for p in sorted(CONF.glob("*.yaml"))}
+
+
+@pytest.fixture(scope="module")
+def registry() -> Registry:
+    return Registry(get_plugin_manager(load_entrypoints=False, plugins=[eb_models.plugin]))
+
+
+def test_one_preset_per_table4_model_plus_the_offline_ones():
+    assert len(TABLE4) == 24
+    assert set(presets()) == set(TABLE4) | OFFLINE
+
+
+def test_every_preset_names_itself_and_a_registered_backend(registry):
+    assert set(registry.model_backends) == {"litellm", "oracle", "random", "replay", "human"}
+    for stem, data in presets().items():
+        assert data["name"] == stem
+        assert data["backend"] in registry.model_backends, stem
+
+
+def test_table4_presets_are_complete(monkeypatch, tmp_path):
+    from eb_models.litellm_backend import LiteLLMBackend
+
+    for stem, model_id in TABLE4.items():
+        data = presets()[stem]
+        assert data["model_id"] == model_id
+        assert data["max_tokens"] == 2048 and data["supports_images"] is True
+        assert isinstance(data["supports_json_schema"], bool)
+        assert data["input_cost_per_token"] is not None and data["output_cost_per_token"] is not None
+        if stem in API:
+            assert data["api_key_env"].endswith("_API_KEY") and data["input_cost_per_token"] > 0
+            monkeypatch.setenv(data["api_key_env"], "sk-dummy-for-construction")
+        else:
+            assert data["api_base"] == "http://127.0.0.1:8000/v1" and data["api_key_env"] is None
+        kwargs = ModelConfig.model_validate(data).backend_kwargs()
+        backend = LiteLLMBackend(**kwargs)  # validates every key; never calls the network
+        assert backend.settings.model_id == model_id
+    assert presets()["gpt-4o"]["supports_json_schema"] is True
+    assert presets()["claude-3.7"]["supports_json_schema"] is False
+
+
+def test_hydra_finds_the_presets_and_overrides_work(tmp_path):
+    from hydra import compose, initialize_config_module
+    from omegaconf import OmegaConf
+
+    with initialize_config_module(config_module="eb_conf", version_base=None):
+        for name in ("gpt-4o", "internvl3-8b", "oracle"):
+            cfg = compose("config", overrides=[f"model={name}", "hydra.searchpath=[pkg://eb_models.conf]", "~env"])
+            assert cfg.model.name == name
+        cfg = compose("config", overrides=["model=openai-compatible", "model.model_id=openai/my-model",
+                                           "model.api_base=http://10.0.0.5:9000/v1", "model.max_concurrency=4",
+                                           "model.cache_dir=" + str(tmp_path), "hydra.searchpath=[pkg://eb_models.conf]",
+                                           "~env"])
+        model = ModelConfig.model_validate(OmegaConf.to_container(cfg.model, resolve=True))
+    from eb_models.litellm_backend import LiteLLMBackend
+
+    backend = LiteLLMBackend(**model.backend_kwargs())
+    assert backend.settings.api_base == "http://10.0.0.5:9000/v1" and backend.settings.max_concurrency == 4
+
+
+def test_entry_point_and_searchpath():
+    eps = {ep.name: ep.value for ep in metadata.entry_points(group="eb.plugins")}
+    assert eps.get("models") == "eb_models.plugin"
+    assert eb_models.plugin.eb_config_searchpath() == ["pkg://eb_models.conf"]
+
+
+def test_registration_and_backend_classes_import_no_sdk():
+    code = (
+        "import sys, eb_models.plugin\n"
+        "from eb_core.plugins import Registry, get_plugin_manager\n"
+        "r = Registry(get_plugin_manager(load_entrypoints=False, plugins=[eb_models.plugin]))\n"
+        "[s.load() for s in r.model_backends.values()]\n"
+        "assert 'litellm' not in sys.modules and 'openai' not in sys.modules, 'SDK imported'\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=60)
