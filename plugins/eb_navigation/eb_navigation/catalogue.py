@@ -493,14 +493,16 @@ def _dresser(colour: str, rng: np.random.Generator) -> list[Part]:
 
 def _toilet(colour: str, rng: np.random.Generator) -> list[Part]:
     c = colour_rgba(colour)
+    seat = _shade(c, 1.15) if colour != "white" else _rgb(0.99, 0.99, 0.99)
     return [
-        _box(0, -0.27, 0.58, 0.2, 0.09, 0.2, c, "glossy"),  # tank
-        _box(0, -0.27, 0.79, 0.21, 0.1, 0.015, _shade(c, 0.95), "glossy"),
-        _cyl(0.1, -0.27, 0.82, 0.018, 0.01, METAL, "metal"),
-        _ell(0, 0.02, 0.18, 0.14, 0.19, 0.18, c, "glossy"),  # pedestal
-        _ell(0, 0.08, 0.36, 0.19, 0.25, 0.06, c, "glossy"),  # bowl
-        _ell(0, 0.08, 0.405, 0.17, 0.23, 0.012, _rgb(0.4, 0.55, 0.7), "glossy"),  # water
-        _box(0, -0.15, 0.55, 0.18, 0.02, 0.13, _shade(c, 0.92), "glossy", euler=(-8, 0, 0)),  # lid up
+        _box(0, -0.27, 0.6, 0.2, 0.085, 0.19, c, "glossy"),  # tank
+        _box(0, -0.27, 0.8, 0.215, 0.1, 0.018, _shade(c, 0.9), "glossy"),
+        _cyl(0.12, -0.27, 0.83, 0.02, 0.012, METAL, "metal"),  # flush button
+        _ell(0, -0.02, 0.19, 0.13, 0.17, 0.2, c, "glossy"),  # pedestal
+        _ell(0, 0.06, 0.34, 0.2, 0.26, 0.1, c, "glossy"),  # bowl
+        _ell(0, 0.06, 0.42, 0.205, 0.265, 0.022, seat, "glossy"),  # seat
+        _ell(0, 0.07, 0.425, 0.13, 0.175, 0.02, _rgb(0.55, 0.68, 0.78), "glossy"),  # water in the bowl
+        _box(0, -0.165, 0.68, 0.19, 0.018, 0.24, seat, "glossy", euler=(-8, 0, 0)),  # lid, up
     ]
 
 
@@ -633,9 +635,9 @@ CATALOGUE: dict[str, ObjectType] = {
                    shape_words="very tall cabinet with two long doors"),
         ObjectType("desk", (1.2, 0.62, 0.8), _desk, ("brown", "white", "black"), surface=0.75),
         ObjectType("dresser", (1.0, 0.5, 1.1), _dresser, ("brown", "white")),
-        ObjectType("toilet", (0.44, 0.74, 0.82), _toilet, ("white", "cream", "blue", "pink", "grey"),
+        ObjectType("toilet", (0.44, 0.74, 0.82), _toilet, ("white", "black", "blue", "pink"),
                    shape_words="glossy seat with a round bowl and an upright tank behind it"),
-        ObjectType("bathtub", (1.65, 0.78, 0.8), _bathtub, ("white", "cream", "blue", "pink", "black"),
+        ObjectType("bathtub", (1.65, 0.78, 0.8), _bathtub, ("white", "blue", "pink", "yellow"),
                    shape_words="long open tub filled with water"),
         ObjectType("vanity", (0.9, 0.5, 1.95), _vanity, ("white", "brown", "grey", "navy")),
         ObjectType("washing_machine", (0.62, 0.62, 0.88), _washer, ("white", "silver", "black", "red"),

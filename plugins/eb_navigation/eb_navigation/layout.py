@@ -356,7 +356,7 @@ def generate_layout(kind: str, seed: int) -> Layout:
                 wd = float(rng.uniform(wmin, wmax))
                 a = float(rng.uniform(wd / 2 + 0.2, length - wd / 2 - 0.2))
                 if _decor_free(s, a, wd, bottom, p.objects, decor, W, D):
-                    colour = (0.75, 0.88, 0.98) if kind_d == "window" else _PAINT[int(rng.integers(len(_PAINT)))]
+                    colour = (0.62, 0.78, 0.92) if kind_d == "window" else _PAINT[int(rng.integers(len(_PAINT)))]
                     decor.append(Decor(kind_d, s, round(a, 3), bottom, round(wd, 3), height, colour))
                     break
 

@@ -30,7 +30,7 @@ _MATERIALS = {
     "metal": 'specular="0.6" shininess="0.7"',
     "screen": 'specular="0.2" shininess="0.6" emission="0.9"',
     "glow": 'specular="0.1" shininess="0.1" emission="0.55"',
-    "ceiling": 'specular="0" shininess="0" emission="0.75"',
+    "ceiling": 'specular="0" shininess="0" emission="0.4"',
 }
 
 
@@ -165,8 +165,10 @@ def layout_to_mjcf(layout: Layout, resolution: int = 500) -> str:
         lights.append(f'<light name="ceiling_{k}" pos="{_vec((lx, ly, H - 0.05))}" dir="0 0 -1" directional="false" '
                       f'diffuse="0.35 0.35 0.33" specular="0.1 0.1 0.1" attenuation="1 0 0" cutoff="90" exponent="1" '
                       f'castshadow="false"/>')
-    lights.append('<light name="sun" directional="true" pos="0 0 5" dir="0.35 0.25 -1" diffuse="0.35 0.35 0.34" '
-                  'specular="0.05 0.05 0.05" castshadow="false"/>')
+    lights.append('<light name="key" directional="true" pos="0 0 5" dir="0.55 0.35 -0.75" diffuse="0.42 0.41 0.39" '
+                  'specular="0.08 0.08 0.08" castshadow="false"/>')
+    lights.append('<light name="fill" directional="true" pos="0 0 5" dir="-0.45 -0.6 -0.65" diffuse="0.16 0.16 0.18" '
+                  'specular="0 0 0" castshadow="false"/>')
     assets = [floor_tex,
               f'<material name="m_floor" texture="t_floor" texrepeat="{_vec(repeat)}" specular="0.15" shininess="0.3"/>']
     assets += [f'<material name="m_{n}" {a}/>' for n, a in _MATERIALS.items()]
@@ -177,7 +179,7 @@ def layout_to_mjcf(layout: Layout, resolution: int = 500) -> str:
   <statistic extent="{_f(extent)}" center="{_vec((W / 2, D / 2, 1.0))}"/>
   <visual>
     <global offwidth="{resolution}" offheight="{resolution}" fovy="{_f(FIRST_PERSON_FOVY)}"/>
-    <headlight ambient="0.42 0.42 0.42" diffuse="0.18 0.18 0.18" specular="0.02 0.02 0.02"/>
+    <headlight ambient="0.33 0.33 0.33" diffuse="0.16 0.16 0.16" specular="0.02 0.02 0.02"/>
     <map znear="0.01" zfar="40"/>
     <quality shadowsize="0"/>
   </visual>

@@ -1,0 +1,68 @@
+"""Step-time benchmark for EB-Navigation (used by ``benchmarks/env_step.py``).
+
+``step_times(n)`` measures, at 500 x 500 by default:
+
+* ``step_s``: median wall time of ``env.step`` (move/turn/tilt + one first-person render + the small
+  segmentation pass + observation building);
+* ``raw_render_s``: median time of one plain ``mujoco.Renderer`` render of the same scene from the same
+  camera (``update_scene`` + ``render``), the floor a step cannot beat;
+* ``reset_s``: median ``env.reset`` time on tasks whose room differs from the previous one (room
+  generation, compile, GL upload, first render);
+* ``ratio``: ``step_s / raw_render_s``.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+from typing import Any
+
+__all__ = ["step_times"]
+
+
+def step_times(n: int = 50, resolution: int = 500) -> dict[str, Any]:
+    from eb_navigation._gl import mujoco
+    from eb_navigation.env import NavigationEnv
+
+    tasks = NavigationEnv.load_tasks()
+    env = NavigationEnv(resolution=resolution)
+    try:
+        resets = []
+        for task in tasks[: max(3, min(12, n // 4))]:
+            t0 = time.perf_counter()
+            env.reset(task, 0)
+            resets.append(time.perf_counter() - t0)
+        env.reset(tasks[0], 0)
+        cycle = (5, 0, 4, 4, 0, 5, 6, 7, 7, 6, 1, 3, 2)
+        steps = []
+        for k in range(n):
+            t0 = time.perf_counter()
+            env.step(cycle[k % len(cycle)])
+            steps.append(time.perf_counter() - t0)
+        scene = env._world.scene  # noqa: SLF001 - the benchmark looks inside on purpose
+        renderer = mujoco.Renderer(scene.model, resolution, resolution)
+        try:
+            raw = []
+            renderer.update_scene(scene.data, camera="first_person")
+            renderer.render()  # warm-up
+            for _ in range(n):
+                t0 = time.perf_counter()
+                renderer.update_scene(scene.data, camera="first_person")
+                renderer.render()
+                raw.append(time.perf_counter() - t0)
+        finally:
+            renderer.close()
+    finally:
+        env.close()
+    step_s, raw_s = statistics.median(steps), statistics.median(raw)
+    return {"env": "navigation", "resolution": resolution, "n": n, "step_s": step_s, "raw_render_s": raw_s,
+            "ratio": step_s / raw_s, "reset_s": statistics.median(resets)}
+
+
+if __name__ == "__main__":  # pragma: no cover
+    import json
+    import resource
+
+    out = step_times()
+    out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(json.dumps(out, indent=1))

@@ -1,0 +1,141 @@
+"""The shipped task file: its shape, the generator's guarantees, and one-line errors for bad files."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from eb_navigation.env import NavigationEnv, build_world
+from eb_navigation.generate import GENERATOR_VERSION
+from eb_navigation.instructions import display_name
+from eb_navigation.layout import LAYOUT_VERSION
+from eb_navigation.tasks import DEFAULT_TASK_FILE, SUBSETS, TaskFileError, load_task_file
+
+
+@pytest.fixture(scope="module")
+def shipped():
+    return load_task_file()
+
+
+def test_shipped_file_is_versioned_and_records_its_generator(shipped) -> None:
+    assert shipped.version == 1 and shipped.layout_version == LAYOUT_VERSION
+    g = shipped.generator
+    assert g["function"] == "eb_navigation.generate:generate" and g["generator_version"] == GENERATOR_VERSION
+    assert g["scenes"] == 60 and g["min_distance"] == 2.5 and g["max_distance"] == 3.0 and "seed" in g
+
+
+def test_300_tasks_in_5_subsets_over_60_distinct_scenes(shipped) -> None:
+    tasks = shipped.tasks
+    assert len(tasks) == 300
+    for s in SUBSETS:
+        assert sum(t.subset == s for t in tasks) == 60
+    scenes = {(t.scene.kind, t.scene.seed) for t in tasks}
+    assert len(scenes) == 60
+    kinds = {k for k, _ in scenes}
+    assert kinds == {"kitchen", "living_room", "bedroom", "bathroom"}
+    assert len({t.target.type for t in tasks}) >= 12
+
+
+def test_starts_are_2_5_to_3_m_from_the_target_and_oracle_budget(shipped) -> None:
+    for t in shipped.tasks:
+        d = math.hypot(t.start.x - t.target.position[0], t.start.y - t.target.position[1])
+        assert 2.5 - 1e-6 <= d <= 3.0 + 1e-6, t.id
+        assert t.oracle_steps <= 20, t.id
+        if t.subset != "long_horizon":
+            assert t.oracle_steps <= 15, t.id
+
+
+def test_subsets_derive_from_base(shipped) -> None:
+    by_id = {t.id: t for t in shipped.tasks}
+    for n in range(60):
+        base = by_id[f"base_{n:03d}"]
+        for s in ("common_sense", "complex_instruction", "long_horizon", "visual_appearance"):
+            other = by_id[f"{s}_{n:03d}"]
+            assert other.scene == base.scene and other.target == base.target
+        assert by_id[f"long_horizon_{n:03d}"].start.yaw == (base.start.yaw + 180) % 360
+        assert by_id[f"common_sense_{n:03d}"].instruction != base.instruction
+        assert len(by_id[f"complex_instruction_{n:03d}"].instruction) > 2 * len(base.instruction)
+        vis = by_id[f"visual_appearance_{n:03d}"]
+        assert vis.extra_objects and all(e.type == base.target.type and e.colour != base.target.colour
+                                         for e in vis.extra_objects)
+        assert base.target.colour in vis.instruction
+        # the plain name of the target appears in base but not in common_sense or visual_appearance
+        name = display_name(base.target.type)
+        assert name in base.instruction
+        assert name not in by_id[f"common_sense_{n:03d}"].instruction
+        assert name not in vis.instruction
+
+
+def test_every_task_matches_its_rebuilt_room(shipped) -> None:
+    for t in shipped.tasks:
+        build_world(t)  # raises if the room no longer matches the file
+
+
+def test_load_tasks_gives_core_tasks() -> None:
+    tasks = NavigationEnv.load_tasks()
+    assert len(tasks) == 300 and tasks[0].id == "base_000"
+    assert {"scene", "start", "target", "extra_objects", "oracle_steps"} <= set(tasks[0].metadata)
+
+
+def _write(tmp_path: Path, doc) -> Path:
+    p = tmp_path / "tasks.json"
+    p.write_text(json.dumps(doc) if not isinstance(doc, str) else doc)
+    return p
+
+
+@pytest.fixture()
+def raw() -> dict:
+    return json.loads(DEFAULT_TASK_FILE.read_text())
+
+
+@pytest.mark.parametrize(
+    ("mutate", "expect"),
+    [
+        (lambda d: d["tasks"][3]["start"].pop("x"), r"task 'base_003' \(#3\): field start.x: is missing"),
+        (lambda d: d["tasks"][5]["start"].update(x=1.3), r"task 'base_005' \(#5\): field start.x: .*multiple of 0.25"),
+        (lambda d: d["tasks"][7]["start"].update(yaw=45), r"task 'base_007' \(#7\): field start.yaw: .*0, 90, 180 or 270"),
+        (lambda d: d["tasks"][2].update(subset="spatial"), r"task 'base_002' \(#2\): field subset:"),
+        (lambda d: d["tasks"][1]["scene"].update(kind="garage"), r"task 'base_001' \(#1\): field scene.kind:"),
+        (lambda d: d["tasks"][0]["target"].update(type="spaceship"), r"field target.type: .*unknown object type"),
+        (lambda d: d["tasks"][4].update(colour="red"), r"task 'base_004' \(#4\): field colour: is not a known field"),
+        (lambda d: d.pop("version"), r"tasks.json: field version: is missing"),
+    ],
+)
+def test_malformed_file_fails_with_one_clear_line(tmp_path: Path, raw: dict, mutate, expect: str) -> None:
+    mutate(raw)
+    path = _write(tmp_path, raw)
+    with pytest.raises(TaskFileError, match=expect) as info:
+        load_task_file(path)
+    msg = str(info.value)
+    assert "\n" not in msg and str(path) in msg
+
+
+def test_not_json_and_missing_file(tmp_path: Path) -> None:
+    with pytest.raises(TaskFileError, match="not valid JSON"):
+        load_task_file(_write(tmp_path, "{oops"))
+    with pytest.raises(TaskFileError, match="task file not found"):
+        load_task_file(tmp_path / "nope.json")
+
+
+def test_duplicate_ids_and_old_layout_version(tmp_path: Path, raw: dict) -> None:
+    raw["tasks"][1]["id"] = raw["tasks"][0]["id"]
+    with pytest.raises(TaskFileError, match="duplicate task id 'base_000'"):
+        load_task_file(_write(tmp_path, raw))
+    raw["tasks"][1]["id"] = "base_001"
+    raw["layout_version"] = LAYOUT_VERSION + 7
+    with pytest.raises(TaskFileError, match="layout_version.*regenerate"):
+        load_task_file(_write(tmp_path, raw))
+
+
+def test_a_moved_target_is_caught_at_reset(tmp_path: Path, raw: dict) -> None:
+    raw["tasks"] = raw["tasks"][:1]
+    raw["tasks"][0]["target"]["position"][0] += 0.5
+    path = _write(tmp_path, raw)
+    env = NavigationEnv(task_file=str(path), render=False)
+    task = NavigationEnv.load_tasks(task_file=str(path))[0]
+    with pytest.raises(TaskFileError, match="no longer matches"):
+        env.reset(task, 0)
+    env.close()
