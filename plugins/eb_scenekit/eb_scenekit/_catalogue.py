@@ -257,7 +257,7 @@ def _counter(p: Parts, c: RGB) -> None:
     d.box("tray", (0.25, 0.27, 0.005), (-0.25, 0, -0.08), _shade(c, 0.8), mat, collide=False)
 
 
-@_register("Shelf", "furniture", ("oak", "white", "black"), (0.16, 0.5), 1.22, mount="floor",
+@_register("Shelf", "furniture", ("oak", "white", "black"), (0.16, 0.5), 1.23, mount="floor",
            surfaces=tuple(S(f"board_{i}", z + 0.012, (0.13, 0.45), clearance=0.36)
                           for i, z in enumerate((0.06, 0.45, 0.84))) + (S("top", 1.222, (0.13, 0.45)),))
 def _shelf(p: Parts, c: RGB) -> None:

@@ -175,7 +175,8 @@ def material_assets() -> list[El]:
     mat("eb_metal", specular=0.9, shininess=0.9, reflectance=0.0)
     mat("eb_glass", specular=1.0, shininess=1.0)
     mat("eb_rubber", specular=0.1, shininess=0.1)
-    mat("eb_wood", texture="eb_tex_wood", texrepeat=(1, 5), specular=0.2, shininess=0.3)
+    # half a checker period across and many along: wood-like stripes instead of a checkerboard
+    mat("eb_wood", texture="eb_tex_wood", texrepeat=(0.5, 7), specular=0.2, shininess=0.3)
     mat("eb_fabric", texture="eb_tex_fabric", texrepeat=(6, 6), specular=0.02, shininess=0.02)
     mat("eb_stone", texture="eb_tex_stone", texrepeat=(3, 3), specular=0.4, shininess=0.6)
     mat("eb_wicker", texture="eb_tex_wicker", texrepeat=(16, 8), specular=0.1, shininess=0.1)

@@ -170,8 +170,10 @@ def set_agent_pose(model: object, data: object, name: str, pos: Sequence[float],
     p = list(pos)
     if len(p) == 2:
         p.append(float(data.mocap_pos[mid][2]))
-    data.mocap_pos[mid] = p
-    data.mocap_quat[mid] = _agent_quat(yaw, pitch)
+    # same rounding as the MJCF writer, so a pose set here renders exactly like the same pose written in XML
+    data.mocap_pos[mid] = np.round(np.asarray(p, float), 4)
+    q = np.round(np.asarray(_agent_quat(yaw, pitch)), 4)
+    data.mocap_quat[mid] = q / np.linalg.norm(q)
     mujoco.mj_forward(model, data)
 
 
@@ -196,10 +198,21 @@ class SceneBuilder:
     Angles are degrees; lengths metres; the room is centred on the origin with the floor at z = 0.
     """
 
-    def __init__(self, name: str = "eb_scene", offscreen: tuple[int, int] = (1024, 1024), fovy: float = 60.0) -> None:
+    def __init__(self, name: str = "eb_scene", offscreen: tuple[int, int] = (1024, 1024), fovy: float = 60.0,
+                 shadows: bool = False, antialias: int = 4) -> None:
+        """
+        Args:
+            name: MJCF model name.
+            offscreen: offscreen buffer size; renders up to this size work (>= 1024 for the 700x700 ablation).
+            fovy: vertical field of view of free cameras (model cameras set their own).
+            shadows: let the main ceiling light cast shadows (prettier, about 3-4x slower on a CPU renderer).
+            antialias: MSAA samples (0 = off: fastest, jagged edges).
+        """
         self.name = name
         self.offscreen = offscreen
         self.fovy = fovy
+        self.shadows = bool(shadows)
+        self.antialias = int(antialias)
         self.objects: list[SceneObject] = []
         self.room: RoomShell | None = None
         self._assets: dict[str, El] = {}
@@ -323,7 +336,8 @@ class SceneBuilder:
             self._lights.append(El("light", {"name": f"room/ceiling_light_{i}", "pos": (lx, ly, h - 0.1),
                                              "dir": (0, 0, -1), "directional": False,
                                              "diffuse": (0.42 / len(lamps) ** 0.5,) * 3, "specular": (0.1,) * 3,
-                                             "cutoff": 80, "exponent": 1, "castshadow": i == 0,
+                                             "cutoff": 55 if self.shadows else 80, "exponent": 1,
+                                             "castshadow": self.shadows and i == 0,
                                              "attenuation": (1, 0, 0)}))
         # daylight through the window, with shadows
         win = room.windows[0] if room.windows else room.door
@@ -378,7 +392,8 @@ class SceneBuilder:
         self._world.append(El("geom", {"name": "room/floor", "type": "plane", "size": (half_size, half_size, 0.1),
                                        "material": "eb_matte", "rgba": (*floor_rgb, 1)}))
         self._lights.append(El("light", {"name": "room/key", "pos": (2, -2, 4), "dir": (-0.45, 0.45, -0.8),
-                                         "directional": True, "diffuse": (0.5, 0.5, 0.5), "castshadow": True}))
+                                         "directional": True, "diffuse": (0.5, 0.5, 0.5),
+                                         "castshadow": self.shadows}))
         self._lights.append(El("light", {"name": "room/fill", "pos": (-2, 2, 4), "dir": (0.4, -0.3, -0.8),
                                          "directional": True, "diffuse": (0.2, 0.2, 0.2), "castshadow": False}))
 
@@ -527,7 +542,7 @@ class SceneBuilder:
         root.add("size", memory="64M")
         vis = root.add("visual")
         vis.add("global", offwidth=self.offscreen[0], offheight=self.offscreen[1], fovy=self.fovy)
-        vis.add("quality", shadowsize=2048, offsamples=4)
+        vis.add("quality", shadowsize=2048, offsamples=self.antialias)
         vis.add("headlight", ambient=(0.38, 0.38, 0.38), diffuse=(0.28, 0.28, 0.28), specular=(0.05, 0.05, 0.05))
         extent, centre = self._extent()
         vis.add("map", znear=0.004, zfar=40, haze=0.0, shadowclip=1.5)

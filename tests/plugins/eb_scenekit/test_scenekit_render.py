@@ -1,0 +1,107 @@
+"""Renderer: RGB/depth/segmentation shapes and values, boxes in view and behind, moving cameras, sheets."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from eb_scenekit import (
+    SceneBuilder, SceneRenderer, camera_from_eye, contact_sheet, free_camera, save_png, set_agent_pose,
+)
+from eb_scenekit._mujoco import mujoco
+
+
+@pytest.fixture(scope="module")
+def scene():  # type: ignore[no-untyped-def]
+    b = SceneBuilder()
+    b.add_room("kitchen", (4.0, 4.0), seed=1, door=("south", 1.2), windows=[("north", 0.0)])
+    b.add_object("Fridge", "fridge", (1.6, 1.6), yaw=-90)
+    b.add_object("DiningTable", "table", (0.0, 0.0))
+    b.add_object("Apple", "apple", (0.0, 0.2), parent="table")
+    b.add_object("Mug", "mug", (0.0, -0.3), parent="table")
+    b.add_object("Sofa", "sofa", (-1.5, 0.0), yaw=0)
+    b.add_camera("front", (2.0, 0.0, 1.5), lookat=(0.0, 0.0, 0.8))
+    b.add_agent_camera("agent", (1.5, -1.5), yaw=135, pitch=-20)
+    model, data = b.build()
+    with SceneRenderer(model, data) as r:
+        yield r
+
+
+def test_rgb_depth_segmentation_shapes(scene) -> None:  # type: ignore[no-untyped-def]
+    rgb = scene.rgb("front")
+    depth = scene.depth("front")
+    seg = scene.segmentation("front")
+    assert rgb.shape == (500, 500, 3) and rgb.dtype == np.uint8
+    assert depth.shape == (500, 500) and depth.dtype == np.float32
+    assert seg.shape == (500, 500) and seg.dtype == np.int32
+    assert rgb.mean() > 90, "renders are bright"
+    assert (depth > 0).all() and depth.max() < 10.0
+    table = seg == scene.instance_ids["table"]
+    # the table is ~2 m away from the camera
+    assert 1.2 < float(np.median(depth[table])) < 2.6
+    assert set(np.unique(seg)) <= set(range(len(scene.instance_names)))
+
+
+def test_boxes_for_objects_in_view_and_none_behind(scene) -> None:  # type: ignore[no-untyped-def]
+    boxes = scene.boxes("front")
+    assert {"table", "apple", "mug", "sofa"} <= set(boxes)
+    assert "fridge" not in boxes  # behind and to the side of the camera at x=2 looking to -x
+    x0, y0, x1, y1 = boxes["apple"]
+    assert 0 <= x0 <= x1 < 500 and 0 <= y0 <= y1 < 500
+    tx0, ty0, tx1, ty1 = boxes["table"]
+    assert tx0 <= x0 and x1 <= tx1
+    behind = scene.boxes(camera_from_eye((-1.0, 0.0, 1.4), (-3.0, 0.0, 1.2)))
+    assert "table" not in behind and "apple" not in behind
+
+
+def test_free_and_agent_cameras_move_without_recompiling(scene) -> None:  # type: ignore[no-untyped-def]
+    a = scene.rgb("agent")
+    set_agent_pose(scene.model, scene.data, "agent", (1.5, -1.5), yaw=135 + 180, pitch=0)
+    b = scene.rgb("agent")
+    assert not np.array_equal(a, b)
+    set_agent_pose(scene.model, scene.data, "agent", (1.5, -1.5, 1.5), yaw=135, pitch=-20)
+    assert np.array_equal(scene.rgb("agent"), a)
+    top = free_camera((0, 0, 0.8), 2.5, 90, -89)
+    assert "apple" in scene.boxes(top)
+
+
+def test_overhead_hides_ceiling_and_agent_markers(scene) -> None:  # type: ignore[no-untyped-def]
+    overhead = camera_from_eye((0.0, -0.01, 6.0), (0.0, 0.0, 0.0))
+    assert "table" in scene.boxes(overhead)
+    with_agent = scene.rgb(overhead, show_agents=True)
+    without = scene.rgb(overhead)
+    assert not np.array_equal(with_agent, without)
+
+
+def test_other_sizes_and_700px(scene) -> None:  # type: ignore[no-untyped-def]
+    assert scene.rgb("front", 300, 300).shape == (300, 300, 3)
+    assert scene.rgb("front", 700, 700).shape == (700, 700, 3)
+    assert scene.segmentation("front", 700, 700).shape == (700, 700)
+
+
+def test_unknown_camera_lists_cameras(scene) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(KeyError, match="front"):
+        scene.rgb("nope")
+
+
+def test_png_and_contact_sheet(tmp_path, scene) -> None:  # type: ignore[no-untyped-def]
+    img = scene.rgb("front", 64, 64)
+    sheet = contact_sheet([img, img, img], ["one", "two", "three"], cols=2)
+    assert sheet.shape[1] > 2 * 64 and sheet.shape[0] > 2 * 64 and sheet.dtype == np.uint8
+    path = save_png(tmp_path / "sub" / "sheet.png", sheet)
+    assert np.array_equal(np.asarray(Image.open(path)), sheet)
+    with pytest.raises(ValueError):
+        contact_sheet([img], ["a", "b"])
+
+
+def test_plain_models_segment_by_name_prefix() -> None:
+    xml = """<mujoco><worldbody><light pos="0 0 3"/>
+      <geom name="cube/body" type="box" size=".2 .2 .2" rgba="1 0 0 1"/>
+      <camera name="c" pos="0 -2 1" xyaxes="1 0 0 0 .45 .9"/></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    with SceneRenderer(model, data, 64, 64) as r:
+        assert r.instance_names == ["", "cube"]
+        assert "cube" in r.boxes("c")
