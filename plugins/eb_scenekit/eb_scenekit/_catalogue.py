@@ -627,7 +627,7 @@ def _mug(p: Parts, c: RGB) -> None:
     p.cyl("coffee", 0.035, 0.002, (0, 0, 0.08), (0.25, 0.12, 0.05), "eb_glossy", collide=False)
 
 
-@_register("Cup", "container", ("white", "clear", "blue", "red"), (0.042, 0.042), 0.11, movable=True,
+@_register("Cup", "container", ("blue", "white", "clear", "red"), (0.042, 0.042), 0.11, movable=True,
            surfaces=(S("interior", 0.006, (0.02, 0.02), inside=True, clearance=0.1),))
 def _cup(p: Parts, c: RGB) -> None:
     if c == (0.75, 0.85, 0.9):
@@ -635,7 +635,7 @@ def _cup(p: Parts, c: RGB) -> None:
         p.cyl("water", 0.034, 0.03, (0, 0, 0.04), (0.55, 0.75, 0.95, 0.35), "eb_glass", collide=False)
     else:
         p.mesh("body", "cup_body", (0, 0, 0), c, "eb_glossy")
-        p.cyl("band", 0.0395, 0.012, (0, 0, 0.06), _shade(c, 0.7), "eb_glossy", collide=False)
+        p.cyl("band", 0.0395, 0.008, (0, 0, 0.07), _shade(c, 1.6), "eb_glossy", collide=False)
 
 
 @_register("Bowl", "container", ("white", "blue", "red", "green"), (0.09, 0.09), 0.065, movable=True,
@@ -835,7 +835,7 @@ def _soap_bottle(p: Parts, c: RGB) -> None:
     p.cap_ft("nozzle", (0.0, 0, 0.202), (0.032, 0, 0.198), 0.004, _WHITE, "eb_plastic")
 
 
-@_register("Towel", "small", ("white", "blue", "pink", "green", "yellow"), (0.12, 0.16), 0.07, movable=True)
+@_register("Towel", "small", ("blue", "white", "pink", "green", "yellow"), (0.12, 0.16), 0.07, movable=True)
 def _towel(p: Parts, c: RGB) -> None:
     for k in range(3):
         p.mesh("layer", "pillow", (0.004 * k, 0, 0.012 + 0.022 * k), _shade(c, 1.0 - 0.04 * (2 - k)), "eb_fabric",
@@ -843,7 +843,7 @@ def _towel(p: Parts, c: RGB) -> None:
     p.box("stripe", (0.118, 0.012, 0.0015), (0.008, 0.1, 0.067), _shade(c, 0.7), "eb_fabric", collide=False)
 
 
-@_register("Pillow", "small", ("white", "blue", "red", "yellow", "green"), (0.2, 0.3), 0.14, movable=True)
+@_register("Pillow", "small", ("blue", "white", "red", "yellow", "green"), (0.2, 0.3), 0.14, movable=True)
 def _pillow(p: Parts, c: RGB) -> None:
     p.mesh("cushion", "pillow", (0, 0, 0.07), c, "eb_fabric")
     p.box("piping", (0.19, 0.29, 0.003), (0, 0, 0.07), _shade(c, 0.8), "eb_fabric", collide=False)

@@ -56,9 +56,9 @@ def render_object(type_name: str, size: int = 240, color: str | None = None) -> 
 def objects_sheet(tile: int = 200, cols: int = 9) -> np.ndarray:
     """All catalogue objects in one scene, one labelled tile each."""
     types = object_types()
-    b = SceneBuilder(name="catalogue", fovy=45)
+    b = SceneBuilder(name="catalogue", fovy=45, shadows=True)
     b.add_studio(half_size=60.0)
-    spacing = 4.0
+    spacing = 6.0
     n = math.ceil(math.sqrt(len(types)))
     from eb_scenekit._mjcf import El
 

@@ -535,13 +535,15 @@ def _wall_facing(room: RoomShell, direction: Sequence[float]) -> Wall:
 _FURNISH = {"kitchen": _kitchen, "living_room": _living_room, "bedroom": _bedroom, "bathroom": _bathroom}
 
 
-def generate_room(kind: RoomKind, seed: int, clutter: int = 8) -> RoomLayout:
+def generate_room(kind: RoomKind, seed: int, clutter: int = 8, *, shadows: bool = False,
+                  antialias: int = 4) -> RoomLayout:
     """Generate a furnished room.
 
     Args:
         kind: ``"kitchen"``, ``"living_room"``, ``"bedroom"`` or ``"bathroom"``.
         seed: any integer; the same (kind, seed, clutter) always gives the same XML.
         clutter: how many small objects to put on/in the furniture (fewer if they do not fit).
+        shadows, antialias: rendering options passed to :class:`~eb_scenekit.scene.SceneBuilder`.
 
     Returns:
         A :class:`RoomLayout` whose builder also has an ``"overhead"`` camera looking straight down.
@@ -551,7 +553,7 @@ def generate_room(kind: RoomKind, seed: int, clutter: int = 8) -> RoomLayout:
     rng = np.random.default_rng([ROOM_KINDS.index(kind) + 1, int(seed), 0x5CE7E])
     (x0, x1), (y0, y1) = _SIZES[kind]
     size = (round(float(rng.uniform(x0, x1)), 2), round(float(rng.uniform(y0, y1)), 2))
-    b = SceneBuilder(name=f"{kind}_{seed}")
+    b = SceneBuilder(name=f"{kind}_{seed}", shadows=shadows, antialias=antialias)
     rug = None
     if kind in ("living_room", "bedroom"):
         rug = (round(size[0] * 0.22, 2), round(size[1] * 0.18, 2))
@@ -590,6 +592,6 @@ def generate_room(kind: RoomKind, seed: int, clutter: int = 8) -> RoomLayout:
             placed += 1
             counts[typ] = counts.get(typ, 0) + 1
     half = max(size) / 2
-    b.add_camera("overhead", (0.0, 0.0, round(half / math.tan(math.radians(30)) + 0.35, 3)),
-                 xyaxes=(1, 0, 0, 0, 1, 0), fovy=60)
+    b.add_camera("overhead", (0.0, 0.0, round(half / math.tan(math.radians(22.5)) + 0.6, 3)),
+                 xyaxes=(1, 0, 0, 0, 1, 0), fovy=45)
     return RoomLayout(kind=kind, seed=int(seed), builder=b, size=size)

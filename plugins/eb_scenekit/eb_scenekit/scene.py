@@ -384,7 +384,7 @@ class SceneBuilder:
             box("mullion", 0, 0.02, zc, 0.02, 0.02, hz, "eb_glossy", trim)
             box("transom", 0, 0.02, op.bottom + 0.68 * (op.top - op.bottom), hw, 0.02, 0.02, "eb_glossy", trim)
 
-    def add_studio(self, floor_rgb: tuple[float, float, float] = (0.82, 0.82, 0.8), half_size: float = 10.0) -> None:
+    def add_studio(self, floor_rgb: tuple[float, float, float] = (0.72, 0.71, 0.68), half_size: float = 10.0) -> None:
         """A plain floor and lights without walls: the minimal scene for showing single objects."""
         self._add_asset(El("texture", {"name": "eb_tex_sky", "type": "skybox", "builtin": "gradient",
                                        "width": 256, "height": 256, "rgb1": (0.85, 0.9, 0.97),
