@@ -235,11 +235,6 @@ def _kettle_handle() -> Mesh:
     return tube(pts, 0.009, 10)
 
 
-def _basket_handle() -> Mesh:
-    pts = arc(0.17, 5, 175, 16, "yz", (0.0, 0.0, 0.14))
-    return tube(pts, 0.008, 10)
-
-
 def _kettle_spout() -> Mesh:
     pts = ((0.07, 0.0, 0.04), (0.1, 0.0, 0.075), (0.125, 0.0, 0.11), (0.14, 0.0, 0.13))
     return tube(pts, (0.014, 0.011, 0.009, 0.008), 10)
@@ -310,7 +305,6 @@ MESHES = {
     "basket_handle": lambda: tube(arc(0.125, 5, 175, 16, "yz", (0.0, 0.0, 0.13)), 0.008, 10),
     "lamp_arm": _lamp_arm,
     "plant_pot": lambda: lathe(_shell(((0.09, 0.0), (0.12, 0.2), (0.13, 0.21), (0.13, 0.23)), 0.01, 0.02), 24),
-    "flower_pot_small": lambda: lathe(((0.0, 0.0), (0.05, 0.0), (0.065, 0.11), (0.0, 0.11)), 18),
     "carafe": lambda: lathe(_shell(((0.05, 0.0), (0.055, 0.06), (0.04, 0.12), (0.045, 0.13)), 0.003, 0.004), 20),
     "ball_seam": lambda: torus(0.1205, 0.0025, 40, 6),
     "ring_small": lambda: torus(0.014, 0.0016, 18, 6),
@@ -322,5 +316,4 @@ MESHES = {
     "mountain": _mountain,
     "candle_holder": lambda: lathe(((0.0, 0.0), (0.05, 0.0), (0.055, 0.01), (0.05, 0.015), (0.0, 0.015)), 20),
     "bell": lambda: lathe(((0.0, 0.0), (0.03, 0.0), (0.028, 0.015), (0.018, 0.027), (0.0, 0.03)), 16),
-    "toilet_pedestal": lambda: lathe(((0.0, 0.0), (0.13, 0.0), (0.1, 0.05), (0.09, 0.2), (0.0, 0.2)), 20, 1.0, 0.8),
 }

@@ -40,9 +40,7 @@ def render_object(type_name: str, size: int = 240, color: str | None = None) -> 
     b = SceneBuilder(name=f"studio_{type_name}", fovy=45)
     b.add_studio()
     if otype.mount == "wall":
-        b._world.append(__import__("eb_scenekit._mjcf", fromlist=["El"]).El(
-            "geom", {"name": "room/wall", "type": "box", "pos": (-0.05, 0, 1.5), "size": (0.05, 2, 1.5),
-                     "material": "eb_matte", "rgba": (0.9, 0.88, 0.82, 1)}))
+        b.add_static_geom("room/wall", "box", (-0.05, 0, 1.5), (0.05, 2, 1.5))
     obj = b.add_object(type_name, f"{type_name}_1", (0.0, 0.0), color=color)
     model, data = b.build()
     lookat, dist, az, el = object_view(otype)
@@ -60,15 +58,11 @@ def objects_sheet(tile: int = 200, cols: int = 9) -> np.ndarray:
     b.add_studio(half_size=60.0)
     spacing = 6.0
     n = math.ceil(math.sqrt(len(types)))
-    from eb_scenekit._mjcf import El
-
     places = {}
     for i, t in enumerate(types):
         x, y = (i % n) * spacing, (i // n) * spacing
         if t.mount == "wall":
-            b._world.append(El("geom", {"name": f"room/wall_{i}", "type": "box", "pos": (x - 0.05, y, 1.4),
-                                        "size": (0.05, 0.8, 0.5), "material": "eb_matte",
-                                        "rgba": (0.9, 0.88, 0.82, 1)}))
+            b.add_static_geom(f"room/wall_{i}", "box", (x - 0.05, y, 1.4), (0.05, 0.8, 0.5))
         b.add_object(t.name, f"{t.name}_1", (x, y))
         places[t.name] = (x, y)
     model, data = b.build()

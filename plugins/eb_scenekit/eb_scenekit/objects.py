@@ -464,6 +464,13 @@ class ObjectType:
         self.builder(Parts(ctx, body), rgb)
         return body, assets
 
+    def mjcf(self, instance: str, pos: tuple[float, float, float] = (0.0, 0.0, 0.0), yaw: float = 0.0,
+             color: str | tuple[float, ...] | None = None, scale: float = 1.0, **kw: object) -> tuple[str, str]:
+        """Like :meth:`build`, as text: ``(body_xml, assets_xml)``; the assets (meshes) go in ``<asset>``, and the
+        shared materials from :func:`material_assets` must be there too."""
+        body, assets = self.build(instance, pos, yaw, color, scale, **kw)  # type: ignore[arg-type]
+        return body.to_string(), "\n".join(a.to_string() for a in assets.values())
+
 
 CATALOGUE: dict[str, ObjectType] = {}
 """Every object type by canonical name, in catalogue order."""

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Union
 
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
@@ -19,7 +20,8 @@ from eb_scenekit.scene import AGENT_GROUP, CEILING_GROUP, INSTANCES_TEXT
 
 __all__ = ["SceneRenderer", "free_camera", "camera_from_eye", "save_png", "contact_sheet", "Camera"]
 
-Camera = "str | int | mujoco.MjvCamera"
+Camera = Union[str, int, mujoco.MjvCamera]
+"""A model camera name or id, or a free ``mujoco.MjvCamera``."""
 
 
 def free_camera(lookat: Sequence[float], distance: float, azimuth: float, elevation: float) -> mujoco.MjvCamera:
@@ -110,7 +112,7 @@ class SceneRenderer:
             self._renderers[key] = r
         return r
 
-    def _camera_pos(self, camera: object) -> np.ndarray:
+    def _camera_pos(self, camera: Camera) -> np.ndarray:
         if isinstance(camera, mujoco.MjvCamera):
             return _free_camera_pos(camera)
         cid = camera if isinstance(camera, int) else mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_CAMERA,
@@ -120,7 +122,7 @@ class SceneRenderer:
             raise KeyError(f"no camera {camera!r}; cameras in the model: {names}")
         return np.asarray(self.data.cam_xpos[cid])
 
-    def _option(self, camera: object, show_agents: bool) -> mujoco.MjvOption:
+    def _option(self, camera: Camera, show_agents: bool) -> mujoco.MjvOption:
         opt = mujoco.MjvOption()
         show = self.show_ceiling
         if show is None:
@@ -129,21 +131,21 @@ class SceneRenderer:
         opt.geomgroup[AGENT_GROUP] = 1 if show_agents else 0
         return opt
 
-    def _update(self, r: mujoco.Renderer, camera: object, show_agents: bool) -> None:
+    def _update(self, r: mujoco.Renderer, camera: Camera, show_agents: bool) -> None:
         opt = self._option(camera, show_agents)
         cam = camera if isinstance(camera, (mujoco.MjvCamera, int)) else str(camera)
         r.update_scene(self.data, camera=cam, scene_option=opt)
 
     # ------------------------------------------------------------------ images
 
-    def rgb(self, camera: object, width: int | None = None, height: int | None = None,
+    def rgb(self, camera: Camera, width: int | None = None, height: int | None = None,
             show_agents: bool = False) -> np.ndarray:
         """An ``H x W x 3`` uint8 colour image. ``show_agents`` draws agent markers (for overhead views)."""
         r = self._renderer(width, height)
         self._update(r, camera, show_agents)
         return r.render().copy()
 
-    def depth(self, camera: object, width: int | None = None, height: int | None = None) -> np.ndarray:
+    def depth(self, camera: Camera, width: int | None = None, height: int | None = None) -> np.ndarray:
         """An ``H x W`` float32 depth image in metres (distance along the view axis)."""
         r = self._renderer(width, height)
         r.enable_depth_rendering()
@@ -153,7 +155,7 @@ class SceneRenderer:
         finally:
             r.disable_depth_rendering()
 
-    def segmentation(self, camera: object, width: int | None = None, height: int | None = None) -> np.ndarray:
+    def segmentation(self, camera: Camera, width: int | None = None, height: int | None = None) -> np.ndarray:
         """An ``H x W`` int32 map of instance indices (0 = background; see :attr:`instance_names`)."""
         r = self._renderer(width, height)
         r.enable_segmentation_rendering()
@@ -166,7 +168,7 @@ class SceneRenderer:
         geom = np.where(objtype == int(mujoco.mjtObj.mjOBJ_GEOM), objid, -1)
         return self._geom_to_inst[geom]  # -1 indexes the background slot
 
-    def boxes(self, camera: object, min_pixels: int = 20, width: int | None = None,
+    def boxes(self, camera: Camera, min_pixels: int = 20, width: int | None = None,
               height: int | None = None) -> dict[str, tuple[int, int, int, int]]:
         """Pixel boxes ``(x0, y0, x1, y1)`` (inclusive) of instances with at least ``min_pixels`` visible pixels."""
         seg = self.segmentation(camera, width, height)
@@ -185,7 +187,7 @@ class SceneRenderer:
             out[self.instance_names[idx]] = (int(cols[0]), int(rows[0]), int(cols[-1]), int(rows[-1]))
         return out
 
-    def visible_pixels(self, camera: object, width: int | None = None, height: int | None = None) -> dict[str, int]:
+    def visible_pixels(self, camera: Camera, width: int | None = None, height: int | None = None) -> dict[str, int]:
         """Number of visible pixels per instance (instances with none are left out)."""
         seg = self.segmentation(camera, width, height)
         counts = np.bincount(seg.ravel(), minlength=len(self.instance_names))

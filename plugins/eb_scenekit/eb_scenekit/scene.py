@@ -14,13 +14,16 @@ from typing import Literal
 
 import numpy as np
 
-from eb_scenekit._mjcf import El, fmt
-from eb_scenekit.objects import ObjectType, _rpy_quat, get_type, material_assets, yaw_quat
+from eb_scenekit._mjcf import El
+from eb_scenekit.objects import ObjectType, _rpy_quat, get_type, material_assets
 
 __all__ = [
     "INSTANCES_TEXT",
     "CEILING_GROUP",
     "AGENT_GROUP",
+    "WALL_HEIGHT",
+    "WALL_THICKNESS",
+    "Opening",
     "RoomKind",
     "RoomShell",
     "SceneBuilder",
@@ -397,6 +400,13 @@ class SceneBuilder:
         self._lights.append(El("light", {"name": "room/fill", "pos": (-2, 2, 4), "dir": (0.4, -0.3, -0.8),
                                          "directional": True, "diffuse": (0.2, 0.2, 0.2), "castshadow": False}))
 
+    def add_static_geom(self, name: str, gtype: str, pos: Sequence[float], size: Sequence[float],
+                        rgba: Sequence[float] = (0.9, 0.88, 0.82, 1.0), material: str = "eb_matte") -> None:
+        """A plain fixed geom (a backdrop wall, a platform). Name it ``"room/..."`` so that segmentation treats it
+        as structure (background)."""
+        self._world.append(El("geom", {"name": name, "type": gtype, "pos": tuple(pos), "size": tuple(size),
+                                       "material": material, "rgba": tuple(rgba)}))
+
     # ------------------------------------------------------------------ objects
 
     def _auto_name(self, type_name: str) -> str:
@@ -572,6 +582,3 @@ class SceneBuilder:
         mujoco.mj_forward(model, data)
         return model, data
 
-
-__all__ += ["Opening", "WALL_HEIGHT", "WALL_THICKNESS"]
-_ = fmt, yaw_quat
