@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import math
 
-from eb_scenekit.objects import ObjectType
+from eb_scenekit.objects import ObjectType, Surface
 
-__all__ = ["KIT_TYPES", "YCB_TYPES", "kit_or_ycb"]
+__all__ = ["KIT_TYPES", "WIDE_SINK", "YCB_TYPES", "kit_or_ycb"]
 
 RGB = tuple[float, float, float]
 
@@ -257,6 +257,53 @@ def _bleach_bottle(p, c: RGB) -> None:
     p.cyl("cap", 0.02, 0.014, (0, -0.03, 0.212), (0.1, 0.35, 0.85), "eb_glossy", collide=False)
     p.cap_ft("handle", (0, 0.02, 0.17), (0, 0.07, 0.12), 0.012, c, "eb_glossy", collide=False)
     p.box("label", (0.001, 0.04, 0.04), (0.0355, -0.005, 0.08), (0.1, 0.35, 0.85), "eb_plastic", collide=False)
+
+
+# -- furniture ------------------------------------------------------------------------------------------------
+
+
+_STONE = (0.8, 0.79, 0.76)
+_DARK = (0.16, 0.16, 0.18)
+_CHROME = (0.85, 0.86, 0.9)
+
+
+def _wide_sink(p, c: RGB) -> None:
+    """A kitchen sink unit as wide and deep as a counter, with a rectangular steel basin that holds dishes.
+
+    (The kit's sink has a small round vessel basin: a frying pan or a cereal box does not fit in it.)"""
+    mat = "eb_plastic"
+    p.box("plinth", (0.26, 0.29, 0.045), (-0.03, 0, 0.045), _DARK, "eb_matte")
+    p.box("body", (0.285, 0.3, 0.33), (-0.02, 0, 0.42), _shade(c, 0.95), mat)
+    for sy in (-1, 1):
+        p.box("door", (0.008, 0.145, 0.33), (0.27, sy * 0.15, 0.42), c, mat)
+        p.cap_ft("handle", (0.29, sy * 0.04, 0.6), (0.29, sy * 0.04, 0.7), 0.007, _CHROME, "eb_metal")
+    x0, x1, y = -0.16, 0.2, 0.24  # basin opening
+    z = 0.9
+    p.box("slab_front", ((0.31 - x1) / 2, 0.3, 0.02), ((0.31 + x1) / 2, 0, z), _STONE, "eb_stone")
+    p.box("slab_back", ((x0 + 0.31) / 2, 0.3, 0.02), ((x0 - 0.31) / 2, 0, z), _STONE, "eb_stone")
+    for sy in (-1, 1):
+        p.box("slab_side", ((x1 - x0) / 2, (0.3 - y) / 2, 0.02), ((x0 + x1) / 2, sy * (0.3 + y) / 2, z), _STONE,
+              "eb_stone")
+    bottom = 0.77
+    depth = (z + 0.02 - bottom) / 2
+    p.box("basin_bottom", ((x1 - x0) / 2, y, 0.006), ((x0 + x1) / 2, 0, bottom), _SILVER, "eb_metal")
+    p.box("basin_front", (0.004, y, depth), (x1 - 0.004, 0, bottom + depth), _STEEL, "eb_metal")
+    p.box("basin_back", (0.004, y, depth), (x0 + 0.004, 0, bottom + depth), _STEEL, "eb_metal")
+    for sy in (-1, 1):
+        p.box("basin_side", ((x1 - x0) / 2, 0.004, depth), ((x0 + x1) / 2, sy * (y - 0.004), bottom + depth), _STEEL,
+              "eb_metal")
+    p.cyl("drain", 0.025, 0.002, ((x0 + x1) / 2, 0, bottom + 0.007), _DARK, "eb_metal", collide=False)
+    p.cyl("faucet_base", 0.025, 0.015, (-0.25, 0, 0.935), _CHROME, "eb_metal")
+    p.cap_ft("faucet_riser", (-0.25, 0, 0.94), (-0.25, 0, 1.2), 0.014, _CHROME, "eb_metal")
+    p.cap_ft("faucet_spout", (-0.25, 0, 1.2), (-0.08, 0, 1.2), 0.013, _CHROME, "eb_metal")
+    p.cap_ft("faucet_tip", (-0.08, 0, 1.2), (-0.08, 0, 1.15), 0.012, _CHROME, "eb_metal")
+    for sy in (-1, 1):
+        p.cap_ft("tap", (-0.25, sy * 0.07, 0.94), (-0.25, sy * 0.07, 0.99), 0.012, _CHROME, "eb_metal")
+
+
+WIDE_SINK = ObjectType(name="ycb_wide_sink", category="furniture", colors={"white": (0.93, 0.93, 0.91)},
+                       half_extents=(0.31, 0.3), height=1.2, builder=_wide_sink, mount="floor",
+                       surfaces=(Surface("basin", 0.776, (0.16, 0.22), (0.02, 0.0), True, 0.14),))
 
 
 def _t(key: str, builder, half: tuple[float, float], height: float) -> ObjectType:

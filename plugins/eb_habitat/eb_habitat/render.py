@@ -18,10 +18,11 @@ import numpy as np
 
 from eb_scenekit import SceneBuilder, set_agent_pose
 from eb_scenekit._mujoco import mujoco
+from eb_scenekit.objects import COLORS as KIT_COLORS
 from eb_scenekit.objects import get_type, set_open
 from eb_scenekit.render import SceneRenderer, camera_from_eye
 from eb_scenekit.scene import INSTANCES_TEXT
-from eb_habitat._ycb import KIT_TYPES, kit_or_ycb
+from eb_habitat._ycb import KIT_TYPES, WIDE_SINK, kit_or_ycb
 from eb_habitat.catalog import COLORS, N_APARTMENTS, RECEPTACLES
 from eb_habitat.world import HAND
 
@@ -65,6 +66,12 @@ class Layout:
 
 
 _BROWN = COLORS["brown"][:3]
+WIDE_SINK_TYPE = "eb_habitat.WideSink"
+"""Our own sink unit (a wide steel basin), used instead of the kit's small round one."""
+
+
+def _furniture_type(kit_type: str):
+    return WIDE_SINK if kit_type == WIDE_SINK_TYPE else get_type(kit_type)
 
 
 def _kitchen(x0: float, ywall: float, counter: str, fridge: str) -> dict[str, Place]:
@@ -73,7 +80,7 @@ def _kitchen(x0: float, ywall: float, counter: str, fridge: str) -> dict[str, Pl
         "fridge": Place("Fridge", (x0, ywall - 0.38), -90, fridge),
         "cabinet": Place("Cabinet", (x0 + 0.7, ywall - 0.25), -90, counter),
         "left_counter": Place("CounterTop", (x0 + 1.62, ywall - 0.33), -90, counter),
-        "sink": Place("Sink", (x0 + 2.53, ywall - 0.3), -90, counter),
+        "sink": Place(WIDE_SINK_TYPE, (x0 + 2.53, ywall - 0.33), -90, counter),
         "right_counter": Place("CounterTop", (x0 + 3.44, ywall - 0.33), -90, counter),
     }
 
@@ -158,6 +165,8 @@ class _Slots:
     """Extra turn (degrees, in the furniture frame) of the side the agent views from; 0 = from the front."""
     lift: float = 0.0
     """Raise objects above the kit's surface height (the kit's sink basin surface lies below the basin floor)."""
+    lay_tall: bool = False
+    """Lay tall objects on their side (drawers are shallow; things in a sink lie down)."""
 
 
 def _row(surface: str, n: int, half_width: float, dx: float = 0.0) -> tuple[tuple[str, float, float], ...]:
@@ -169,11 +178,13 @@ def _row(surface: str, n: int, half_width: float, dx: float = 0.0) -> tuple[tupl
 _GEOMETRY: dict[str, _Slots] = {
     "left_counter": _Slots("left_counter", None, _row("top", 4, 0.42, 0.02), (0.95, EYE_HEIGHT, 0.0, 0.0, 0.9)),
     "right_counter": _Slots("right_counter", None, _row("top", 4, 0.42, 0.02), (0.95, EYE_HEIGHT, 0.0, 0.0, 0.9)),
-    "sink": _Slots("sink", None, _row("basin", 2, 0.06), (0.62, 1.6, 0.04, 0.0, 0.93), lift=0.04),
+    "sink": _Slots("sink", None, _row("basin", 2, 0.1), (0.7, 1.6, 0.02, 0.0, 0.8), lay_tall=True),
     "fridge": _Slots("fridge", "door", _row("shelf_2", 2, 0.13) + _row("shelf_1", 2, 0.13),
                      (1.8, 1.45, 0.0, 0.0, 0.9)),
-    "left_drawer": _Slots("left_counter", "drawer", _row("drawer", 3, 0.16), (0.62, 1.45, 0.42, -0.3, 0.66)),
-    "right_drawer": _Slots("right_counter", "drawer", _row("drawer", 3, 0.16), (0.62, 1.45, 0.42, -0.3, 0.66)),
+    "left_drawer": _Slots("left_counter", "drawer", _row("drawer", 3, 0.16), (0.62, 1.45, 0.42, -0.3, 0.66),
+                          lay_tall=True),
+    "right_drawer": _Slots("right_counter", "drawer", _row("drawer", 3, 0.16), (0.62, 1.45, 0.42, -0.3, 0.66),
+                          lay_tall=True),
     "cabinet": _Slots("cabinet", "door", _row("shelf", 2, 0.11) + _row("interior", 2, 0.11),
                       (1.15, 1.25, 0.0, 0.0, 0.45)),
     "sofa": _Slots("sofa", None, _row("seat", 3, 0.5), (1.25, EYE_HEIGHT, 0.0, 0.0, 0.45)),
@@ -211,28 +222,26 @@ def _qmul(a: tuple[float, ...], b: tuple[float, ...]) -> tuple[float, float, flo
             w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2)
 
 
-#: Objects taller than this (metres, drawn size) lie on their side in a drawer.
-DRAWER_CLEARANCE = 0.15
+#: Objects taller than this (metres, drawn size) lie on their side in a drawer or the sink.
+DRAWER_CLEARANCE = 0.13
 
 
 def _lying(type_key: str, pos: tuple[float, float, float], front_yaw: float,
            quat: tuple[float, ...]) -> tuple[tuple[float, float, float], tuple[float, ...]]:
-    """Lay a tall object on its side, lengthwise from the drawer's back to its front, on the drawer floor."""
+    """Lay a tall object on its side, lengthwise from back to front, on the drawer (or basin) floor."""
     t = kit_or_ycb(type_key)
     height = t.height * OBJECT_SCALE
     if height <= DRAWER_CLEARANCE:
         return pos, quat
     hx, hy = (h * OBJECT_SCALE for h in t.half_extents)
     s = math.sqrt(0.5)
-    if hx <= hy:  # roll about the object's y axis: its x axis points down, its top towards the drawer front
-        frame = _yaw_quat(front_yaw)
-        q = _qmul(frame, (s, 0.0, s, 0.0))
-        lift = hx
-    else:  # roll about its x axis: its y axis points down
-        frame = _yaw_quat(front_yaw - 90.0)
-        q = _qmul(frame, (s, -s, 0.0, 0.0))
-        lift = hy
-    fx, fy = _rot(front_yaw, -height / 2, 0.0)
+    if hx <= hy:  # on its back: its front face (local +x) looks up, its top points away from the viewer
+        q = _qmul(_yaw_quat(front_yaw), (s, 0.0, -s, 0.0))
+        lift, along = hx, height / 2
+    else:  # on its side: its local y axis points down, its top towards the viewer
+        q = _qmul(_yaw_quat(front_yaw - 90.0), (s, -s, 0.0, 0.0))
+        lift, along = hy, -height / 2
+    fx, fy = _rot(front_yaw, along, 0.0)
     return (pos[0] + fx, pos[1] + fy, pos[2] + lift), q
 
 
@@ -273,14 +282,25 @@ class ApartmentRenderer:
                          fovy=FOVY)
         b.add_room("living_room", layout.size, seed=layout.seed, door=("south", 0.0),
                    windows=[("east", 0.4), ("west", 0.9)], rug=None)
+        own: list[tuple[str, Place]] = []
         for name, place in layout.furniture.items():
-            b.add_object(place.kit_type, name, pos=place.pos, yaw=place.yaw, color=place.color)
+            if place.kit_type == WIDE_SINK_TYPE:
+                own.append((name, place))
+            else:
+                b.add_object(place.kit_type, name, pos=place.pos, yaw=place.yaw, color=place.color)
         for kit_type, name, pos, yaw, color, parent in layout.decor:
             b.add_object(kit_type, name, pos=pos, yaw=yaw, color=color, parent=parent)
         b.add_agent_camera(AGENT, pos=layout.start_eye, fovy=FOVY)
         xml = b.to_xml()
         # our objects: built as kit-style bodies and added to the worldbody, listed as instances
         bodies, assets = [], {}
+        self._furniture = {so.name: (so.position, so.yaw) for so in b.objects}
+        for name, place in own:
+            rgb = KIT_COLORS[place.color] if isinstance(place.color, str) else place.color
+            body, assets = WIDE_SINK.build(name, (place.pos[0], place.pos[1], 0.0), place.yaw, rgb, 1.0, False, None,
+                                           assets)
+            bodies.append(body.to_string(2))
+            self._furniture[name] = ((place.pos[0], place.pos[1], 0.0), place.yaw)
         for o in spec.objects:
             otype = kit_or_ycb(o.type)
             color = _kit_color(otype.name, o.color) if o.type in KIT_TYPES else COLORS[o.color][:3]
@@ -291,15 +311,12 @@ class ApartmentRenderer:
         if mesh_xml:
             xml = xml.replace("</asset>", mesh_xml + "\n  </asset>", 1)
         xml = xml.replace("</worldbody>", "\n".join(bodies) + "\n  </worldbody>", 1)
-        names = " ".join(o.name for o in spec.objects)
+        names = " ".join([name for name, _ in own] + [o.name for o in spec.objects])
         xml, n = re.subn(rf'(<text name="{INSTANCES_TEXT}" data=")([^"]*)(")',
                          lambda m: m.group(1) + (m.group(2).replace("none", "").strip() + " " + names).strip()
                          + m.group(3), xml, count=1)
         if n != 1:
             raise RuntimeError("eb_scenekit changed its MJCF layout: cannot find the instance list")
-        self._furniture = {}
-        for so in b.objects:
-            self._furniture[so.name] = (so.position, so.yaw)
         return xml
 
     def load(self, spec: TaskSpec) -> None:
@@ -330,7 +347,7 @@ class ApartmentRenderer:
         """World position of slot ``slot`` of receptacle ``key`` in the current joint state."""
         g = _GEOMETRY[key]
         surface, dx, dy = g.points[slot]
-        place_type = get_type(self._kit_type(g.instance))
+        place_type = _furniture_type(self._kit_type(g.instance))
         if surface == "drawer":
             bid = mujoco.mj_name2id(self._model, mujoco.mjtObj.mjOBJ_BODY, f"{g.instance}/drawer")
             bx, by, bz = (float(v) for v in self._data.xpos[bid])
@@ -391,7 +408,7 @@ class ApartmentRenderer:
                 _, fyaw = self._furniture[g.instance]
                 oyaw = self._object_yaw(fyaw + g.view_dir + 180.0, it.type)
                 quat = _yaw_quat(oyaw)
-                if g.part == "drawer":
+                if g.lay_tall:
                     pos, quat = _lying(it.type, pos, fyaw + g.view_dir, quat)
             adr = self._qpos_adr[it.name]
             d.qpos[adr:adr + 3] = pos
