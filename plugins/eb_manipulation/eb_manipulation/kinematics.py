@@ -185,7 +185,19 @@ class Arm:
                     best = q
                 if np.max(np.abs(q - q_start)) < 1.2:
                     break
+        if best is None:
+            # poses close to the base need folded postures: a fixed set of scattered seeds (deterministic)
+            for s in self._extra_seeds():
+                q = self.ik(p, R, s, iters=120)
+                if q is not None:
+                    return q
         return best
+
+    def _extra_seeds(self) -> np.ndarray:
+        if not hasattr(self, "_seeds"):
+            rng = np.random.default_rng(20240607)
+            self._seeds = rng.uniform(self.lo + 0.1, self.hi - 0.1, size=(8, 7))
+        return self._seeds
 
     # --- collisions -------------------------------------------------------------------------------------
     def contacts(self, held: str | None) -> dict[tuple[int, int], float]:

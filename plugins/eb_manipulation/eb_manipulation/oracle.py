@@ -205,7 +205,8 @@ def _plan_sorter(scene: SceneSpec, state: StateView) -> list[Action]:
     acts, yaw, off = _holding(state, obj)  # type: ignore[arg-type]
     h = SHAPES[spec.shape].height  # type: ignore[index]
     # turn the held shape so it lines up with its hole (modulo the shape's symmetry)
-    delta = _wrap(sorter.yaw - state.yaws[obj], SYMMETRY[spec.shape])  # type: ignore[index]
+    sym = SYMMETRY[spec.shape]  # type: ignore[index]
+    delta = 0.0 if spec.shape == "cylinder" else _wrap(sorter.yaw - state.yaws[obj], sym)
     yaw_place = _wrap(yaw + delta, 360.0)
     c, s = math.cos(math.radians(delta)), math.sin(math.radians(delta))
     off_r = np.array([c * off[0] - s * off[1], s * off[0] + c * off[1], off[2]])

@@ -41,8 +41,8 @@ FINGER_OPEN = 0.04
 TCP_OFFSET = 0.248
 #: Comfortable elbow-up posture the IK's null-space pull prefers (joint 6 of this MJCF is offset by pi/2).
 REST_QPOS = (0.0, -0.6, 0.0, -2.4, 0.0, 0.25, 0.05)
-#: Start pose: tool at (0.0, 0.0, 1.1) pointing straight down, fingers closing along y (roll 180, yaw 0).
-HOME_QPOS = (0.0101, -0.8412, -0.0081, -2.6471, -0.0056, 0.2359, 0.0068)
+#: Start pose: tool at (0.0, 0.0, 1.2) pointing straight down, fingers closing along y (roll 180, yaw 0).
+HOME_QPOS = (0.0111, -0.808, -0.0072, -2.3723, -0.0044, -0.0057, 0.0069)
 
 # Collision bits: robot geoms (type 2) touch world geoms (affinity 3) but never each other.
 ROBOT_CONTYPE, ROBOT_CONAFFINITY = 2, 0
@@ -85,9 +85,13 @@ def _tostring(el: ET.Element) -> str:
     return ET.tostring(el, encoding="unicode")
 
 
-@lru_cache(maxsize=1)
-def load_panda_parts() -> PandaParts:
-    """Parse the installed Panda MJCF and return fragments adapted to our scene."""
+@lru_cache(maxsize=2)
+def load_panda_parts(visual: bool = True) -> PandaParts:
+    """Parse the installed Panda MJCF and return fragments adapted to our scene.
+
+    With ``visual=False`` the visual meshes are left out (collision geometry only): the model compiles
+    several times faster, which is what the no-render mode and the task generator use.
+    """
     root_dir = panda_asset_dir()
     assets_root = ET.parse(root_dir / "assets.xml").getroot()
     chain_root = ET.parse(root_dir / "chain.xml").getroot()
@@ -96,6 +100,8 @@ def load_panda_parts() -> PandaParts:
     mesh_files: dict[str, bytes] = {}
     meshes = []
     for mesh in assets_root.iter("mesh"):
+        if not visual and mesh.get("name", "").endswith("_viz"):
+            continue
         rel = mesh.get("file", "")
         key = "panda_" + rel.replace("/", "_")
         if key not in mesh_files:
@@ -129,6 +135,11 @@ def load_panda_parts() -> PandaParts:
     body = chain_root.find("body")
     if body is None:  # pragma: no cover
         raise PandaModelMissing("unexpected gymnasium-robotics Panda MJCF: no body in chain.xml")
+    if not visual:
+        for b in body.iter("body"):
+            for g in list(b.findall("geom")):
+                if g.get("class") == "panda_viz":
+                    b.remove(g)
     for b in body.iter("body"):
         name = b.get("name", "")
         if name == "panda0_link7":

@@ -34,9 +34,9 @@ TABLE_X = (-0.55, 0.78)
 TABLE_Y = (-0.75, 0.75)
 ROBOT_BASE = (-0.3, 0.0, TABLE_TOP)
 """Where the Panda's base stands; the red coordinate frame in the front image is drawn here."""
-FRONT_CAMERA_POS = (1.05, 0.0, 1.42)
-FRONT_CAMERA_TARGET = (0.05, 0.0, 0.86)
-FRONT_FOVY = 55
+FRONT_CAMERA_POS = (0.95, 0.0, 1.80)
+FRONT_CAMERA_TARGET = (0.11, 0.0, 0.81)
+FRONT_FOVY = 42
 
 
 def _front_xyaxes() -> tuple[float, ...]:
@@ -120,7 +120,7 @@ def _wood_png() -> bytes:
     iy1, ix1 = np.minimum(iy + 1, noise.shape[0] - 1), np.minimum(ix + 1, noise.shape[1] - 1)
     n = (noise[iy][:, ix] * (1 - fy)[:, None] * (1 - fx)[None, :] + noise[iy1][:, ix] * fy[:, None] * (1 - fx)[None, :]
          + noise[iy][:, ix1] * (1 - fy)[:, None] * fx[None, :] + noise[iy1][:, ix1] * fy[:, None] * fx[None, :])
-    grain = 0.5 + 0.5 * np.sin(y * 0.9 + 1.2 * n + 0.004 * x)
+    grain = 0.5 + 0.5 * np.sin(y * 0.9 + 0.5 * n + 0.004 * x)
     streak = rng.normal(scale=0.05, size=(h, 1)) * np.ones((1, w))
     fine = rng.normal(scale=0.025, size=(h, w))
     t = np.clip(0.35 * grain + 0.55 + streak + fine, 0, 1.2)
@@ -150,9 +150,12 @@ def _mesh_xml(name: str, shape: str, height: float, scale: float = 1.0) -> str:
     return f'<mesh name="{name}" vertex="{_fmt(v.ravel())}" face="{" ".join(str(int(i)) for i in f.ravel())}"/>'
 
 
-def build_scene(scene: SceneSpec, resolution: int = 500) -> BuiltScene:
-    """MJCF for ``scene`` (robot, table, objects, lights, front and wrist cameras)."""
-    panda = load_panda_parts()
+def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) -> BuiltScene:
+    """MJCF for ``scene`` (robot, table, objects, lights, front and wrist cameras).
+
+    ``visual=False`` leaves out the arm's visual meshes (for simulation without images).
+    """
+    panda = load_panda_parts(visual)
     assets: dict[str, bytes] = dict(panda.mesh_files)
     assets["wood.png"] = _wood_png()
     mesh_xml: list[str] = []
@@ -234,7 +237,9 @@ def build_scene(scene: SceneSpec, resolution: int = 500) -> BuiltScene:
     )
     xml = f"""<mujoco model="eb_manipulation">
   <compiler angle="radian" autolimits="true"/>
-  <option timestep="0.002" integrator="implicitfast" cone="elliptic" impratio="5"/>
+  <option timestep="0.002" integrator="implicitfast" cone="elliptic" impratio="5">
+    <flag multiccd="enable"/>
+  </option>
   <visual>
     <global offwidth="{max(resolution, 64)}" offheight="{max(resolution, 64)}"/>
     <quality shadowsize="2048"/>

@@ -90,6 +90,10 @@ class SceneSpec(BaseModel):
     goal: GoalSpec
     target_ids: tuple[str, ...] = ()
     """Objects the instruction is about (for the target-only box ablation)."""
+    attempt: int = 0
+    """Which draw of the generator this layout is (earlier draws the oracle could not solve were dropped)."""
+    oracle_steps: int | None = None
+    """Env steps the scripted oracle needed when the generator verified the task."""
 
     @model_validator(mode="after")
     def _refs(self) -> "SceneSpec":

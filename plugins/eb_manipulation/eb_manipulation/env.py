@@ -1,0 +1,222 @@
+"""``ManipulationEnv``: EB-Manipulation's 228 tabletop tasks for a Franka Panda in MuJoCo.
+
+One episode = one task file entry. ``reset`` builds the task's scene, ``step`` executes one discrete
+7-D action ``[x, y, z, roll, pitch, yaw, gripper]`` (move along a collision-checked path, then open or
+close the gripper, then let the objects settle) and reports whether the task's physical success check
+holds. See the package README for coordinates, task families and the object list.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict
+
+from eb_core.env import Action, Env, ObjectInfo, Observation, PlanItemError, PromptParts, StepResult, Task
+
+from eb_manipulation.actions import ACTION_SPACE, pos_to_bin
+from eb_manipulation.spec import SceneSpec
+from eb_manipulation.tasks import load_task_file, scene_of
+
+__all__ = ["ManipulationEnv", "ManipulationParams"]
+
+
+class ManipulationParams(BaseModel):
+    """The ``params:`` of ``conf/env/manipulation.yaml``."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    render: bool = True
+    """Render images. False gives text-only observations and a faster simulation (tests, oracle checks)."""
+    detection_boxes: Literal["all", "target", "none"] = "all"
+    """Boxes with index labels in the front image: all objects (default), only the task's objects, or none."""
+    draw_axes: bool = True
+    """Draw the red X/Y/Z frame at the robot base in the front image."""
+    task_file: str | None = None
+    """Another task file made by ``eb tasks generate env=manipulation``; default: the shipped one."""
+
+
+class ManipulationEnv(Env):
+    """EB-Manipulation in MuJoCo: Panda arm, wooden table, 4 task families, 5 subsets."""
+
+    name = "manipulation"
+
+    def __init__(self, resolution: int = 500, multi_view: bool = False, **params: Any):
+        self.params = ManipulationParams(**params)
+        self.resolution = int(resolution)
+        self.multi_view = bool(multi_view)
+        self._world = None
+        self._renderer = None
+        self._task: Task | None = None
+        self._scene: SceneSpec | None = None
+        self._order: list[str] = []  # object keys in index order (object 1 first)
+        self._closed = False
+
+    # --- tasks ------------------------------------------------------------------------------------------
+    @classmethod
+    def load_tasks(cls, **params: Any) -> list[Task]:
+        known = {k: v for k, v in params.items() if k in ManipulationParams.model_fields}
+        p = ManipulationParams(**known)
+        return load_task_file(p.task_file)
+
+    # --- episode ----------------------------------------------------------------------------------------
+    def reset(self, task: Task, seed: int) -> Observation:
+        """Build the task's scene. The layout is fixed by the task file; ``seed`` does not change it."""
+        from eb_manipulation.world import World
+
+        self._release()
+        self._task = task
+        self._scene = scene_of(task)
+        self._world = World(self._scene, resolution=self.resolution, render_meshes=self.params.render)
+        # index objects once per episode by their starting y (largest y = object 1), so labels stay put
+        objs = self._world.objects
+        start = {o.key: self._world.reference_point(o.key) for o in objs}
+        self._order = [o.key for o in sorted(objs, key=lambda o: (-round(start[o.key][1], 4), -start[o.key][0]))]
+        if self.params.render:
+            from eb_manipulation.render import SceneRenderer
+
+            self._renderer = SceneRenderer(self._world.model, self.resolution)
+        return self._observe()
+
+    def step(self, action: Action) -> StepResult:
+        if self._world is None:
+            raise RuntimeError("call reset() before step()")
+        try:
+            parsed = ACTION_SPACE.parse_plan_item(list(action) if not isinstance(action, dict) else action)
+        except (PlanItemError, TypeError) as exc:
+            obs = self._observe()
+            solved, progress = self._world.evaluate()
+            return StepResult(observation=obs, action_success=False, done=solved, task_success=solved,
+                              progress=progress, feedback=f"The action was not executed: {exc}. The arm did not move.")
+        outcome = self._world.execute(parsed)
+        solved, progress = self._world.evaluate()
+        feedback = self._resolve(outcome.feedback, outcome.refs)
+        if solved:
+            feedback += " The task is complete."
+        return StepResult(observation=self._observe(), action_success=outcome.ok, feedback=feedback, done=solved,
+                          task_success=solved, progress=1.0 if solved else float(progress),
+                          info={"held": self._label(self._world.held) if self._world.held else None,
+                                "gripper_open": self._world.gripper_open})
+
+    def action_space(self):
+        return ACTION_SPACE
+
+    def prompt_parts(self) -> PromptParts:
+        from eb_manipulation.prompts import prompt_parts
+
+        family = self._scene.family if self._scene is not None else "pick"
+        return prompt_parts(family)
+
+    def expert_plan(self) -> list[Action] | None:
+        if self._world is None or self._scene is None:
+            return None
+        from eb_manipulation.oracle import expert_plan, state_of_world
+
+        return [tuple(a) for a in expert_plan(self._scene, state_of_world(self._world))]
+
+    def close(self) -> None:
+        self._release()
+        self._closed = True
+
+    def _release(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+        self._world = None
+
+    # --- observation ------------------------------------------------------------------------------------
+    def _label(self, key: str) -> str:
+        return f"object {self._order.index(key) + 1}" if key in self._order else key
+
+    def _resolve(self, text: str, refs: dict[str, str]) -> str:
+        names = {}
+        for slot, key in refs.items():
+            if key in self._order:
+                names[slot] = self._label(key)
+            elif self._scene is not None and any(o.id == key and o.kind == "sorter" for o in self._scene.objects):
+                names[slot] = "the shape sorter"
+            else:
+                names[slot] = "an obstacle"
+        return text.format(**names) if names else text
+
+    def discrete_position(self, key: str) -> tuple[int, int, int]:
+        """Discrete [x, y, z] bins of an object's reference point (what the object list shows)."""
+        p = self._world.reference_point(key)  # type: ignore[union-attr]
+        return pos_to_bin(p[0], "x"), pos_to_bin(p[1], "y"), pos_to_bin(p[2], "z")
+
+    def _is_target(self, key: str) -> bool:
+        scene = self._scene
+        assert scene is not None
+        if key in scene.target_ids:
+            return True
+        if scene.family == "sorter" and "_hole" in key and scene.goal.target is not None:
+            sorter_id, k = key.rsplit("_hole", 1)
+            return scene.get(sorter_id).holes[int(k)] == scene.get(scene.goal.target).shape
+        return False
+
+    def _observe(self) -> Observation:
+        world = self._world
+        assert world is not None
+        descr = {o.key: o for o in world.objects}
+        coords = {key: self.discrete_position(key) for key in self._order}
+        boxes: dict[str, tuple[int, int, int, int]] = {}
+        images: dict[str, np.ndarray] = {}
+        if self._renderer is not None:
+            from PIL import Image
+
+            from eb_manipulation.render import draw_axes, draw_boxes
+
+            groups: dict[str, set[int]] = {}
+            for g, owner in world.geom_owner.items():
+                name = world.model.geom(g).name
+                key = name.split("#")[0]
+                if key in descr and (descr[key].kind != "sorter"):
+                    groups.setdefault(key, set()).add(g)
+            boxes = self._renderer.boxes(world.data, "front", groups)
+            front = Image.fromarray(self._renderer.rgb(world.data, "front"))
+            if self.params.draw_axes:
+                draw_axes(front, world.model, world.data, "front")
+            shown = [(str(i + 1), boxes[k]) for i, k in enumerate(self._order) if k in boxes
+                     and (self.params.detection_boxes == "all"
+                          or (self.params.detection_boxes == "target" and self._is_target(k)))]
+            if self.params.detection_boxes != "none":
+                draw_boxes(front, shown)
+            images["front"] = np.asarray(front)
+            if self.multi_view:
+                images["wrist"] = self._renderer.rgb(world.data, "wrist")
+        objects = [
+            ObjectInfo(name=f"object {i + 1}", type=descr[k].description, box=boxes.get(k),
+                       position=tuple(float(v) for v in coords[k]), label=str(i + 1), is_target=self._is_target(k))
+            for i, k in enumerate(self._order)
+        ]
+        listing = "{" + ", ".join(f'"object {i + 1}": [{", ".join(str(v) for v in coords[k])}]'
+                                  for i, k in enumerate(self._order)) + "}"
+        extra = ("Objects in the scene with their discrete [x, y, z] coordinates (numbered from the largest y, "
+                 "i.e. from the right of the front image):\n" + listing)
+        return Observation(images=images, primary="front" if images else None, text=self._text(coords, descr),
+                           objects=objects, extra_prompt=extra)
+
+    def _text(self, coords: dict[str, tuple[int, int, int]], descr) -> str:
+        world = self._world
+        assert world is not None and self._scene is not None
+        lines = ["A wooden table seen from the front; the robot arm stands at its far edge. On the table:"]
+        for i, k in enumerate(self._order):
+            d = descr[k]
+            art = "an" if d.description[:1] in "aeiou" else "a"
+            what = {"shape": f"{art} {d.description}", "container": f"{art} {d.description} (open box, coordinates of the "
+                    f"centre of its opening)", "sponge": "a sponge", "hole": f"the {d.description} (coordinates of the "
+                    f"hole's centre)"}.get(d.kind, d.description)
+            if d.kind == "area":
+                spec = self._scene.get(k)
+                dx, dy = spec.size  # type: ignore[misc]
+                what = (f"{art} {d.description} on the table, {round(dy * 100)} cm from left to right and "
+                        f"{round(dx * 100)} cm from front to back, centred at its coordinates")
+            x, y, z = coords[k]
+            lines.append(f"- object {i + 1}: {what} at [{x}, {y}, {z}]")
+        if world.held is not None:
+            lines.append(f"The gripper is closed and holds {self._label(world.held)}.")
+        else:
+            lines.append("The gripper is " + ("open" if world.gripper_open else "closed") + " and holds nothing.")
+        return "\n".join(lines)
+

@@ -1,0 +1,605 @@
+"""Task generator: seeded layouts, our instruction templates, oracle-verified, written as a versioned file.
+
+``eb tasks generate env=manipulation out=tasks.json seed=0`` calls :func:`generate`. For every
+(subset, family, k) it draws a layout from a seeded RNG, writes the instruction, and (unless
+``verify=False``) runs the scripted oracle in the simulator; a layout the oracle cannot solve within the
+15-step budget is redrawn with the next attempt number, so every shipped task is solvable.
+
+The shipped file ``eb_manipulation/tasks/manipulation_v1.json`` is ``generate(seed=0)``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from eb_manipulation.scene import CONTAINER, SORTER
+from eb_manipulation.shapes import COLOURS, SHAPES, colours_confusable
+from eb_manipulation.spec import TASK_FORMAT, VARIANTS, GoalSpec, ObjectSpec, SceneSpec
+from eb_manipulation.templates import (
+    COLOUR_COMMON,
+    COLOUR_VISUAL,
+    DIRECTION_COMMON,
+    DIRECTION_TEXT,
+    SHAPE_COMMON,
+    SHAPE_VISUAL,
+    SPILLS,
+    VISUAL_CONTRAST,
+    complex_wrap,
+    pick,
+)
+
+__all__ = ["FAMILY_ORDER", "SUBSET_FAMILIES", "TASKS_VERSION", "generate", "make_task", "verify_task"]
+
+TASKS_VERSION = "v1"
+SUBSETS = ("base", "common_sense", "complex", "spatial", "visual")
+FAMILY_ORDER = ("pick", "stack", "sorter", "wipe")
+SUBSET_FAMILIES: dict[str, tuple[str, ...]] = {s: FAMILY_ORDER for s in SUBSETS}
+SUBSET_FAMILIES["visual"] = ("pick", "stack", "sorter")  # wiping areas cannot be told apart by looks alone
+PER_FAMILY = 12
+MAX_ORACLE_STEPS = 15
+DEFAULT_OUT = Path(__file__).parent / "tasks" / f"manipulation_{TASKS_VERSION}.json"
+
+#: Where object centres may go (reachable top-down by the arm, visible from the front camera).
+REGION_X = (-0.02, 0.30)
+REGION_Y = (-0.30, 0.30)
+
+
+# --------------------------------------------------------------------------------------------------------
+# placement
+@dataclass
+class _Rect:
+    x: float
+    y: float
+    hx: float
+    hy: float
+    yaw: float  # degrees
+
+    def corners(self) -> np.ndarray:
+        c, s = math.cos(math.radians(self.yaw)), math.sin(math.radians(self.yaw))
+        R = np.array([[c, -s], [s, c]])
+        pts = np.array([[sx * self.hx, sy * self.hy] for sx in (-1, 1) for sy in (-1, 1)])
+        return pts @ R.T + [self.x, self.y]
+
+
+def _overlap(a: _Rect, b: _Rect) -> bool:
+    """Separating-axis test for two oriented rectangles."""
+    ca, cb = a.corners(), b.corners()
+    for r in (a, b):
+        c, s = math.cos(math.radians(r.yaw)), math.sin(math.radians(r.yaw))
+        for axis in (np.array([c, s]), np.array([-s, c])):
+            pa, pb = ca @ axis, cb @ axis
+            if pa.max() < pb.min() or pb.max() < pa.min():
+                return False
+    return True
+
+
+_FOOT = {  # half extents including clearance for the open fingers
+    "shape": (0.05, 0.05),
+    "sponge": (0.05, 0.05),
+    "container": (CONTAINER.inner / 2 + CONTAINER.wall + 0.03, CONTAINER.inner / 2 + CONTAINER.wall + 0.03),
+}
+
+
+def _foot(kind: str, holes: int = 3, size: tuple[float, float] | None = None) -> tuple[float, float]:
+    if kind == "sorter":
+        return SORTER.depth / 2 + 0.035, SORTER.length(holes) / 2 + 0.035
+    if kind == "area":
+        assert size is not None
+        return size[0] / 2 + 0.02, size[1] / 2 + 0.02
+    return _FOOT[kind]
+
+
+class _Placer:
+    def __init__(self, rng: np.random.Generator):
+        self.rng = rng
+        self.rects: list[_Rect] = []
+
+    def free(self, r: _Rect) -> bool:
+        return not any(_overlap(r, o) for o in self.rects)
+
+    def add(self, kind: str, region_x=REGION_X, region_y=REGION_Y, yaw: float | None = None, tries: int = 200,
+            **kw) -> tuple[float, float, float]:
+        hx, hy = _foot(kind, **kw)
+        for _ in range(tries):
+            x = float(self.rng.uniform(*region_x))
+            y = float(self.rng.uniform(*region_y))
+            a = float(self.rng.uniform(-180, 180)) if yaw is None else yaw
+            r = _Rect(x, y, hx, hy, a if kind not in ("area",) else 0.0)
+            if self.free(r):
+                self.rects.append(r)
+                return round(x, 4), round(y, 4), round(a, 1)
+        raise _Retry(f"no room for a {kind}")
+
+    def put(self, kind: str, x: float, y: float, yaw: float = 0.0, **kw) -> bool:
+        hx, hy = _foot(kind, **kw)
+        r = _Rect(x, y, hx, hy, yaw)
+        if not self.free(r):
+            return False
+        self.rects.append(r)
+        return True
+
+
+class _Retry(Exception):
+    """This draw does not work out; try the next attempt."""
+
+
+# --------------------------------------------------------------------------------------------------------
+# colours
+def _distinct_colours(rng: np.random.Generator, n: int, avoid: tuple[str, ...] = ()) -> list[str]:
+    names = list(COLOURS)
+    rng.shuffle(names)
+    out: list[str] = []
+    for c in names:
+        if all(not colours_confusable(c, o) for o in [*out, *avoid]):
+            out.append(c)
+        if len(out) == n:
+            return out
+    raise _Retry("not enough distinct colours")
+
+
+def _contrast_pair(rng: np.random.Generator) -> tuple[str, str]:
+    a, b = pick(rng, VISUAL_CONTRAST)
+    return (a, b) if rng.random() < 0.5 else (b, a)
+
+
+# --------------------------------------------------------------------------------------------------------
+# spatial language (as seen in the front image: left = -y, right = +y, front = +x toward the camera)
+_SIDE = {"left": (1, -1), "right": (1, 1), "front": (0, 1), "back": (0, -1)}
+
+
+def _extreme(objs: list[ObjectSpec], side: str, margin: float = 0.06) -> ObjectSpec | None:
+    axis, sign = _SIDE[side]
+    vals = sorted(objs, key=lambda o: -sign * (o.y if axis else o.x))
+    if len(vals) < 2:
+        return None
+    a, b = vals[0], vals[1]
+    va, vb = (a.y, b.y) if axis else (a.x, b.x)
+    return a if abs(va - vb) >= margin else None
+
+
+def _neighbour(objs: list[ObjectSpec], anchor: ObjectSpec, side: str) -> ObjectSpec | None:
+    """The one object just to ``side`` of ``anchor`` (same row/column), if exactly clear."""
+    axis, sign = _SIDE[side]
+    cands = []
+    for o in objs:
+        if o.id == anchor.id:
+            continue
+        d_along = sign * ((o.y - anchor.y) if axis else (o.x - anchor.x))
+        d_across = abs((o.x - anchor.x) if axis else (o.y - anchor.y))
+        if d_along > 0.06 and d_across < 0.06:
+            cands.append((d_along, o))
+    if not cands:
+        return None
+    cands.sort(key=lambda t: t[0])
+    if len(cands) > 1 and cands[1][0] - cands[0][0] < 0.06:
+        return None
+    return cands[0][1]
+
+
+_EXTREME_TEXT = {
+    "left": "the leftmost {noun}",
+    "right": "the rightmost {noun}",
+    "front": "the {noun} nearest the camera",
+    "back": "the {noun} nearest the robot",
+}
+_NEIGHBOUR_TEXT = {
+    "left": "the {noun} just to the left of the {anchor}",
+    "right": "the {noun} just to the right of the {anchor}",
+    "front": "the {noun} just in front of the {anchor}",
+    "back": "the {noun} just behind the {anchor}",
+}
+
+
+def _describe(o: ObjectSpec) -> str:
+    return f"{o.colour} {o.shape}" if o.kind == "shape" else f"{o.colour} {o.kind}"
+
+
+def _spatial_ref(rng: np.random.Generator, objs: list[ObjectSpec], target: ObjectSpec, noun: str = "object") -> str | None:
+    """A location-based reference that picks out exactly ``target`` among ``objs``."""
+    options: list[str] = []
+    for side in _SIDE:
+        if _extreme(objs, side) is target:
+            options.append(_EXTREME_TEXT[side].format(noun=noun))
+    for anchor in objs:
+        if anchor is target:
+            continue
+        for side in _SIDE:
+            if _neighbour(objs, anchor, side) is target:
+                options.append(_NEIGHBOUR_TEXT[side].format(noun=noun, anchor=_describe(anchor)))
+    return pick(rng, options) if options else None
+
+
+def _row(rng: np.random.Generator, placer: _Placer, n: int, kind: str = "shape") -> list[tuple[float, float, float]]:
+    """``n`` positions in a loose row (along y or x) for spatial tasks."""
+    along_y = rng.random() < 0.6
+    for _ in range(100):
+        spacing = float(rng.uniform(0.12, 0.15))
+        span = spacing * (n - 1)
+        if along_y:
+            x0 = float(rng.uniform(REGION_X[0] + 0.02, REGION_X[1] - 0.02))
+            y0 = float(rng.uniform(REGION_Y[0], REGION_Y[1] - span))
+            pts = [(x0 + float(rng.uniform(-0.015, 0.015)), y0 + k * spacing) for k in range(n)]
+        else:
+            if span > REGION_X[1] - REGION_X[0]:
+                along_y = True
+                continue
+            y0 = float(rng.uniform(REGION_Y[0] + 0.02, REGION_Y[1] - 0.02))
+            x0 = float(rng.uniform(REGION_X[0], REGION_X[1] - span))
+            pts = [(x0 + k * spacing, y0 + float(rng.uniform(-0.015, 0.015))) for k in range(n)]
+        saved = list(placer.rects)
+        out = []
+        for x, y in pts:
+            a = float(rng.uniform(-180, 180))
+            if not placer.put(kind, x, y, a):
+                break
+            out.append((round(x, 4), round(y, 4), round(a, 1)))
+        if len(out) == n:
+            return out
+        placer.rects = saved
+    raise _Retry("no room for a row")
+
+
+# --------------------------------------------------------------------------------------------------------
+# families
+@dataclass
+class _Draft:
+    objects: list[ObjectSpec]
+    goal: GoalSpec
+    instruction: str
+    target_ids: tuple[str, ...]
+    variant: str
+
+
+def _shapes_with(rng, placer, shapes, colours, spatial: bool, prefix: str = "obj") -> list[ObjectSpec]:
+    if spatial:
+        poses = _row(rng, placer, len(shapes))
+    else:
+        poses = [placer.add("shape") for _ in shapes]
+    return [ObjectSpec(id=f"{prefix}{k}", kind="shape", shape=s, colour=c, x=p[0], y=p[1], yaw=p[2])
+            for k, (s, c, p) in enumerate(zip(shapes, colours, poses))]
+
+
+def _family_pick(rng: np.random.Generator, subset: str, k: int) -> _Draft:
+    placer = _Placer(rng)
+    n = 3 if k % 3 else 4
+    shapes = list(rng.permutation(list(SHAPES)))[:n]
+    if subset == "visual":
+        a, b = _contrast_pair(rng)
+        colours = [a, b] + _distinct_colours(rng, n - 2, avoid=(a, b))
+        ca, cb = _contrast_pair(rng)
+        cont_cols = [ca, cb]
+    else:
+        colours = [str(c) for c in rng.choice(list(COLOURS), size=n)]
+        cont_cols = _distinct_colours(rng, 2)
+    # containers first (they need the most room)
+    spatial = subset == "spatial"
+    conts = []
+    if spatial:
+        # two containers side by side or one behind the other
+        if rng.random() < 0.5:
+            ys = sorted([float(rng.uniform(-0.30, -0.14)), float(rng.uniform(0.14, 0.30))])
+            x = float(rng.uniform(REGION_X[0] + 0.04, REGION_X[1]))
+            poses = [(x + float(rng.uniform(-0.03, 0.03)), y, 0.0) for y in ys]
+        else:
+            y = float(rng.choice([-0.24, 0.24])) + float(rng.uniform(-0.04, 0.04))
+            poses = [(REGION_X[0] + 0.04, y, 0.0), (REGION_X[1] - 0.02, y + float(rng.uniform(-0.03, 0.03)), 0.0)]
+        for p in poses:
+            yaw = float(rng.uniform(-20, 20))
+            if not placer.put("container", p[0], p[1], yaw):
+                raise _Retry("containers overlap")
+            conts.append((round(p[0], 4), round(p[1], 4), round(yaw, 1)))
+    else:
+        conts = [placer.add("container", yaw=float(rng.uniform(-30, 30))) for _ in range(2)]
+    cont_objs = [ObjectSpec(id=f"box{j}", kind="container", colour=c, x=p[0], y=p[1], yaw=p[2])
+                 for j, (c, p) in enumerate(zip(cont_cols, conts))]
+    objs = _shapes_with(rng, placer, shapes, colours, spatial)
+    target = objs[0]
+    box = cont_objs[int(rng.integers(2))]
+    if subset in ("base", "complex"):
+        core = pick(rng, (
+            "Pick up the {s} and put it into the {c} container.",
+            "Put the {s} in the {c} container.",
+            "Move the {s} into the {c} container.",
+            "Place the {s} inside the {c} container.",
+        )).format(s=target.shape, c=box.colour)
+        instr = core if subset == "base" else complex_wrap(rng, core)
+    elif subset == "common_sense":
+        instr = pick(rng, (
+            "Pick up {s} and drop it into the container with the colour of {c}.",
+            "Find {s} and place it in the container that is the colour of {c}.",
+        )).format(s=pick(rng, SHAPE_COMMON[target.shape]), c=COLOUR_COMMON[box.colour])
+    elif subset == "spatial":
+        ref = _spatial_ref(rng, objs, target)
+        cref = _spatial_ref(rng, cont_objs, box, noun="container")
+        if ref is None or cref is None:
+            raise _Retry("no unique spatial reference")
+        instr = pick(rng, ("Pick up {o} and put it into {c}.", "Put {o} into {c}.")).format(o=ref, c=cref)
+    else:  # visual
+        instr = pick(rng, (
+            "Put the {sh} object {f} into the {cs} container.",
+            "Pick up the {sh} object {f} and place it in the {cs} container.",
+        )).format(sh=COLOUR_VISUAL[target.colour], f=SHAPE_VISUAL[target.shape], cs=COLOUR_VISUAL[box.colour])
+    variant = "pick_cube_relative" if spatial else VARIANTS["pick"]
+    return _Draft(cont_objs + objs, GoalSpec(family="pick", target=target.id, container=box.id), instr,
+                  (target.id, box.id), variant)
+
+
+def _family_stack(rng: np.random.Generator, subset: str, k: int) -> _Draft:
+    placer = _Placer(rng)
+    height = 3 if k % 2 else 2
+    n = max(height, 3 if k % 4 < 2 else 4)
+    if subset == "visual":
+        a, b = _contrast_pair(rng)
+        colours = [a, b] + _distinct_colours(rng, n - 2, avoid=(a, b))
+        order_idx = list(rng.permutation(n))[:height]
+        if 0 not in order_idx or 1 not in order_idx:  # the look-alike pair must both matter
+            order_idx = [0, 1] + [i for i in order_idx if i > 1][: height - 2]
+            order_idx = [int(i) for i in rng.permutation(order_idx)]
+    else:
+        colours = _distinct_colours(rng, n)
+        order_idx = [int(i) for i in rng.permutation(n)[:height]]
+    spatial = subset == "spatial"
+    if spatial:
+        n = height if height == 3 else n
+        colours = colours[:n]
+        order_idx = [i for i in order_idx if i < n]
+    cubes = _shapes_with(rng, placer, ["cube"] * n, colours, spatial, prefix="cube")
+    order = [cubes[i] for i in order_idx]
+    if len(order) != height:
+        raise _Retry("bad order")
+    cols = [c.colour for c in order]
+    if subset in ("base", "complex"):
+        if height == 2:
+            core = pick(rng, ("Stack the {1} cube on top of the {0} cube.", "Put the {1} cube onto the {0} cube."))
+        else:
+            core = pick(rng, (
+                "Build a tower with the {0} cube at the bottom, the {1} cube in the middle and the {2} cube on top.",
+                "Stack the cubes in this order from the bottom up: {0}, {1}, {2}.",
+            ))
+        core = core.format(*cols)
+        instr = core if subset == "base" else complex_wrap(rng, core)
+    elif subset == "common_sense":
+        cc = [COLOUR_COMMON[c] for c in cols]
+        if height == 2:
+            instr = "Put the cube the colour of {1} on top of the cube the colour of {0}.".format(*cc)
+        else:
+            instr = ("Make a tower of three cubes: the one the colour of {0} at the bottom, then the one the colour "
+                     "of {1}, and the one the colour of {2} on top.").format(*cc)
+    elif subset == "spatial":
+        refs = []
+        for c in order:
+            r = _spatial_ref(rng, cubes, c, noun="cube")
+            if r is None:
+                raise _Retry("no unique spatial reference")
+            refs.append(r)
+        if height == 2:
+            instr = "Stack {1} on top of {0}.".format(*refs)
+        else:
+            instr = "Build a tower with {0} at the bottom, {1} in the middle and {2} on top.".format(*refs)
+    else:
+        vv = [COLOUR_VISUAL[c] for c in cols]
+        if height == 2:
+            instr = "Put the {1} cube on top of the {0} cube.".format(*vv)
+        else:
+            instr = "Stack the {0} cube first, then the {1} cube on it, then the {2} cube on top.".format(*vv)
+    variant = "stack_cubes_relative" if spatial else VARIANTS["stack"]
+    return _Draft(cubes, GoalSpec(family="stack", order=tuple(c.id for c in order)), instr,
+                  tuple(c.id for c in order), variant)
+
+
+def _family_sorter(rng: np.random.Generator, subset: str, k: int) -> _Draft:
+    placer = _Placer(rng)
+    holes = [str(s) for s in rng.permutation(list(SHAPES))[:3]]
+    yaw = float(rng.choice([0.0, 90.0])) + float(rng.uniform(-10, 10))
+    if abs(yaw) < 45:
+        sx, sy = float(rng.uniform(-0.02, 0.08)), float(rng.choice([-1, 1])) * float(rng.uniform(0.18, 0.24))
+    else:
+        sx, sy = float(rng.uniform(0.05, 0.12)), float(rng.choice([-1, 1])) * float(rng.uniform(0.2, 0.26))
+    if not placer.put("sorter", sx, sy, yaw, holes=3):
+        raise _Retry("sorter")
+    sorter = ObjectSpec(id="sorter", kind="sorter", x=round(sx, 4), y=round(sy, 4), yaw=round(yaw, 1),
+                        holes=tuple(holes))
+    n = 2 if k % 2 else 3
+    target_shape = holes[int(rng.integers(3))]
+    others = [str(s) for s in rng.choice(list(SHAPES), size=n - 1)]
+    shapes = [target_shape] + others
+    if subset == "visual":
+        a, b = _contrast_pair(rng)
+        colours = [a, b] + _distinct_colours(rng, n - 2, avoid=(a, b))
+        if rng.random() < 0.5:
+            shapes[1] = target_shape  # a look-alike of another shade
+    else:
+        colours = _distinct_colours(rng, n)
+    spatial = subset == "spatial"
+    objs = _shapes_with(rng, placer, shapes, colours, spatial)
+    target = objs[0]
+    if subset in ("base", "complex"):
+        core = pick(rng, ("Put the {c} object into the shape sorter.", "Insert the {c} object into its hole in the "
+                          "shape sorter.", "Drop the {c} object into the matching hole of the shape sorter."))
+        core = core.format(c=target.colour)
+        instr = core if subset == "base" else complex_wrap(rng, core)
+    elif subset == "common_sense":
+        instr = pick(rng, ("Put the object that has the colour of {c} into the shape sorter.",
+                           "Find the object as coloured as {c} and slot it into the shape sorter.")).format(
+            c=COLOUR_COMMON[target.colour])
+    elif subset == "spatial":
+        ref = _spatial_ref(rng, objs, target)
+        if ref is None:
+            raise _Retry("no unique spatial reference")
+        instr = pick(rng, ("Put {o} into the shape sorter.", "Slot {o} into its hole in the shape sorter.")).format(o=ref)
+    else:
+        instr = pick(rng, ("Put the {sh} object {f} into the shape sorter.",
+                           "Insert the {sh} object {f} into the sorting box.")).format(
+            sh=COLOUR_VISUAL[target.colour], f=SHAPE_VISUAL[target.shape])
+    variant = "place_into_shape_sorter_relative" if spatial else VARIANTS["sorter"]
+    return _Draft([sorter] + objs, GoalSpec(family="sorter", target=target.id), instr, (target.id,), variant)
+
+
+_AREA_LONG, _AREA_SHORT = 0.22, 0.12
+
+
+def _area_size(direction: str) -> tuple[float, float]:
+    return (_AREA_SHORT, _AREA_LONG) if direction in ("left_to_right", "right_to_left") else (_AREA_LONG, _AREA_SHORT)
+
+
+def _family_wipe(rng: np.random.Generator, subset: str, k: int) -> _Draft:
+    placer = _Placer(rng)
+    direction = ("left_to_right", "right_to_left", "front_to_back", "back_to_front")[k % 4]
+    size = _area_size(direction)
+    n_areas = 1 if subset in ("base", "complex") else 2
+    if subset == "common_sense":
+        colours = _distinct_colours_from(rng, list(SPILLS), n_areas)
+    else:
+        colours = _distinct_colours(rng, n_areas)
+    ax = (0.02, 0.24) if size[0] < size[1] else (0.06, 0.16)
+    ay = (-0.22, 0.22) if size[0] < size[1] else (-0.25, 0.25)
+    areas = []
+    for j, c in enumerate(colours):
+        x, y, _ = placer.add("area", region_x=ax, region_y=ay, yaw=0.0, size=size)
+        areas.append(ObjectSpec(id=f"area{j}", kind="area", colour=c, x=x, y=y, size=size))
+    sx, sy, syaw = placer.add("sponge")
+    sponge = ObjectSpec(id="sponge", kind="sponge", x=sx, y=sy, yaw=syaw)
+    target = areas[0]
+    d = DIRECTION_TEXT[direction]
+    if subset in ("base", "complex"):
+        core = pick(rng, ("Wipe the {c} area {d} with the sponge.", "Use the sponge to wipe the {c} patch {d}.",
+                          "Pick up the sponge and wipe the {c} area {d}.")).format(c=target.colour, d=d)
+        instr = core if subset == "base" else complex_wrap(rng, core)
+    elif subset == "common_sense":
+        spill = pick(rng, SPILLS[target.colour])  # type: ignore[index]
+        instr = pick(rng, ("Some {s} got spilled on the table. Take the sponge and wipe it up, moving {d}.",
+                           "Clean the patch of {s} with the sponge, wiping {d}.")).format(
+            s=spill, d=DIRECTION_COMMON[direction])
+    else:  # spatial
+        ref = _spatial_ref(rng, areas, target, noun="area")
+        if ref is None:
+            raise _Retry("no unique spatial reference")
+        instr = pick(rng, ("Wipe {a} {d} using the sponge.", "With the sponge, wipe {a} {d}.")).format(a=ref, d=d)
+    variant = "wipe_table_relative" if subset == "spatial" else VARIANTS["wipe"]
+    return _Draft(areas + [sponge], GoalSpec(family="wipe", target="sponge", area=target.id, direction=direction),
+                  instr, ("sponge", target.id), variant)
+
+
+def _distinct_colours_from(rng: np.random.Generator, names: list[str], n: int) -> list[str]:
+    names = list(names)
+    rng.shuffle(names)
+    out: list[str] = []
+    for c in names:
+        if all(not colours_confusable(c, o) for o in out):
+            out.append(c)
+        if len(out) == n:
+            return out
+    raise _Retry("not enough distinct spill colours")
+
+
+_FAMILY_FN: dict[str, Callable[[np.random.Generator, str, int], _Draft]] = {
+    "pick": _family_pick,
+    "stack": _family_stack,
+    "sorter": _family_sorter,
+    "wipe": _family_wipe,
+}
+
+
+# --------------------------------------------------------------------------------------------------------
+def task_id(subset: str, family: str, k: int) -> str:
+    return f"{subset}_{family}_{k:02d}"
+
+
+def make_task(seed: int, subset: str, family: str, k: int, attempt: int) -> dict[str, Any]:
+    """One task as a dict (``id``, ``subset``, ``instruction``, ``metadata``), without verification."""
+    scene_seed = int(np.random.SeedSequence([seed, SUBSETS.index(subset), FAMILY_ORDER.index(family), k, attempt])
+                     .generate_state(1)[0])
+    rng = np.random.default_rng(scene_seed)
+    draft = _FAMILY_FN[family](rng, subset, k)
+    scene = SceneSpec(family=family, variant=draft.variant, scene_seed=scene_seed, objects=tuple(draft.objects),
+                      goal=draft.goal, target_ids=draft.target_ids)
+    return {"id": task_id(subset, family, k), "subset": subset, "instruction": draft.instruction,
+            "metadata": scene.model_dump(mode="json")}
+
+
+def verify_task(task: dict[str, Any], max_steps: int = MAX_ORACLE_STEPS) -> tuple[bool, int]:
+    """Run the oracle in the simulator (re-planning after a failed action, as the oracle model does).
+
+    Returns (solved within ``max_steps`` env steps, steps used).
+    """
+    from eb_manipulation.oracle import expert_plan, state_of_world
+    from eb_manipulation.world import World
+
+    scene = SceneSpec.model_validate(task["metadata"])
+    world = World(scene, render_meshes=False)
+    steps = 0
+    while steps < max_steps:
+        plan = expert_plan(scene, state_of_world(world))
+        if not plan:
+            return False, steps
+        for action in plan:
+            outcome = world.execute(action)
+            steps += 1
+            solved, _ = world.evaluate()
+            if solved:
+                return True, steps
+            if not outcome.ok or steps >= max_steps:
+                break
+    return False, steps
+
+
+def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, per_family: int = PER_FAMILY,
+             subsets: list[str] | tuple[str, ...] | str | None = None, max_attempts: int = 40,
+             quiet: bool = False) -> Path:
+    """Generate the task file and return its path.
+
+    Args:
+        out: Where to write; default: the package's ``tasks/manipulation_v1.json``.
+        seed: Master seed; every task's scene seed derives from it.
+        verify: Run the oracle on every task and redraw layouts it cannot solve.
+        per_family: Tasks per (subset, family); 12 gives the paper's 228.
+        subsets: Restrict to some subsets (a name or a list).
+    """
+    out_path = Path(out) if out is not None else DEFAULT_OUT
+    chosen = SUBSETS if subsets is None else ((subsets,) if isinstance(subsets, str) else tuple(subsets))
+    unknown = [s for s in chosen if s not in SUBSETS]
+    if unknown:
+        raise ValueError(f"unknown subsets {unknown}; known: {list(SUBSETS)}")
+    tasks: list[dict[str, Any]] = []
+    t0 = time.time()
+    for subset in chosen:
+        for family in SUBSET_FAMILIES[subset]:
+            for k in range(per_family):
+                for attempt in range(max_attempts):
+                    try:
+                        task = make_task(seed, subset, family, k, attempt)
+                    except _Retry:
+                        continue
+                    if verify:
+                        ok, steps = verify_task(task)
+                        if not ok:
+                            continue
+                        task["metadata"]["oracle_steps"] = steps
+                    task["metadata"]["attempt"] = attempt
+                    tasks.append(task)
+                    break
+                else:
+                    raise RuntimeError(f"could not make a solvable task for {subset}/{family}/{k}")
+            if not quiet:
+                print(f"  {subset:<13} {family:<7} {per_family} tasks  ({time.time() - t0:.0f}s)", flush=True)
+    doc = {
+        "format": TASK_FORMAT,
+        "version": TASKS_VERSION,
+        "generator": "eb_manipulation.generate:generate",
+        "seed": seed,
+        "verified": bool(verify),
+        "count": len(tasks),
+        "tasks": tasks,
+    }
+    out_path.parent.mkdir(parents=True, exist_ok=True)
+    out_path.write_text(json.dumps(doc, indent=1) + "\n")
+    if not quiet:
+        print(f"wrote {len(tasks)} tasks to {out_path}")
+    return out_path
