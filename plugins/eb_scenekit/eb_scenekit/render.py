@@ -7,7 +7,9 @@ names/ids or a ``mujoco.MjvCamera`` (see :func:`free_camera`), so a moving viewp
 
 from __future__ import annotations
 
+import atexit
 import math
+import weakref
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Union
@@ -50,6 +52,17 @@ def _free_camera_pos(cam: mujoco.MjvCamera) -> np.ndarray:
     return np.asarray(cam.lookat, float) - cam.distance * fwd
 
 
+_LIVE: weakref.WeakSet[SceneRenderer] = weakref.WeakSet()
+_EXIT_HOOK = False
+
+
+def _close_all() -> None:
+    # Free GL contexts before MuJoCo's own exit hook terminates the EGL display (atexit runs last-in first-out,
+    # and this hook is registered after the first context exists), so unclosed renderers exit quietly.
+    for r in list(_LIVE):
+        r.close()
+
+
 class SceneRenderer:
     """Render one compiled scene (``model``, ``data``) from named or free cameras.
 
@@ -82,6 +95,7 @@ class SceneRenderer:
             gname = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or ""
             self._geom_to_inst[g] = self.instance_ids.get(gname.split("/", 1)[0], 0)
         self._ceiling_z = self._find_ceiling_z()
+        _LIVE.add(self)
 
     def _read_instances(self) -> list[str]:
         tid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_TEXT, INSTANCES_TEXT)
@@ -108,8 +122,12 @@ class SceneRenderer:
         key = (int(width or self.width), int(height or self.height))
         r = self._renderers.get(key)
         if r is None:
+            global _EXIT_HOOK
             r = mujoco.Renderer(self.model, height=key[1], width=key[0])
             self._renderers[key] = r
+            if not _EXIT_HOOK:
+                atexit.register(_close_all)
+                _EXIT_HOOK = True
         return r
 
     def _camera_pos(self, camera: Camera) -> np.ndarray:

@@ -101,3 +101,17 @@ def test_entrance_faces_into_the_room(layout) -> None:  # type: ignore[no-untype
     assert free[layout.world_to_grid(x, y)]
     heading = np.array([np.cos(np.radians(yaw)), np.sin(np.radians(yaw))])
     assert float(heading @ -np.array([x, y])) > 0
+
+
+def test_small_objects_rest_when_physics_runs(layout) -> None:  # type: ignore[no-untyped-def]
+    from eb_scenekit._mujoco import mujoco
+
+    model, data = layout.build()
+    free = [j for j in range(model.njnt) if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE]
+    assert free, "small objects are movable"
+    adr = [model.jnt_qposadr[j] for j in free]
+    before = np.array([data.qpos[a:a + 3] for a in adr])
+    for _ in range(150):
+        mujoco.mj_step(model, data)
+    after = np.array([data.qpos[a:a + 3] for a in adr])
+    assert np.linalg.norm(after - before, axis=1).max() < 0.05
