@@ -479,7 +479,7 @@ def _sink(p: Parts, c: RGB) -> None:
     p.cyl("faucet_base", 0.022, 0.015, (-0.19, 0, 0.935), _CHROME, "eb_metal")
     p.mesh("faucet", "faucet", (-0.19, 0, 0.95), _CHROME, "eb_metal")
     p.cap_ft("faucet_lever", (-0.19, 0, 1.13), (-0.25, 0, 1.16), 0.007, _CHROME, "eb_metal")
-    p.cyl("water", 0.007, 0.06, (-0.07, 0, 1.02), (0.6, 0.8, 1.0, 0.0), "eb_glass", collide=False)
+    p.cyl("stream", 0.007, 0.065, (-0.07, 0, 1.005), (0.6, 0.8, 1.0, 0.0), "eb_glass", collide=False)
 
 
 @_register("Toilet", "appliance", ("white", "cream"), (0.35, 0.21), 0.8, mount="floor",

@@ -1,6 +1,7 @@
 """Regenerate the look-at-it sheets: every catalogue object, and the four room kinds.
 
-Usage: ``python -m eb_scenekit.gallery OUTDIR`` writes ``scenekit_objects.png`` and ``scenekit_rooms.png``.
+Usage: ``python -m eb_scenekit.gallery OUTDIR`` writes ``scenekit_objects.png`` and ``scenekit_rooms.png``;
+``python -m eb_scenekit.gallery --bench`` prints render timings of a furnished room.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from eb_scenekit.objects import ObjectType, object_types
 from eb_scenekit.render import SceneRenderer, contact_sheet, free_camera, save_png
 from eb_scenekit.scene import SceneBuilder
 
-__all__ = ["object_view", "render_object", "objects_sheet", "rooms_sheet", "main"]
+__all__ = ["object_view", "render_object", "objects_sheet", "rooms_sheet", "benchmark", "main"]
 
 
 def object_view(otype: ObjectType, scale: float = 1.0) -> tuple[tuple[float, float, float], float, float, float]:
@@ -92,8 +93,39 @@ def rooms_sheet(size: int = 400) -> np.ndarray:
     return contact_sheet(images, labels, cols=4)
 
 
+def benchmark(kind: str = "kitchen", seed: int = 0, size: int = 500, repeats: int = 10,
+              antialias: int = 4) -> dict[str, float]:
+    """Median milliseconds per 500x500 RGB / segmentation / depth frame of a furnished room (first-person view)."""
+    from eb_scenekit.rooms import generate_room
+
+    layout = generate_room(kind, seed, antialias=antialias)  # type: ignore[arg-type]
+    x, y, yaw = layout.entrance()
+    layout.builder.add_agent_camera("agent", (x, y), yaw=yaw, pitch=-20)
+    t0 = time.perf_counter()
+    model, data = layout.build()
+    t1 = time.perf_counter()
+    out: dict[str, float] = {"compile_ms": (t1 - t0) * 1e3}
+    with SceneRenderer(model, data, size, size) as r:
+        r.rgb("agent")
+        out["first_frame_ms"] = (time.perf_counter() - t1) * 1e3
+        for name, fn in (("rgb_ms", r.rgb), ("segmentation_ms", r.segmentation), ("depth_ms", r.depth)):
+            times = []
+            for _ in range(repeats):
+                t = time.perf_counter()
+                fn("agent")
+                times.append(time.perf_counter() - t)
+            out[name] = float(np.median(times)) * 1e3
+    out["geoms"] = float(model.ngeom)
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     args = sys.argv[1:] if argv is None else argv
+    if args and args[0] == "--bench":
+        for aa in (4, 0):
+            res = benchmark(antialias=aa)
+            print(f"antialias={aa}: " + ", ".join(f"{k} {v:.0f}" for k, v in res.items()))
+        return 0
     out = Path(args[0] if args else "docs/img")
     t0 = time.perf_counter()
     save_png(out / "scenekit_objects.png", objects_sheet())

@@ -580,18 +580,23 @@ def set_object_pose(model: object, data: object, instance_name: str, pos: tuple[
 
 
 _POWER_CACHE: dict[int, dict[int, tuple[np.ndarray, int]]] = {}
-_BURNER_ON = (1.0, 0.3, 0.05, 1.0)
+_HEAT_ON = (1.0, 0.3, 0.05, 1.0)
+_STREAM_ON = (0.6, 0.8, 1.0, 0.6)
 _OFF = (0.07, 0.07, 0.08)
 
 
 def set_powered(model: object, instance_name: str, on: bool) -> None:
-    """Switch an appliance's visible power state: lamp lights and bulbs, screens, displays, stove burners.
+    """Switch an appliance's visible power state without recompiling (the next render shows it).
 
-    Objects are built switched on (lit lamps, lit screens) except the stove, whose burners start off. This changes
-    only model colours/lights, so the next render shows it; no recompile, no ``mj_forward`` needed.
+    * screens, displays and lamp bulbs are lit when on and dark when off; lamp lights are (de)activated;
+    * heating parts (stove burners, toaster slots) glow orange when on;
+    * a sink's faucet shows a water stream when on.
+
+    Objects are built with screens and lamps on, heaters off and faucets off.
     """
     mujoco = _mj()
-    glow = {mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_MATERIAL, n) for n in ("eb_glow", "eb_screen")}
+    glow_ids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_MATERIAL, n) for n in ("eb_glow", "eb_screen")]
+    glow = set(glow_ids)
     glossy = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_MATERIAL, "eb_glossy")
     cache = _POWER_CACHE.setdefault(id(model), {})
     found = False
@@ -601,15 +606,19 @@ def set_powered(model: object, instance_name: str, on: bool) -> None:
         if not name.startswith(prefix):
             continue
         part = name[len(prefix):]
-        if g not in cache and (model.geom_matid[g] in glow or part.startswith("burner")):  # type: ignore
+        heat = part.startswith(("burner", "slot"))
+        stream = part.startswith("stream")
+        if g not in cache and (model.geom_matid[g] in glow or heat or stream):  # type: ignore[attr-defined]
             cache[g] = (model.geom_rgba[g].copy(), int(model.geom_matid[g]))  # type: ignore[attr-defined]
         if g not in cache:
             continue
         found = True
         rgba, mat = cache[g]
-        if part.startswith("burner"):
-            model.geom_rgba[g] = _BURNER_ON if on else rgba  # type: ignore[attr-defined]
-            model.geom_matid[g] = (next(iter(glow)) if on else mat)  # type: ignore[attr-defined]
+        if heat:
+            model.geom_rgba[g] = _HEAT_ON if on else rgba  # type: ignore[attr-defined]
+            model.geom_matid[g] = glow_ids[0] if on else mat  # type: ignore[attr-defined]
+        elif stream:
+            model.geom_rgba[g] = _STREAM_ON if on else rgba  # type: ignore[attr-defined]
         else:
             model.geom_rgba[g] = rgba if on else (*_OFF, rgba[3])  # type: ignore[attr-defined]
             model.geom_matid[g] = mat if on else glossy  # type: ignore[attr-defined]

@@ -182,3 +182,20 @@ def test_receptacle_placement_on_and_in() -> None:
         b.add_object("Mug", "Apple_1")
     model, data = b.build()
     assert model.nbody > 4
+
+
+def test_every_toggleable_type_switches() -> None:
+    b = SceneBuilder()
+    b.add_studio()
+    toggleable = [t for t in object_types() if t.toggleable]
+    assert {"Microwave", "DeskLamp", "FloorLamp", "Sink", "Television", "Stove"} <= {t.name for t in toggleable}
+    for i, t in enumerate(toggleable):
+        b.add_object(t.name, t.name.lower(), (2.0 * i, 0.0))
+    model, data = b.build()
+    for t in toggleable:
+        set_powered(model, t.name.lower(), True)
+        set_powered(model, t.name.lower(), False)
+    stream = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "sink/stream")
+    assert model.geom_rgba[stream][3] == 0.0
+    set_powered(model, "sink", True)
+    assert model.geom_rgba[stream][3] > 0.0
