@@ -19,6 +19,7 @@ commands:
   list                       installed envs (subsets, task counts), models, planners, augmenters,
                              metrics and ablations, each with its plugin
   report RUN_DIR [...]       paper-style table of runs [--format rich|markdown|csv] [--out FILE]
+  show RUN_DIR               write RUN_DIR/index.html: every episode, step, image, answer and feedback
   tasks generate env=NAME [key=value ...]   write a task file with the env's generator
 """
 
@@ -49,12 +50,14 @@ def main(argv: Sequence[str] | None = None) -> int:
             return cmd_report(rest)
         if cmd == "tasks":
             return cmd_tasks(rest)
+        if cmd == "show":
+            return cmd_show(rest)
     except CliError as exc:
         return _fail(str(exc))
     except KeyboardInterrupt:
         return _fail("interrupted; finished episodes are saved, re-run the same command to resume", 130)
-    hint = difflib.get_close_matches(cmd, ["run", "list", "report", "tasks"], n=1)
-    return _fail(f"unknown command {cmd!r}; commands: run, list, report, tasks"
+    hint = difflib.get_close_matches(cmd, ["run", "list", "report", "show", "tasks"], n=1)
+    return _fail(f"unknown command {cmd!r}; commands: run, list, report, show, tasks"
                  + (f" (did you mean {hint[0]!r}?)" if hint else ""))
 
 
@@ -328,6 +331,22 @@ def cmd_report(args: list[str]) -> int:
     if not dirs:
         raise CliError("report needs at least one run directory, e.g. eb report runs/navigation/oracle/none/default")
     render_report(dirs, fmt, out)
+    return 0
+
+
+# -- eb show ----------------------------------------------------------------------------------------------
+
+
+def cmd_show(args: list[str]) -> int:
+    from pathlib import Path
+
+    from eb_core.html import write_html
+
+    if len(args) != 1 or args[0].startswith("-"):
+        raise CliError("usage: eb show RUN_DIR (a directory holding episodes.jsonl)")
+    if not (Path(args[0]) / "episodes.jsonl").exists():
+        raise CliError(f"{args[0]} is not a run directory (no episodes.jsonl)")
+    print(write_html(args[0]))
     return 0
 
 

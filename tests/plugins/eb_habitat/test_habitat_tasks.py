@@ -55,13 +55,13 @@ def test_bad_goal_predicate(tmp_path: Path) -> None:
 def test_missing_field(tmp_path: Path) -> None:
     doc = _doc()
     del doc["tasks"][5]["metadata"]["subgoals"]
-    _breaks(tmp_path, doc, "task 'base-05'", "metadata.subgoals", "Field required")
+    _breaks(tmp_path, doc, "task base-05", "metadata.subgoals", "Field required")
 
 
 def test_misspelled_field(tmp_path: Path) -> None:
     doc = _doc()
     doc["tasks"][2]["metadata"]["goals"] = doc["tasks"][2]["metadata"]["goal"]
-    _breaks(tmp_path, doc, "task 'base-02'", "metadata.goals", "unknown field")
+    _breaks(tmp_path, doc, "task base-02", "metadata.goals", "unknown field")
 
 
 def test_wrong_colour_and_slot(tmp_path: Path) -> None:

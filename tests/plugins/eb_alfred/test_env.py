@@ -1,0 +1,50 @@
+"""AlfredEnv through the core's conformance suite (symbolic mode) plus prompt and plugin checks."""
+
+from __future__ import annotations
+
+from eb_core.testing import EnvConformanceSuite
+
+from eb_alfred.env import AlfredEnv
+from eb_alfred.plugin import SUBSETS
+
+
+class TestAlfredConformanceSymbolic(EnvConformanceSuite):
+    env_class = "eb_alfred.env:AlfredEnv"
+    env_params = {"render": False}
+    expect_subsets = dict(SUBSETS)
+    sample_size = 6
+
+
+def test_text_observation_describes_place_and_hand() -> None:
+    env = AlfredEnv(render=False)
+    task = AlfredEnv.load_tasks()[0]
+    obs = env.reset(task, 0)
+    assert "middle of" in obs.text and "hand is empty" in obs.text
+    plan = env.expert_plan()
+    result = env.step(plan[0])
+    assert result.action_success and "You are in a" in result.observation.text
+
+
+def test_prompt_parts_examples_per_subset() -> None:
+    env = AlfredEnv(render=False)
+    tasks = AlfredEnv.load_tasks()
+    env.reset(next(t for t in tasks if t.subset == "base"), 0)
+    general = env.prompt_parts()
+    assert len(general.examples) == 10 and all('"executable_plan"' in e for e in general.examples)
+    env.reset(next(t for t in tasks if t.subset == "long_horizon"), 0)
+    assert len(env.prompt_parts().examples) == 7
+
+
+def test_invalid_action_id_gives_feedback() -> None:
+    env = AlfredEnv(render=False)
+    env.reset(AlfredEnv.load_tasks()[0], 0)
+    result = env.step(10_000)
+    assert not result.action_success and "not in the list" in result.feedback
+
+
+def test_plugin_registers_env_and_config(eb_registry) -> None:
+    from eb_alfred import plugin
+
+    spec = plugin.eb_register_envs()[0]
+    assert spec.name == "alfred" and spec.subsets == SUBSETS and spec.load() is AlfredEnv
+    assert plugin.eb_config_searchpath() == ["pkg://eb_alfred.conf"]
