@@ -44,7 +44,7 @@ ACTION_RULES = (
 
 GUIDELINES = (
     "Never answer with an empty plan: the episode ends at once.",
-    "A plan has at most 20 actions; a short plan you can check is better than a long guess.",
+    "Plan only as far as you can see: a short plan you can check is better than a long guess.",
     "Find an object before trying to pick it up: if it is not visible where you are, navigate to other "
     "receptacles, and open closed ones to look inside.",
     "Objects of the same kind can differ in colour; read the request carefully and pick the right one.",
@@ -69,7 +69,7 @@ def render_example(ex: dict[str, Any], number: int) -> str:
     spec = TaskSpec.model_validate(ex["scene"])
     world = World([o.model_dump() for o in spec.objects], spec.open)
     tracker = spec.tracker()
-    lines = [f"Example {number}", f"Instruction: {ex['instruction']}"]
+    lines = [f"Instruction: {ex['instruction']}"]
     for t, turn in enumerate(ex["turns"], 1):
         ids = [SKILL_NAMES.index(name) for name in turn["plan"]]
         answer = {
@@ -101,14 +101,11 @@ def _all_examples() -> tuple[tuple[str, str], ...]:
 
 
 def examples(subset: str | None = None) -> tuple[str, ...]:
-    """The ten examples as text, those written for ``subset`` first (most useful first), renumbered."""
+    """The ten examples as text (the planner numbers them), those written for ``subset`` first."""
     items = list(_all_examples())
     if subset is not None:
         items.sort(key=lambda item: item[0] != subset)  # stable: keeps the file order otherwise
-    out = []
-    for n, (_, text) in enumerate(items, 1):
-        out.append(f"Example {n}" + text[text.index("\n"):])
-    return tuple(out)
+    return tuple(text for _, text in items)
 
 
 def prompt_parts(subset: str | None = None) -> PromptParts:

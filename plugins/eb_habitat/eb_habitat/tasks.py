@@ -200,7 +200,7 @@ def load_task_file(path: str | Path) -> list[Task]:
         task = "-"
         if len(loc) >= 2 and loc[0] == "tasks" and isinstance(loc[1], int):
             try:
-                task = repr(raw["tasks"][loc[1]].get("id", f"#{loc[1]}"))
+                task = str(raw["tasks"][loc[1]].get("id", f"#{loc[1]}"))
             except (AttributeError, IndexError, KeyError, TypeError):
                 task = f"#{loc[1]}"
             loc = loc[2:]
@@ -216,7 +216,7 @@ def load_task_file(path: str | Path) -> list[Task]:
     tasks: list[Task] = []
     for entry in data.tasks:
         if entry.id in seen:
-            raise _fail(path, repr(entry.id), "id", "duplicate task id")
+            raise _fail(path, entry.id, "id", "duplicate task id")
         seen.add(entry.id)
         _semantic_check(path, entry, data.subset)
         tasks.append(Task(id=entry.id, subset=entry.subset, instruction=entry.instruction,
@@ -235,7 +235,7 @@ def load_tasks(task_dir: str | Path | None = None) -> list[Task]:
     for f in files:
         for t in load_task_file(f):
             if t.id in ids:
-                raise TaskFileError(f"{f}: task {t.id!r}: field 'id': also defined in {ids[t.id]}")
+                raise TaskFileError(f"{f}: task {t.id}: field 'id': also defined in {ids[t.id]}")
             ids[t.id] = f
             tasks.append(t)
     return tasks

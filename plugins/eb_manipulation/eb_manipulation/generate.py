@@ -133,6 +133,8 @@ class _Retry(Exception):
 # --------------------------------------------------------------------------------------------------------
 # colours
 def _distinct_colours(rng: np.random.Generator, n: int, avoid: tuple[str, ...] = ()) -> list[str]:
+    if n <= 0:
+        return []
     names = list(COLOURS)
     rng.shuffle(names)
     out: list[str] = []
@@ -335,6 +337,9 @@ def _family_stack(rng: np.random.Generator, subset: str, k: int) -> _Draft:
     placer = _Placer(rng)
     height = 3 if k % 2 else 2
     n = max(height, 3 if k % 4 < 2 else 4)
+    spatial = subset == "spatial"
+    if spatial and height == 3:
+        n = 3  # three cubes in a row: every one of them has a clear place
     if subset == "visual":
         a, b = _contrast_pair(rng)
         colours = [a, b] + _distinct_colours(rng, n - 2, avoid=(a, b))
@@ -345,11 +350,6 @@ def _family_stack(rng: np.random.Generator, subset: str, k: int) -> _Draft:
     else:
         colours = _distinct_colours(rng, n)
         order_idx = [int(i) for i in rng.permutation(n)[:height]]
-    spatial = subset == "spatial"
-    if spatial:
-        n = height if height == 3 else n
-        colours = colours[:n]
-        order_idx = [i for i in order_idx if i < n]
     cubes = _shapes_with(rng, placer, ["cube"] * n, colours, spatial, prefix="cube")
     order = [cubes[i] for i in order_idx]
     if len(order) != height:
@@ -458,7 +458,7 @@ def _family_wipe(rng: np.random.Generator, subset: str, k: int) -> _Draft:
         colours = _distinct_colours_from(rng, list(SPILLS), n_areas)
     else:
         colours = _distinct_colours(rng, n_areas)
-    ax = (0.02, 0.24) if size[0] < size[1] else (0.06, 0.16)
+    ax = (0.02, 0.24) if size[0] < size[1] else (0.10, 0.18)
     ay = (-0.22, 0.22) if size[0] < size[1] else (-0.25, 0.25)
     areas = []
     for j, c in enumerate(colours):

@@ -309,6 +309,8 @@ class Arm:
                 p = pa + (pb - pa) * t
                 R = _slerp_R(Ra, Rb, t)
                 qn = self.ik(p, R, q, iters=40)
+                if qn is None:
+                    qn = self.ik(p, R, q, iters=250, null_gain=0.0)
                 if qn is None or np.max(np.abs(qn - q)) > 0.35:
                     return None, None
                 b = self.blocker(self._contacts_at(qn, held, move_held), start, held)

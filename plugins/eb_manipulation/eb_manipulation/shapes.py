@@ -54,7 +54,7 @@ CONFUSABLE: tuple[frozenset[str], ...] = (
     frozenset({"blue", "navy", "azure", "violet", "purple"}),
     frozenset({"cyan", "teal", "azure"}),
     frozenset({"silver", "gray", "white"}),
-    frozenset({"gray", "black"}),
+    frozenset({"gray", "black", "navy"}),
     frozenset({"yellow", "olive", "lime"}),
     frozenset({"purple", "magenta", "violet"}),
 )

@@ -139,7 +139,7 @@ _CONTEXT_CLOSE: tuple[str, ...] = (
 
 _CONTEXT_BRIDGE: tuple[str, ...] = (
     "Anyway, here is what I need:",
-    "So, could you help me with one thing?",
+    "So here is one thing I need help with:",
     "Here is the one job for you right now:",
     "What I would like you to do is simple:",
 )

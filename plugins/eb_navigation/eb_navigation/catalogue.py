@@ -380,7 +380,7 @@ def _plant(colour: str, rng: np.random.Generator) -> list[Part]:
 
 
 def _ball(colour: str, rng: np.random.Generator) -> list[Part]:
-    r = 0.15
+    r = 0.18
     c = colour_rgba(colour)
     seam = DARK if colour not in ("black", "navy") else WHITE
     return [
@@ -598,7 +598,7 @@ _BIG = ("red", "blue", "green", "grey", "beige", "navy", "purple", "teal", "yell
 CATALOGUE: dict[str, ObjectType] = {
     t.name: t
     for t in [
-        ObjectType("fridge", (0.76, 0.70, 1.85), _fridge, ("white", "silver", "black", "red", "teal", "cream"),
+        ObjectType("fridge", (0.76, 0.70, 1.85), _fridge, ("white", "silver", "red", "teal", "cream", "blue"),
                    shape_words="tall box-shaped standing cabinet with long door handles"),
         ObjectType("microwave", (0.52, 0.38, 0.30), _microwave, ("white", "black", "silver", "red"), obstacle=False,
                    shape_words="small box with a dark glass window on its front"),
@@ -622,7 +622,7 @@ CATALOGUE: dict[str, ObjectType] = {
                    shape_words="thin pole with a glowing cone-shaped shade on top"),
         ObjectType("plant", (0.42, 0.42, 1.25), _plant, ("orange", "blue", "white", "red", "yellow", "black"),
                    shape_words="leafy green bush growing out of a round pot"),
-        ObjectType("ball", (0.3, 0.3, 0.3), _ball, ("orange", "blue", "red", "yellow", "green", "purple"),
+        ObjectType("ball", (0.36, 0.36, 0.36), _ball, ("orange", "blue", "red", "yellow", "green", "purple"),
                    shape_words="round sphere with thin lines on it, lying on the floor"),
         ObjectType("teddy_bear", (0.45, 0.5, 0.75), _teddy, ("brown", "cream", "pink", "grey", "blue"),
                    shape_words="soft, round, sitting figure with two small round ears"),

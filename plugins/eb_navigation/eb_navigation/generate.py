@@ -44,8 +44,10 @@ TARGETS_BY_KIND: dict[str, tuple[str, ...]] = {
 #: Where a second copy of a surface object can stand (visual-appearance distractors).
 HOSTS = {"microwave": ("counter", "long_counter"), "laptop": ("desk", "coffee_table", "dining_table"),
          "tv": ()}
-MIN_VISIBLE_PIXELS = 25
+MIN_VISIBLE_PIXELS = 45
 """Target pixels (in a 128 x 128 segmentation of the first view) for the target to count as visible."""
+MAX_START_BEARING = 40.0
+"""The target's centre must be within this many degrees of straight ahead at a base start."""
 
 
 class _Visibility:
@@ -112,6 +114,8 @@ def _find_start(layout: Layout, free: FreeSpace, target: Placed, lo: float, hi: 
     """A start facing the target (visible, plan <= max_steps) whose 180-degree turn hides it."""
     for ij in _starts(free, target, lo, hi, rng)[:60]:
         s = AgentState(ij[0], ij[1], _facing(ij, (target.x, target.y)))
+        if abs(bearing_to(s, (target.x, target.y))) > MAX_START_BEARING:
+            continue
         plan = free.shortest_plan(s, (target.x, target.y))
         if plan is None or len(plan) > max_steps:
             continue

@@ -31,6 +31,7 @@ _MATERIALS = {
     "screen": 'specular="0.2" shininess="0.6" emission="0.9"',
     "glow": 'specular="0.1" shininess="0.1" emission="0.55"',
     "ceiling": 'specular="0" shininess="0" emission="0.4"',
+    "window": 'specular="0.3" shininess="0.8" emission="0.3"',
 }
 
 
@@ -140,7 +141,7 @@ def layout_to_mjcf(layout: Layout, resolution: int = 500) -> str:
             shell.append(f'<geom type="box" pos="{_vec(pos)}" size="{_vec(size)}" rgba="0.96 0.96 0.96 1" material="m_glossy"/>')
             pos, size = _wall_box(d.wall, d.along, d.width, d.bottom, d.height, W, D, out=0.015, thick=0.01)
             shell.append(f'<geom type="box" pos="{_vec(pos)}" size="{_vec(size)}" rgba="{_rgba((*d.colour, 1))}" '
-                         f'material="m_screen"/>')
+                         f'material="m_window"/>')
             pos, size = _wall_box(d.wall, d.along, 0.04, d.bottom, d.height, W, D, out=0.03, thick=0.01)
             shell.append(f'<geom type="box" pos="{_vec(pos)}" size="{_vec(size)}" rgba="0.96 0.96 0.96 1" material="m_glossy"/>')
         else:  # painting
@@ -149,6 +150,16 @@ def layout_to_mjcf(layout: Layout, resolution: int = 500) -> str:
             pos, size = _wall_box(d.wall, d.along, d.width, d.bottom, d.height, W, D, out=0.015, thick=0.008)
             shell.append(f'<geom type="box" pos="{_vec(pos)}" size="{_vec(size)}" rgba="{_rgba((*d.colour, 1))}" '
                          f'material="m_matte"/>')
+
+    # Soft contact shadows: a dark, translucent patch under every floor-standing object (cheap stand-in
+    # for real shadows, which would double the render time); in the world body so boxes ignore them.
+    for obj, _parts in parts_by_obj:
+        if obj.on is not None or obj.type in ("rug", "small_rug"):
+            continue
+        x0, y0, x1, y1 = obj.footprint
+        shell.append(f'<geom type="box" pos="{_vec((obj.x, obj.y, 0.0015))}" '
+                     f'size="{_vec(((x1 - x0) / 2 + 0.05, (y1 - y0) / 2 + 0.05, 0.001))}" rgba="0 0 0 0.28" '
+                     f'material="m_matte" contype="0" conaffinity="0"/>')
 
     bodies = []
     for obj, parts in parts_by_obj:

@@ -119,10 +119,10 @@ class LiteLLMSettings(BackendSettings):
 def _import_litellm() -> Any:
     # Must be set before the first import: otherwise litellm downloads its price map at import time.
     os.environ["LITELLM_LOCAL_MODEL_COST_MAP"] = "True"
+    # litellm's typed dicts trip a pydantic warning (at import and at the first call): not ours to fix.
+    warnings.filterwarnings("ignore", message=r"Item .* is using the `ReadOnly` qualifier", category=UserWarning)
     try:
-        with warnings.catch_warnings():  # litellm's typed dicts trip pydantic's ReadOnly warning at import
-            warnings.simplefilter("ignore", UserWarning)
-            import litellm
+        import litellm
     except ModuleNotFoundError as exc:
         raise ModelFatalError("the litellm backend needs litellm: pip install 'litellm==1.106.2'") from exc
     litellm.suppress_debug_info = True
