@@ -1,0 +1,169 @@
+"""``AlfredEnv``: the EB-ALFRED environment behind ``env=alfred``.
+
+The symbolic world (:mod:`eb_alfred.world`) decides everything: what an action does, the feedback, success
+and progress. Rendering is a separate, optional view of that state (:mod:`eb_alfred.render`, MuJoCo through
+the scene kit); with ``render: false`` no MuJoCo is imported at all and observations carry text only.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, ClassVar
+
+from pydantic import BaseModel, ConfigDict, ValidationError
+
+from eb_core import DiscreteActionSpace, Env, Observation, ObjectInfo, PromptParts, StepResult, Task
+
+from eb_alfred.actions import scene_actions
+from eb_alfred.describe import describe
+from eb_alfred.goals import conditions, evaluate
+from eb_alfred.oracle import expert_plan as _expert_plan
+from eb_alfred.prompts import prompt_parts as _prompt_parts
+from eb_alfred.tasks import load_all
+from eb_alfred.world import World
+
+__all__ = ["AlfredEnv", "AlfredParams"]
+
+
+class AlfredParams(BaseModel):
+    """The ``params:`` mapping of ``conf/env/alfred.yaml``."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    render: bool = True
+    """Render first-person images with MuJoCo; false = symbolic only (text observations, fast)."""
+    task_dir: str | None = None
+    """Load task files from this folder instead of the shipped ones (e.g. after ``eb tasks generate``)."""
+
+
+def _params(params: dict[str, Any]) -> AlfredParams:
+    try:
+        return AlfredParams(**params)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        key = ".".join(str(p) for p in err["loc"])
+        if err["type"] == "extra_forbidden":
+            raise ValueError(f"unknown alfred param '{key}'; allowed: {', '.join(AlfredParams.model_fields)}") from None
+        raise ValueError(f"invalid alfred param '{key}': {err['msg']}") from None
+
+
+class AlfredEnv(Env):
+    """High-level household tasks: find, pick up, put down, drop, open, close, turn on/off, slice."""
+
+    name: ClassVar[str] = "alfred"
+
+    def __init__(self, resolution: int = 500, multi_view: bool = False, **params: Any) -> None:
+        self.params = _params(params)
+        self.resolution = int(resolution)
+        self.multi_view = bool(multi_view)
+        self._task: Task | None = None
+        self._world: World | None = None
+        self._goal: dict[str, Any] | None = None
+        self._space: DiscreteActionSpace | None = None
+        self._renderer: Any = None
+        self._closed = False
+
+    # ------------------------------------------------------------------ tasks
+    @classmethod
+    def load_tasks(cls, **params: Any) -> list[Task]:
+        p = _params(params)
+        records = load_all(Path(p.task_dir) if p.task_dir else None)
+        return [
+            Task(id=r.id, subset=r.subset, instruction=r.instruction,
+                 metadata={"task_type": r.task_type, "goal": r.goal.plain(),
+                           "scene": r.scene.model_dump(exclude_defaults=True), "scene_seed": r.scene_seed,
+                           "oracle_steps": r.oracle_steps, "notes": r.notes})
+            for r in records
+        ]
+
+    # ------------------------------------------------------------------ episode
+    def reset(self, task: Task, seed: int) -> Observation:
+        self._task = task
+        self._world = World.from_scene(task.metadata["scene"])
+        self._goal = task.metadata["goal"]
+        self._space = DiscreteActionSpace(actions=scene_actions(self._world))
+        if self.params.render:
+            if self._renderer is None:
+                from eb_alfred.render import AlfredRenderer
+
+                self._renderer = AlfredRenderer(self.resolution, multi_view=self.multi_view)
+            self._renderer.load(self._world)
+        return self._observe()
+
+    def step(self, action: Any) -> StepResult:
+        world, space = self._require()
+        try:
+            idx = int(action)
+        except (TypeError, ValueError):
+            idx = -1
+        if not 0 <= idx < len(space):
+            obs = self._observe()
+            return StepResult(observation=obs, action_success=False,
+                              feedback=f"Failed: action id {action!r} is not in the list (0..{len(space) - 1}).",
+                              progress=self._progress(), info={"action_name": None})
+        name = space.actions[idx]
+        ok, feedback = world.step(name)
+        success, progress, flags = evaluate(self._goal, world)  # type: ignore[arg-type]
+        obs = self._observe()
+        if success:
+            feedback += " The task is complete."
+        return StepResult(observation=obs, action_success=ok, feedback=feedback, done=success,
+                          task_success=success, progress=1.0 if success else progress,
+                          info={"action_name": name, "conditions": flags, "held": world.held,
+                                "place": world.place})
+
+    def action_space(self) -> DiscreteActionSpace:
+        return self._require()[1]
+
+    def prompt_parts(self) -> PromptParts:
+        subset = self._task.subset if self._task is not None else "base"
+        return _prompt_parts(subset)
+
+    def expert_plan(self) -> list[int] | None:
+        world, space = self._require()
+        plan = _expert_plan(world, self._goal)  # type: ignore[arg-type]
+        if plan is None:
+            return None
+        return [space.actions.index(a) for a in plan]
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+        self._closed = True
+
+    # ------------------------------------------------------------------ helpers
+    @property
+    def world(self) -> World:
+        """The symbolic state (read it, do not change it)."""
+        return self._require()[0]
+
+    def goal_conditions(self) -> list[str]:
+        return [c.text for c in conditions(self._goal)]  # type: ignore[arg-type]
+
+    def _require(self) -> tuple[World, DiscreteActionSpace]:
+        if self._world is None or self._space is None:
+            raise RuntimeError("call reset(task, seed) before using the environment")
+        return self._world, self._space
+
+    def _progress(self) -> float:
+        return evaluate(self._goal, self._world)[1]  # type: ignore[arg-type]
+
+    def _observe(self) -> Observation:
+        world = self._world
+        assert world is not None
+        text = describe(world)
+        if self._renderer is None:
+            return Observation(text=text)
+        frame = self._renderer.render(world)
+        objects = [ObjectInfo(name=o["name"], type=o["type"], box=o.get("box"), position=o.get("position"),
+                              is_target=self._is_target(o["name"]))
+                   for o in frame.objects]
+        return Observation(images=frame.images, primary="first_person", text=text, objects=objects)
+
+    def _is_target(self, name: str) -> bool:
+        from eb_alfred.goals import matches
+
+        goal = self._goal or {}
+        return any(key in goal and matches(self._world, goal[key], name)  # type: ignore[arg-type]
+                   for key in ("object", "receptacle", "movable", "lamp"))

@@ -1,0 +1,155 @@
+"""PDDL-style goals of the 7 ALFRED task types, their conditions, success and progress.
+
+A goal names objects by a *reference*: ``{"type": "Apple"}`` (any apple) or ``{"instance": "Apple_2"}``
+(that apple; used when the instruction singles one out by colour or position). Each task type expands
+into a short list of :class:`Condition` s; the task succeeds when all hold at once, and its progress is
+the fraction that holds (the paper's subgoal success).
+
+Condition counts: pick & place 1, pick two & place 2, examine in light 2, heat / cool / clean & place 3,
+stack & place 3 (one more when the object must also be sliced).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from eb_alfred.catalog import LAMPS, TYPES
+from eb_alfred.world import World
+
+__all__ = ["Condition", "GOAL_KINDS", "conditions", "matches", "candidates", "evaluate", "PROPERTY_OF_KIND"]
+
+GOAL_KINDS = (
+    "pick_and_place",
+    "stack_and_place",
+    "pick_two_and_place",
+    "clean_and_place",
+    "heat_and_place",
+    "cool_and_place",
+    "examine_in_light",
+)
+
+#: The unary property each "X & place" kind asks for.
+PROPERTY_OF_KIND = {"clean_and_place": "clean", "heat_and_place": "hot", "cool_and_place": "cold"}
+
+
+@dataclass(frozen=True)
+class Condition:
+    text: str
+    """Readable PDDL-like form, e.g. ``(and (isHot ?x) (inReceptacle ?x DiningTable))``."""
+    check: Callable[[World], bool]
+
+
+def matches(world: World, ref: dict[str, str], name: str) -> bool:
+    """Whether instance ``name`` is what ``ref`` means (an instance, or a type with optional colour/shape)."""
+    if "instance" in ref:
+        return ref["instance"] == name
+    o = world.objects[name]
+    return (o.type == ref["type"] and ref.get("color", o.color) == o.color
+            and ref.get("shape", o.shape) == o.shape)
+
+
+def candidates(world: World, ref: dict[str, str]) -> list[str]:
+    if "instance" in ref:
+        return [ref["instance"]] if ref["instance"] in world.objects else []
+    return [n for n in world.of_type(ref["type"]) if matches(world, ref, n)]
+
+
+def _ref_text(ref: dict[str, str]) -> str:
+    if "instance" in ref:
+        return ref["instance"]
+    looks = "".join(f"[{k}={ref[k]}]" for k in ("color", "shape") if k in ref)
+    return ref["type"] + looks
+
+
+def _has(world: World, name: str, prop: str) -> bool:
+    o = world.objects[name]
+    return {"hot": o.is_hot, "cold": o.is_cold, "clean": not o.is_dirty, "sliced": o.is_sliced}[prop]
+
+
+def _inside(world: World, name: str, recep_ref: dict[str, str]) -> bool:
+    parent = world.objects[name].parent
+    return parent is not None and not world.is_held(name) and matches(world, recep_ref, parent)
+
+
+_PRED = {"hot": "isHot", "cold": "isCool", "clean": "isClean", "sliced": "isSliced"}
+
+
+def conditions(goal: dict[str, Any]) -> list[Condition]:
+    """Expand a goal into its conditions (see the module docstring)."""
+    kind = goal["kind"]
+    obj = goal["object"]
+    props = ([("sliced")] if goal.get("sliced") else []) + ([PROPERTY_OF_KIND[kind]] if kind in PROPERTY_OF_KIND else [])
+    o = _ref_text(obj)
+    conds: list[Condition] = []
+
+    def some(pred: Callable[[World, str], bool]) -> Callable[[World], bool]:
+        return lambda w: any(pred(w, x) for x in candidates(w, obj))
+
+    for p in props:
+        conds.append(Condition(f"({_PRED[p]} {o})", some(lambda w, x, p=p: _has(w, x, p))))
+
+    if kind == "examine_in_light":
+        lamp = goal["lamp"]
+        conds.append(Condition(f"(holds {o})", some(lambda w, x: w.held == x)))
+        conds.append(Condition(f"(and (isToggled {_ref_text(lamp)}) (atLocation agent {_ref_text(lamp)}))",
+                               lambda w: any(w.objects[lm].is_on and w.near(lm) for lm in candidates(w, lamp))))
+        return conds
+
+    recep = goal["receptacle"]
+    r = _ref_text(recep)
+    if kind == "pick_two_and_place":
+        def count(w: World) -> int:
+            return sum(1 for x in candidates(w, obj) if _inside(w, x, recep) and all(_has(w, x, p) for p in props))
+        conds.append(Condition(f"(inReceptacle {o} {r})", lambda w: count(w) >= 1))
+        conds.append(Condition(f"(inReceptacle {o}_second {r})", lambda w: count(w) >= 2))
+        return conds
+
+    if kind == "stack_and_place":
+        mov = goal["movable"]
+        m = _ref_text(mov)
+
+        def x_in_m(w: World, x: str) -> str | None:
+            parent = w.objects[x].parent
+            return parent if parent is not None and matches(w, mov, parent) else None
+
+        conds.append(Condition(f"(inReceptacle {o} {m})", some(lambda w, x: x_in_m(w, x) is not None)))
+        conds.append(Condition(f"(inReceptacle {m} {r})", lambda w: any(_inside(w, y, recep) for y in candidates(w, mov))))
+        conds.append(Condition(f"(and (inReceptacle {o} {m}) (inReceptacle {m} {r}))",
+                               some(lambda w, x: (mm := x_in_m(w, x)) is not None and _inside(w, mm, recep)
+                                    and all(_has(w, x, p) for p in props))))
+        return conds
+
+    conds.append(Condition(f"(inReceptacle {o} {r})", some(lambda w, x: _inside(w, x, recep))))
+    if props:
+        conds.append(Condition(f"(and {' '.join(f'({_PRED[p]} {o})' for p in props)} (inReceptacle {o} {r}))",
+                               some(lambda w, x: _inside(w, x, recep) and all(_has(w, x, p) for p in props))))
+    return conds
+
+
+def evaluate(goal: dict[str, Any], world: World) -> tuple[bool, float, list[bool]]:
+    """``(success, progress, per-condition flags)`` for the current state."""
+    conds = conditions(goal)
+    flags = [c.check(world) for c in conds]
+    met = sum(flags)
+    return met == len(flags), met / len(flags), flags
+
+
+def goal_refs_valid(goal: dict[str, Any]) -> str | None:
+    """A reason string if the goal's types are unknown or the kind lacks a field; None if fine."""
+    kind = goal.get("kind")
+    if kind not in GOAL_KINDS:
+        return f"kind must be one of {', '.join(GOAL_KINDS)}"
+    need = {"examine_in_light": ("object", "lamp"), "stack_and_place": ("object", "movable", "receptacle")}.get(
+        kind, ("object", "receptacle"))
+    for key in need:
+        if key not in goal or not isinstance(goal[key], dict):
+            return f"{key} is required for {kind}"
+        ref = goal[key]
+        t = ref.get("type") or ref.get("instance", "").split("_")[0]
+        if t not in TYPES:
+            return f"{key} names unknown type {t!r}"
+        if key == "lamp" and t not in LAMPS:
+            return f"lamp must be one of {LAMPS}"
+    return None

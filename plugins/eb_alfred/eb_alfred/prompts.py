@@ -1,0 +1,64 @@
+"""Prompt parts for EB-ALFRED (our wording, the paper's structure): role, skill rules, guidelines, examples.
+
+The in-context examples are full worked episodes written from oracle traces on scenes that are not among the
+300 tasks (see :mod:`eb_alfred.examples`); they are shipped in ``examples.json``. The general set (10) is used
+for every subset except long_horizon, which has its own set (7 shown by default).
+"""
+
+from __future__ import annotations
+
+import json
+from functools import lru_cache
+from pathlib import Path
+
+from eb_core import PromptParts
+
+__all__ = ["ROLE", "ACTION_RULES", "GUIDELINES", "prompt_parts", "load_examples", "EXAMPLES_PATH"]
+
+EXAMPLES_PATH = Path(__file__).parent / "examples.json"
+
+ROLE = (
+    "You are a household robot in a simulated home. You are given a task in everyday language, a first-person "
+    "picture of what is in front of you, and a numbered list of high-level skills. Work out a sequence of skills "
+    "that completes the task and answer with it."
+)
+
+ACTION_RULES = """How the skills work:
+- "find a X": walk to X and face it. You can only act on things at the place you are standing, so find an object before you pick it up, open it, switch it or slice it. If X is inside a closed container you are taken to that container, but you cannot see or take X until you open it.
+- "pick up the X": take X in your hand. You can hold one object at a time, and a closed container hides and blocks what is inside it.
+- "put down the object in hand": place what you hold in or on the receptacle you last found (or the receptacle holding the object you last found). A sink takes it into its basin. A closed receptacle must be opened first, and a small receptacle only takes small things.
+- "drop the object in hand": let go of what you hold; it falls on the floor where you stand.
+- "open the X" / "close the X": for fridges, cabinets, drawers, microwaves, safes, boxes and laptops.
+- "turn on the X" / "turn off the X": for microwaves, faucets, desk lamps and floor lamps. A microwave only runs when closed, and must be off before you open it.
+- "slice the X": cut X into slices; you need a knife or butter knife in your hand.
+Effects: an object is heated when the microwave it is in is switched on; cooled when the fridge it is in gets closed; washed when the faucet runs over the sink basin it is in. To examine an object in light, hold it while standing at a lamp that is on.
+When a room has several things of one kind they carry number suffixes: "Cabinet" is the first cabinet, "Cabinet_2" the second, and so on."""
+
+GUIDELINES = (
+    "Always give a non-empty plan; an empty plan ends the episode as if you were finished.",
+    "Keep a plan to at most 20 actions.",
+    "Find an object before interacting with it, and open closed containers before taking things out or putting things in.",
+    "You hold one object at a time: put down or drop what you hold before picking up something else.",
+    "Pay attention to number suffixes (Cabinet_2, Apple_3): each one is a different instance; pick the one the task means.",
+    "Only use actions from the list, with their exact ids and names.",
+    "Read the action history and the feedback on failed actions, work out what went wrong, and do not repeat a failing action unchanged.",
+    "The task is checked in the end state only: for example, a heated object must still be where the task says once you are done.",
+)
+
+
+@lru_cache(maxsize=1)
+def load_examples() -> dict[str, tuple[str, ...]]:
+    data = json.loads(EXAMPLES_PATH.read_text(encoding="utf-8"))
+    return {key: tuple(data[key]) for key in ("general", "long_horizon")}
+
+
+def prompt_parts(subset: str) -> PromptParts:
+    examples = load_examples()
+    chosen = examples["long_horizon"] if subset == "long_horizon" else examples["general"]
+    return PromptParts(
+        role=ROLE,
+        action_rules=ACTION_RULES,
+        guidelines=GUIDELINES,
+        examples=chosen,
+        output_notes="Each executable_plan item is {\"action_id\": <id from the list>, \"action_name\": <its exact name>}.",
+    )
