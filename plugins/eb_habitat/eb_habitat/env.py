@@ -128,7 +128,7 @@ class HabitatEnv(Env):
         assert self._world is not None and self._tracker is not None
         w = self._world
         targets = {p.obj for p in self._tracker.goal if p.obj is not None}
-        visible = w.visible_items()
+        visible = w.visible_items() + ([w.held_item] if w.held_item is not None else [])
         boxes: dict[str, tuple[int, int, int, int]] = {}
         positions: dict[str, tuple[float, float, float]] = {}
         images: dict[str, Any] = {}
@@ -142,7 +142,7 @@ class HabitatEnv(Env):
                 type=it.type,
                 box=boxes.get(it.name),
                 position=positions.get(it.name),
-                label=item_label(it),
+                label=item_label(it) + (" (in hand)" if it.name == w.held else ""),
                 is_target=it.name in targets or f"?{it.type}" in targets,
             )
             for it in visible

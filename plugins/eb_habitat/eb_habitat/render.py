@@ -425,10 +425,11 @@ class ApartmentRenderer:
             raise RuntimeError("ApartmentRenderer.render() before load()")
         self.pose(world)
         images = {"first_person": self._renderer.rgb(AGENT)}
-        seg = self._renderer.segmentation(AGENT)
-        visible = set(world.items)
-        self._boxes = {k: v for k, v in self._renderer.boxes_from_segmentation(seg, min_pixels=12).items()
-                       if k in visible}
+        self._boxes = {}
+        if world.visible_items() or world.held is not None:  # the segmentation pass only matters with objects
+            seg = self._renderer.segmentation(AGENT)
+            self._boxes = {k: v for k, v in self._renderer.boxes_from_segmentation(seg, min_pixels=12).items()
+                           if k in world.items}
         if self.multi_view:
             assert self._key is not None
             sx, sy = LAYOUTS[self._key[0]].size
