@@ -908,8 +908,8 @@ def _painting(p: Parts, c: RGB) -> None:
     p.box("sky", (0.004, w - 0.055, h - 0.055), (0.012, 0, h), (0.55, 0.75, 0.95), "eb_matte")
     p.mesh("mountain", "mountain", (0.018, 0.06, h - 0.1), (0.45, 0.45, 0.55), "eb_matte",
            xyaxes=(0, 1, 0, 0, 0, 1), stretch=(1.1, 1.0, 1.0), collide=False)
-    p.ell("hill", (0.004, 0.3, 0.13), (0.02, -0.13, 0.08), (0.3, 0.62, 0.25), "eb_matte", collide=False)
-    p.ell("hill2", (0.004, 0.32, 0.1), (0.021, 0.18, 0.07), (0.22, 0.5, 0.2), "eb_matte", collide=False)
+    p.ell("hill", (0.004, 0.3, 0.1), (0.02, -0.1, 0.13), (0.3, 0.62, 0.25), "eb_matte", collide=False)
+    p.ell("hill2", (0.004, 0.25, 0.08), (0.021, 0.18, 0.12), (0.22, 0.5, 0.2), "eb_matte", collide=False)
     p.box("meadow", (0.004, w - 0.055, 0.05), (0.021, 0, 0.1), (0.35, 0.65, 0.28), "eb_matte", collide=False)
     p.cyl("sun", 0.04, 0.002, (0.02, -0.25, 0.5), (1.0, 0.85, 0.3), "eb_matte", rot=(0, 90, 0), collide=False)
 

@@ -285,11 +285,7 @@ class SceneBuilder:
             rep = (sx / 2.4, sy / 0.36)
         self._add_asset(El("material", {"name": f"eb_floor_{kind}", "texture": f"eb_tex_floor_{kind}",
                                         "texrepeat": rep, "specular": 0.3, "shininess": 0.4, "reflectance": 0.0}))
-        self._add_asset(El("texture", {"name": "eb_tex_wall", "type": "2d", "builtin": "flat", "width": 256,
-                                       "height": 256, "rgb1": (1, 1, 1), "mark": "random", "random": 0.04,
-                                       "markrgb": (0.93, 0.93, 0.93)}))
-        self._add_asset(El("material", {"name": "eb_wall", "texture": "eb_tex_wall", "texrepeat": (1.5, 1.5),
-                                        "texuniform": True, "specular": 0.05, "shininess": 0.05}))
+        self._add_asset(El("material", {"name": "eb_wall", "specular": 0.05, "shininess": 0.05}))
         self._add_asset(El("material", {"name": "eb_window", "specular": 0.9, "shininess": 1.0,
                                         "emission": 0.55}))
 
