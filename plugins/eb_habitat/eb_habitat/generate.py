@@ -139,7 +139,7 @@ def _base(rng: random.Random) -> Draft:
     t = _types(rng, 1)[0]
     scene = _new_scene(rng)
     src = rng.choice(ALL)
-    obj = scene.add(rng, t.key, at=src)
+    scene.add(rng, t.key, at=src)
     target = _other_than(rng, src)
     _fill(rng, scene, rng.randint(5, 8), {t.key})
     style = rng.random()
@@ -153,7 +153,6 @@ def _base(rng: random.Random) -> Draft:
     else:
         text = rng.choice(_BASE_PHRASES).format(o=t.name, t=receptacle(target).name, pt=_prep_the(target))
         template = "base.move"
-    del obj
     return Draft(text, scene, [_place_pred("?" + t.key, target)], template)
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import copy
 from dataclasses import dataclass
 
-from eb_habitat.catalog import RECEPTACLES, object_type, receptacle
+from eb_habitat.catalog import object_type, receptacle
 from eb_habitat.skills import SKILLS
 
 __all__ = ["HAND", "Item", "Outcome", "World", "item_label"]
@@ -193,7 +193,3 @@ class World:
             return Outcome(False, f"The {r.name} is already closed.")
         self.opened.discard(key)
         return Outcome(True, f"You closed the {r.name}.")
-
-
-def receptacle_keys() -> list[str]:
-    return [r.key for r in RECEPTACLES]
