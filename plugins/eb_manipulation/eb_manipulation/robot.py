@@ -81,6 +81,27 @@ class PandaParts:
     """File name -> bytes, passed to ``MjModel.from_xml_string(..., assets=...)``."""
 
 
+def _wrist_camera() -> tuple[str, str]:
+    """A camera on the side of the hand looking down past the fingertips (link-7 frame).
+
+    The hand is turned -45 degrees about link 7's z axis; the camera sits on the hand's x side (away from the
+    fingers' travel) and looks at a point just beyond the fingertips, its image x axis along the fingers.
+    """
+    import numpy as np
+
+    c, s = np.cos(-np.pi / 4), np.sin(-np.pi / 4)
+    hand_x, hand_y = np.array([c, s, 0.0]), np.array([-s, c, 0.0])
+    pos = hand_x * 0.055 + np.array([0.0, 0.0, 0.115])
+    look = np.array([0.0, 0.0, TCP_OFFSET + 0.06])
+    back = pos - look
+    back /= np.linalg.norm(back)  # camera z axis (MuJoCo cameras look along -z)
+    x_axis = hand_y - back * float(hand_y @ back)
+    x_axis /= np.linalg.norm(x_axis)
+    y_axis = np.cross(back, x_axis)
+    fmt = lambda v: " ".join(f"{float(t):.5f}" for t in v)  # noqa: E731
+    return fmt(pos), fmt(np.concatenate([x_axis, y_axis]))
+
+
 def _tostring(el: ET.Element) -> str:
     return ET.tostring(el, encoding="unicode")
 
@@ -135,6 +156,8 @@ def load_panda_parts(visual: bool = True) -> PandaParts:
     body = chain_root.find("body")
     if body is None:  # pragma: no cover
         raise PandaModelMissing("unexpected gymnasium-robotics Panda MJCF: no body in chain.xml")
+    for site in body.iter("site"):  # the MJCF's own sites would render as grey spheres
+        site.set("group", "5")
     if not visual:
         for b in body.iter("body"):
             for g in list(b.findall("geom")):
@@ -152,10 +175,10 @@ def load_panda_parts(visual: bool = True) -> PandaParts:
             tcp.set("group", "5")
             cam = ET.SubElement(b, "camera")
             cam.set("name", "wrist")
-            # On the hand, looking along the approach axis past the fingers.
-            cam.set("pos", "0.07 0.0 0.13")
-            cam.set("xyaxes", "0 -1 0 -1 0 0")  # z points backwards => looks along +z of link7
-            cam.set("fovy", "75")
+            pos, xyaxes = _wrist_camera()
+            cam.set("pos", pos)
+            cam.set("xyaxes", xyaxes)
+            cam.set("fovy", "70")
         # Dark grey joints/hand accents as on the real arm.
         if name in ("panda0_link7",):
             for g in b.findall("geom"):
