@@ -112,7 +112,7 @@ class World:
                     lines.append(f"The {r.name} is open.")
                 things = [_article(item_label(it)) for it in self.items_at(r.key)]
                 if things:
-                    order = " (from left to right)" if len(things) > 1 else ""
+                    order = " (from left to right)" if len(things) > 1 and not r.articulated else ""
                     lines.append(f"{r.preposition.capitalize()} the {r.name}{order}: {', '.join(things)}.")
                 else:
                     lines.append(f"There is nothing {r.preposition} the {r.name}.")
