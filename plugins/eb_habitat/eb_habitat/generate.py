@@ -306,7 +306,7 @@ def _spatial(rng: random.Random) -> Draft:
         _fill(rng, scene, rng.randint(5, 8), {t.key})
         where = rng.choice(receptacle(target).spatial)
         prep = receptacle(target).preposition
-        text = rng.choice(("Move the {o} {p} {w}.", "Put a {o} {p} {w}.", "Find the {o} and leave it {p} {w}."))
+        text = rng.choice(("Move the {o} to {w}.", "Put a {o} {p} {w}.", "Find the {o} and leave it {p} {w}."))
         text = text.format(o=t.name, p=prep, w=where)
         return Draft(text, scene, [_place_pred("?" + t.key, target)], "spatial.target")
     if style < 0.7:  # object next to another object on a receptacle
