@@ -19,6 +19,7 @@ from eb_scenekit.objects import (
     set_open,
     set_powered,
 )
+from eb_scenekit.rooms import ROOM_KINDS, RoomLayout, generate_room
 from eb_scenekit.scene import RoomShell, SceneBuilder, SceneObject, lookat_xyaxes, set_agent_pose
 
 __version__ = "0.1.0"
@@ -27,6 +28,7 @@ __all__ = [
     "CATALOGUE",
     "COLORS",
     "ObjectType",
+    "ROOM_KINDS",
     "RenderBackendError",
     "RoomLayout",
     "RoomShell",
@@ -54,13 +56,10 @@ __all__ = [
 
 
 def __getattr__(name: str) -> object:
-    # the renderer and room generator import MuJoCo / numpy-heavy code: load them on first use
+    # the renderer imports MuJoCo (after choosing a GL backend): load it on first use, so that importing the
+    # catalogue or generating room layouts stays cheap and works without OpenGL
     if name in ("SceneRenderer", "camera_from_eye", "contact_sheet", "free_camera", "save_png"):
         from eb_scenekit import render
 
         return getattr(render, name)
-    if name in ("RoomLayout", "generate_room"):
-        from eb_scenekit import rooms
-
-        return getattr(rooms, name)
     raise AttributeError(f"module 'eb_scenekit' has no attribute {name!r}")

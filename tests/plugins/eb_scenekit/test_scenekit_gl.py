@@ -52,3 +52,12 @@ def test_importing_the_renderer_without_gl_fails_clearly() -> None:
     assert last.startswith("eb_scenekit.gl.RenderBackendError")
     assert "apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri" in last
     assert "apt-get install libosmesa6" in last
+
+
+def test_catalogue_and_layouts_do_not_import_mujoco() -> None:
+    code = ("import sys, eb_scenekit; eb_scenekit.generate_room('bathroom', 0).xml; "
+            "print('mujoco' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], env=_env_without_gl(EB_SCENEKIT_FORCE_NO_GL="1"),
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "False"
