@@ -1,0 +1,57 @@
+"""Contact sheets of first-person start views: ``python -m eb_navigation.views OUT.png [task ids...]``.
+
+Used to check by eye that a person can name the target in every view (docs/img/navigation_views.png).
+"""
+
+from __future__ import annotations
+
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["contact_sheet"]
+
+
+def contact_sheet(task_ids: list[str] | None = None, out: str | Path = "navigation_views.png", cell: int = 400,
+                  cols: int = 4, multi_view: bool = False, task_file: str | None = None) -> Path:
+    from PIL import Image, ImageDraw, ImageFont
+
+    from eb_navigation.env import NavigationEnv
+
+    tasks = {t.id: t for t in NavigationEnv.load_tasks(task_file=task_file)}
+    if not task_ids:
+        task_ids = [f"base_{n:03d}" for n in range(12)]
+    env = NavigationEnv(resolution=500, multi_view=multi_view, task_file=task_file)
+    font = ImageFont.load_default(size=15)
+    label_h = 44
+    tiles = []
+    try:
+        for tid in task_ids:
+            task = tasks[tid]
+            obs = env.reset(task, 0)
+            img = Image.fromarray(obs.images["overhead" if multi_view else "first_person"]).resize((cell, cell))
+            tile = Image.new("RGB", (cell, cell + label_h), "white")
+            tile.paste(img, (0, label_h))
+            d = ImageDraw.Draw(tile)
+            meta = task.metadata
+            head = f"{tid}  ({meta['scene']['kind'].replace('_', ' ')}, target: {meta['target']['id']})"
+            d.text((4, 2), head, fill=(0, 0, 0), font=font)
+            d.text((4, 22), textwrap.shorten(task.instruction, 52), fill=(40, 40, 160), font=font)
+            tiles.append(tile)
+    finally:
+        env.close()
+    rows = (len(tiles) + cols - 1) // cols
+    sheet = Image.new("RGB", (cols * cell + (cols - 1) * 4, rows * (cell + label_h) + (rows - 1) * 4), "white")
+    for k, tile in enumerate(tiles):
+        sheet.paste(tile, ((k % cols) * (cell + 4), (k // cols) * (cell + label_h + 4)))
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    sheet.save(out, optimize=True)
+    return out
+
+
+if __name__ == "__main__":  # pragma: no cover
+    args = sys.argv[1:]
+    print(contact_sheet(args[1:] or None, args[0] if args else "navigation_views.png"))
