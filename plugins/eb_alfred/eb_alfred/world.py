@@ -313,7 +313,7 @@ class World:
         self.held = None
         self._apply_effects_on_enter(recep)
         prep = "in" if (TYPES[rtype].openable or rtype in ("SinkBasin", "BathtubBasin", "GarbageCan", "Bowl", "Cup",
-                                                            "Mug", "Pot", "Box", "LaundryHamper")) else "on"
+                                                            "Mug", "Pot", "Pan", "Box", "LaundryHamper")) else "on"
         note = ""
         if was_dirty and not o.is_dirty:
             note = " The running water washes it clean."
@@ -394,7 +394,8 @@ class World:
         elif o.type == "Faucet":
             washed = self._wash_under(name)
             if washed:
-                note = " Water runs over " + ", ".join(f"the {c}" for c in washed) + " and washes it clean."
+                note = (" Water runs over " + " and ".join(f"the {c}" for c in washed) + " and washes "
+                        + ("them" if len(washed) > 1 else "it") + " clean.")
             else:
                 note = " Water runs into the empty basin."
         elif o.type in ("DeskLamp", "FloorLamp"):

@@ -1,0 +1,111 @@
+"""The contact sheet of first-person views in the docs (``python -m eb_alfred.gallery``).
+
+It replays oracle plans of a few shipped tasks with rendering on and keeps the frame after chosen actions, so the
+sheet shows what a model sees: the found object in view, doors open or closed, objects held, sliced, inside
+receptacles, appliances on.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["views", "main"]
+
+# (task type or subset filter, room, action prefix whose frame to keep, label)
+_SHOTS = [
+    ("start", "kitchen", None, "start: middle of a kitchen"),
+    ("visual_appearance", None, "twins", "two look-alikes in view"),
+    ("cool_and_place", "kitchen", "open the Fridge", "fridge open"),
+    ("heat_and_place", "kitchen", "put down the object in hand", "in the open microwave"),
+    ("heat_and_place", "kitchen", "turn on the Microwave", "microwave closed, on"),
+    ("clean_and_place", "kitchen", "turn on the Faucet", "faucet running"),
+    ("long_horizon", "kitchen", "slice the", "sliced, knife in hand"),
+    ("pick_and_place", None, "open the Drawer", "drawer open"),
+    ("examine_in_light", "bedroom", "turn on the DeskLamp", "held under a lit desk lamp"),
+    ("examine_in_light", "living_room", "turn on the FloorLamp", "floor lamp on"),
+    ("stack_and_place", None, "carry", "carrying a dish with a thing in it"),
+    ("pick_and_place", "bathroom", "find a", "bathroom"),
+]
+
+
+def _twins_in_view(env) -> bool:
+    """Two visible instances of one pickupable type at the agent's place."""
+    from eb_alfred.catalog import TYPES
+    from eb_alfred.describe import visible_at_place
+
+    w = env.world
+    if w.place is None:
+        return False
+    seen = [n for n in visible_at_place(w, w.place) if TYPES[w.objects[n].type].pickupable]
+    types = [w.objects[n].type for n in seen]
+    return any(types.count(t) >= 2 for t in types)
+
+
+def views(resolution: int = 500) -> tuple[list[np.ndarray], list[str]]:
+    from eb_alfred.env import AlfredEnv
+
+    env = AlfredEnv(resolution=resolution, render=True)
+    tasks = AlfredEnv.load_tasks()
+    images, labels = [], []
+    used: set[str] = set()
+    try:
+        for kind, room, prefix, label in _SHOTS:
+            got = None
+            for t in tasks:
+                if t.id in used:
+                    continue
+                if kind == "start":
+                    if t.metadata["scene"]["room"] != room:
+                        continue
+                elif kind in ("visual_appearance", "long_horizon"):
+                    if t.subset != kind:
+                        continue
+                elif t.metadata["task_type"] != kind or t.subset not in ("base", "spatial_awareness"):
+                    continue
+                if room and t.metadata["scene"]["room"] != room:
+                    continue
+                obs = env.reset(t, 0)
+                if prefix is None:
+                    got = obs.images["first_person"]
+                else:
+                    names = env.action_space().actions
+                    for a in env.expert_plan() or []:
+                        name = names[a]
+                        r = env.step(a)
+                        if prefix == "twins":
+                            hit = _twins_in_view(env)
+                        elif prefix == "carry":
+                            hit = env.world.held is not None and bool(env.world.children(env.world.held))
+                        else:
+                            hit = name.startswith(prefix)
+                        if hit and r.action_success:
+                            got = r.observation.images["first_person"]
+                            label = f"{label}: {name}"
+                            break
+                if got is not None:
+                    used.add(t.id)
+                    break
+            if got is not None:
+                images.append(got)
+                labels.append(label)
+    finally:
+        env.close()
+    return images, labels
+
+
+def main(out: str = "docs/img/alfred_views.png", resolution: int = 500, scale: float = 0.5) -> Path:
+    from PIL import Image
+
+    from eb_scenekit.render import contact_sheet, save_png
+
+    images, labels = views(resolution)
+    size = int(resolution * scale)
+    small = [np.asarray(Image.fromarray(im).resize((size, size), Image.LANCZOS)) for im in images]
+    return save_png(out, contact_sheet(small, labels, cols=4, label_height=14))
+
+
+if __name__ == "__main__":
+    print("wrote", main(*sys.argv[1:2]))

@@ -1,0 +1,389 @@
+"""First-person rendering of the symbolic world with the scene kit (MuJoCo). Imported only when ``render: true``.
+
+At ``load`` the furniture is laid out along the four walls in slot order (clockwise as seen from the middle of
+the room, so "left of" in the instructions is left on screen) and every instance gets its own body. After each
+action :meth:`AlfredRenderer.render` mirrors the symbolic state without recompiling: movable objects are posed
+on/in their receptacles (or in front of the camera when held), doors and drawers are opened or closed,
+appliances switched on or off, sliced food swapped for its slices, dirty things tinted; then the agent camera is
+put in front of the place it stands at, looking at what it found.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from eb_alfred._kit_types import KIT, ensure_registered
+from eb_alfred.catalog import COLORS, TYPES
+from eb_alfred.world import World
+
+from eb_scenekit import SceneBuilder, get_type, set_agent_pose, set_open, set_powered  # noqa: E402  (picks GL first)
+from eb_scenekit._mujoco import mujoco  # noqa: E402
+from eb_scenekit.render import SceneRenderer, free_camera  # noqa: E402
+
+__all__ = ["AlfredRenderer", "Frame"]
+
+_PARTS_OF = {"SinkBasin": "Sink", "Faucet": "Sink", "BathtubBasin": "Bathtub"}
+"""Types drawn as a part of their parent (the sink's basin and tap, the bathtub's basin)."""
+_FOOD_SLICEABLE = {"Apple", "Bread", "Lettuce", "Tomato", "Potato"}
+_HIDDEN = (0.0, 0.0, -5.0)
+_DIRT = np.array([0.36, 0.27, 0.14, 1.0])
+_EYE = 1.45
+_CORNER = 0.75
+
+
+@dataclass
+class Frame:
+    images: dict[str, np.ndarray]
+    objects: list[dict[str, Any]] = field(default_factory=list)
+
+
+@dataclass
+class _Pose:
+    pos: tuple[float, float, float]
+    yaw: float
+    normal: tuple[float, float] = (0.0, -1.0)
+    """Inward wall normal (the way the furniture's front faces)."""
+
+
+def _rgb(color: str | None, fallback: str) -> tuple[float, float, float]:
+    return COLORS.get(color or "", COLORS.get(fallback, COLORS["gray"]))
+
+
+class AlfredRenderer:
+    """Builds one MuJoCo scene per task and renders the agent's view of a :class:`World`."""
+
+    def __init__(self, resolution: int = 500, multi_view: bool = False) -> None:
+        ensure_registered()
+        self.resolution = int(resolution)
+        self.multi_view = multi_view
+        self._renderer: SceneRenderer | None = None
+        self.model: Any = None
+        self.data: Any = None
+
+    # ------------------------------------------------------------------ building
+    def load(self, world: World) -> None:
+        """Lay the room out and compile it (once per task)."""
+        self.close()
+        furniture = sorted((o.slot, n) for n, o in world.objects.items() if o.parent is None)
+        names = [n for _, n in furniture]
+        widths = {n: 2 * self._half(world.objects[n].type)[1] + 0.12 for n in names}
+        depth = {n: 2 * self._half(world.objects[n].type)[0] for n in names}
+        total = sum(widths.values()) + 1.3  # + the door
+        # a room whose usable wall length (minus corners) holds every piece, about 5:4
+        sy = max(3.6, (total / 2 + 4 * _CORNER) / 2.25)
+        sx = 1.25 * sy
+        while True:
+            walls = self._fill(names, widths, sx, sy)
+            if walls is not None:
+                break
+            sx, sy = sx * 1.06, sy * 1.06
+        # keep the middle clear: deep furniture (beds) needs room
+        self.size = (round(sx, 2), round(sy, 2))
+        b = SceneBuilder(name="alfred", offscreen=(max(self.resolution, 500), max(self.resolution, 500)))
+        b.add_room(_room_kind(world.room), self.size, seed=len(names), door=("west", round(sy / 2 - 0.75, 2)),
+                   windows=[("south", 0.0)] if world.room in ("living_room", "bedroom") else [],
+                   rug=(0.9, 0.7) if world.room in ("living_room", "bedroom") else None)
+        self.poses: dict[str, _Pose] = {}
+        for wall, row in walls.items():
+            centre, along, normal = b.room.wall_frame(wall)  # type: ignore[union-attr]
+            used = sum(widths[n] for n in row)
+            t = -used / 2
+            for n in row:
+                t += widths[n] / 2
+                hx = self._half(world.objects[n].type)[0]
+                p = centre + along * t + normal * (hx + 0.02)
+                yaw = math.degrees(math.atan2(normal[1], normal[0]))
+                self.poses[n] = _Pose((float(p[0]), float(p[1]), 0.0), yaw, (float(normal[0]), float(normal[1])))
+                t += widths[n] / 2
+        self.kit_name: dict[str, str] = {}
+        for n in names:
+            o = world.objects[n]
+            kt, sc = KIT[o.type]
+            pose = self.poses[n]
+            b.add_object(kt, n, pos=pose.pos, yaw=pose.yaw, color=_rgb(o.color, "gray"), scale=sc)
+            self.kit_name[n] = n
+        # fixtures standing on furniture (microwave, toaster, coffee machine, desk lamp), and sink parts
+        for n, o in world.objects.items():
+            if o.parent is None:
+                continue
+            if o.type in _PARTS_OF:
+                self.kit_name[n] = o.parent
+                continue
+            if not TYPES[o.type].pickupable:
+                kt, sc = KIT[o.type]
+                offset = self._fixture_offset(world, n)
+                b.add_object(kt, n, pos=offset, color=_rgb(o.color, "gray"), scale=sc, parent=o.parent,
+                             surface="top")
+                self.kit_name[n] = n
+        # movable objects: placed by pose every frame; sliceable food also gets its slices (hidden)
+        for n, o in world.objects.items():
+            if not TYPES[o.type].pickupable:
+                continue
+            kt, sc = KIT[o.type]
+            b.add_object(kt, n, pos=_HIDDEN, color=_rgb(o.color, TYPES[o.type].colors[0]), scale=sc, movable=True)
+            self.kit_name[n] = n
+            if o.type in _FOOD_SLICEABLE:
+                b.add_object("AlfredSlices", f"{n}__slices", pos=_HIDDEN, color=_rgb(o.color, "red"), movable=True)
+        b.add_agent_camera("agent", pos=(0.0, 0.0), height=_EYE, fovy=60.0, marker=False)
+        self.builder = b
+        self.model, self.data = b.build()
+        self._renderer = SceneRenderer(self.model, self.data, self.resolution, self.resolution)
+        self._geoms: dict[str, list[int]] = {}
+        for g in range(self.model.ngeom):
+            gname = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, g) or ""
+            self._geoms.setdefault(gname.split("/", 1)[0], []).append(g)
+        self._orig_rgba = self.model.geom_rgba.copy()
+        self._applied: dict[tuple[str, str], Any] = {}
+        self._free_adr: dict[str, int] = {}
+        for n in list(world.objects) + [f"{n}__slices" for n in world.objects]:
+            j = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_JOINT, f"{n}/free")
+            if j >= 0:
+                self._free_adr[n] = int(self.model.jnt_qposadr[j])
+
+    @staticmethod
+    def _half(alfred_type: str) -> tuple[float, float]:
+        kt, sc = KIT[alfred_type]
+        t = get_type(kt)
+        return t.half_extents[0] * sc, t.half_extents[1] * sc
+
+    def _fill(self, names: list[str], widths: dict[str, float], sx: float, sy: float) -> dict[str, list[str]] | None:
+        """Walls in clockwise order from the middle: north (left to right), east, south, west (door at its end)."""
+        order = ["north", "east", "south", "west"]
+        room = {"north": sx, "south": sx, "east": sy, "west": sy}
+        walls: dict[str, list[str]] = {w: [] for w in order}
+        i = 0
+        for w in order:
+            free = room[w] - 2 * _CORNER - (1.3 if w == "west" else 0.0)
+            while i < len(names) and widths[names[i]] <= free:
+                walls[w].append(names[i])
+                free -= widths[names[i]]
+                i += 1
+        return walls if i == len(names) else None
+
+    def _fixture_offset(self, world: World, name: str) -> tuple[float, float]:
+        """Spread fixtures standing on one piece of furniture along its width."""
+        parent = world.objects[name].parent
+        siblings = [c for c in world.children(parent) if not TYPES[world.objects[c].type].pickupable
+                    and world.objects[c].type not in _PARTS_OF]
+        k, n = siblings.index(name), len(siblings)
+        half_w = self._half(world.objects[parent].type)[1]
+        y = (k - (n - 1) / 2) * (2 * half_w / max(n, 1)) * 0.9
+        return (-0.03, y)
+
+    # ------------------------------------------------------------------ posing
+    def _surface_frame(self, world: World, recep: str, poses: dict[str, tuple]) -> tuple[np.ndarray, float, Any, float]:
+        """World origin of a receptacle's support surface, its yaw, the Surface and the scale."""
+        kit = self.kit_name[recep]
+        o = world.objects[recep]
+        if o.type in ("SinkBasin", "BathtubBasin"):
+            kit_obj = self.builder.object(kit)
+            surf = get_type(kit_obj.type).surface("basin")
+        else:
+            kit_obj = self.builder.object(kit) if kit in self.builder._by_name else None
+            t = get_type(KIT[o.type][0])
+            surf = self._choose_surface(o.type, t)
+        if recep in poses:
+            pos, yaw = poses[recep]
+            scale = KIT[o.type][1]
+        else:
+            assert kit_obj is not None
+            pos, yaw, scale = kit_obj.position, kit_obj.yaw, kit_obj.scale
+        c, s = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+        lx, ly = surf.center[0] * scale, surf.center[1] * scale
+        if o.type == "Drawer" and o.is_open:
+            lx += 0.3 * scale
+        origin = np.array([pos[0] + c * lx - s * ly, pos[1] + s * lx + c * ly, pos[2] + surf.z * scale])
+        return origin, yaw, surf, scale
+
+    @staticmethod
+    def _choose_surface(alfred_type: str, kit_t: Any) -> Any:
+        from eb_scenekit import Surface
+
+        if not kit_t.surfaces:  # a kit shape without a support surface: use its top
+            hx, hy = kit_t.half_extents
+            return Surface("top", kit_t.height, (hx * 0.5, hy * 0.5))
+        names = [s.name for s in kit_t.surfaces]
+        for pref in ("interior", "shelf_1", "board_1", "basin", "seat", "top", "bar", "ring", "arm"):
+            if pref in names and not (alfred_type in ("Cabinet",) and pref == "top"):
+                return kit_t.surface(pref)
+        return kit_t.surfaces[0]
+
+    def _object_poses(self, world: World) -> dict[str, tuple[tuple[float, float, float], float]]:
+        """World (pos, yaw) of every movable instance that is not in hand, parents before children."""
+        poses: dict[str, tuple[tuple[float, float, float], float]] = {}
+
+        def place_children(recep: str) -> None:
+            kids = [c for c in world.children(recep) if TYPES[world.objects[c].type].pickupable]
+            if not kids:
+                return
+            origin, yaw, surf, scale = self._surface_frame(world, recep, poses)
+            hx, hy = surf.half_extents[0] * scale, surf.half_extents[1] * scale
+            n = len(kids)
+            cols = max(1, math.ceil(math.sqrt(n * max(hy, 0.01) / max(hx, 0.01))))
+            rows = math.ceil(n / cols)
+            c, s = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+            for k, kid in enumerate(kids):
+                r, q = divmod(k, cols)
+                ly = (q - (cols - 1) / 2) * (2 * hy / cols) * 0.9 if cols > 1 else 0.0
+                lx = (((rows - 1) / 2 - r) * (2 * hx / rows) * 0.8) if rows > 1 else 0.0
+                lift = 0.07 if world.objects[recep].type in ("SinkBasin", "BathtubBasin") else 0.002
+                p = (float(origin[0] + c * lx - s * ly), float(origin[1] + s * lx + c * ly), float(origin[2]) + lift)
+                poses[kid] = (p, yaw + (20.0 if TYPES[world.objects[kid].type].size == 1 else 0.0))
+                place_children(kid)
+
+        for n, o in world.objects.items():
+            if o.parent is None and not TYPES[o.type].pickupable:
+                place_children(n)
+                for c in world.children(n):
+                    if world.objects[c].type in _PARTS_OF or not TYPES[world.objects[c].type].pickupable:
+                        place_children(c)
+        # things on the floor: in front of the furniture they were dropped at
+        floor = [n for n, o in world.objects.items() if o.parent is None and o.floor_at is not None
+                 and not world.is_held(n)]
+        for k, n in enumerate(floor):
+            base = self.poses.get(world.objects[n].floor_at or "", _Pose((0.0, 0.0, 0.0), 0.0, (1.0, 0.0)))
+            hx = self._half(world.objects[world.objects[n].floor_at].type)[0] if world.objects[n].floor_at in self.poses else 0
+            nx, ny = base.normal
+            p = (base.pos[0] + nx * (2 * hx + 0.25) - ny * 0.15 * k, base.pos[1] + ny * (2 * hx + 0.25) + nx * 0.15 * k, 0.0)
+            poses[n] = (p, base.yaw)
+            place_children(n)
+        return poses
+
+    def _camera(self, world: World) -> tuple[np.ndarray, np.ndarray]:
+        """Eye position and look-at point."""
+        if world.place is None or world.place not in self.poses:
+            sx, sy = self.size
+            return np.array([0.0, -sy * 0.3, 1.6]), np.array([0.0, sy / 2, 0.9])
+        pose = self.poses[world.place]
+        hx, hy = self._half(world.objects[world.place].type)
+        height = get_type(KIT[world.objects[world.place].type][0]).height
+        n = np.array(pose.normal)
+        front = np.array(pose.pos[:2]) + n * hx
+        dist = max(0.95, 0.9 * hy + 0.5, 0.7 * height)
+        eye = np.array([*(front + n * dist), _EYE if height > 0.5 else 1.3])
+        target = self._look_at_point(world, front, height)
+        return eye, target
+
+    def _look_at_point(self, world: World, front: np.ndarray, height: float) -> np.ndarray:
+        """What the camera looks at: the found object, or its closed container, or the place itself."""
+        focus = world.facing
+        if focus is not None and not world.is_held(focus):
+            hidden_in = world.closed_container(focus)
+            target = hidden_in or focus
+            pose = self._last_poses.get(target)
+            if pose is not None:
+                return np.array([pose[0][0], pose[0][1], pose[0][2] + 0.05])
+            if world.objects[target].type in ("SinkBasin", "BathtubBasin", "Faucet"):
+                so = self.builder.object(self.kit_name[target])
+                z = get_type(so.type).surfaces[0].z * so.scale if get_type(so.type).surfaces else 0.9
+                return np.array([so.position[0], so.position[1], so.position[2] + z])
+            if target != world.place and target in self.builder._by_name and target not in self.poses:
+                so = self.builder.object(target)
+                return np.array([so.position[0], so.position[1], so.position[2] + so.height * 0.5])
+        pose0 = self.poses[world.place]  # type: ignore[index]
+        return np.array([pose0.pos[0], pose0.pos[1], min(height * 0.65, 1.1)])
+
+    # ------------------------------------------------------------------ frame
+    def render(self, world: World) -> Frame:
+        assert self._renderer is not None, "call load() first"
+        m, d = self.model, self.data
+        poses = self._object_poses(world)
+        self._last_poses = poses
+        eye, target = self._camera(world)
+        fwd = target - eye
+        yaw = math.degrees(math.atan2(fwd[1], fwd[0]))
+        pitch = math.degrees(math.atan2(fwd[2], math.hypot(fwd[0], fwd[1])))
+        # held object: low in the right of the view, whatever the camera's pitch
+        if world.held is not None:
+            cy, sy_, cp, sp = (math.cos(math.radians(yaw)), math.sin(math.radians(yaw)),
+                               math.cos(math.radians(pitch)), math.sin(math.radians(pitch)))
+            f = np.array([cp * cy, cp * sy_, sp])
+            right = np.array([sy_, -cy, 0.0])
+            up = np.cross(right, f)
+            size = max(self._half(world.objects[world.held].type))
+            hp = eye + f * (0.42 + 1.2 * size) + right * 0.13 - up * (0.13 + 0.3 * size)
+            poses[world.held] = ((float(hp[0]), float(hp[1]), float(hp[2])), yaw + 60.0)
+            for c in world.descendants(world.held):
+                poses[c] = ((float(hp[0]), float(hp[1]), float(hp[2]) + 0.03), yaw)
+        for n, adr in self._free_adr.items():
+            if n.endswith("__slices"):
+                base = n[: -len("__slices")]
+                show = world.objects[base].is_sliced and base in poses
+                p, yw = poses[base] if show else (_HIDDEN, 0.0)
+            else:
+                sliced = world.objects[n].is_sliced and world.objects[n].type in _FOOD_SLICEABLE
+                p, yw = poses[n] if (n in poses and not sliced) else (_HIDDEN, 0.0)
+            d.qpos[adr:adr + 3] = p
+            h = math.radians(yw) / 2
+            d.qpos[adr + 3:adr + 7] = (math.cos(h), 0.0, 0.0, math.sin(h))
+        for n, o in world.objects.items():
+            t = TYPES[o.type]
+            kit = self.kit_name.get(n)
+            if kit is None:
+                continue
+            if t.openable and self._changed((n, "open"), o.is_open):
+                try:
+                    set_open(m, d, kit, 1.0 if o.is_open else 0.0)
+                except KeyError:
+                    pass
+            if t.toggleable and self._changed((n, "on"), o.is_on):
+                try:
+                    set_powered(m, kit, o.is_on)
+                except KeyError:
+                    pass
+            if t.dirtyable and self._changed((n, "dirty"), o.is_dirty):
+                for g in self._geoms.get(n, []):
+                    orig = self._orig_rgba[g]
+                    m.geom_rgba[g] = orig * 0.45 + _DIRT * 0.55 if o.is_dirty else orig
+                    m.geom_rgba[g][3] = orig[3]
+        set_agent_pose(m, d, "agent", (float(eye[0]), float(eye[1]), float(eye[2])), yaw=yaw, pitch=pitch)
+        images = {"first_person": self._renderer.rgb("agent")}
+        if self.multi_view:
+            sx, sy = self.size
+            cam = free_camera((0.0, 0.0, 0.5), max(sx, sy) * 1.25, 90.0, -75.0)
+            images["overhead"] = self._renderer.rgb(cam)
+        return Frame(images=images, objects=self._objects(world, poses))
+
+    def _objects(self, world: World, poses: dict[str, tuple]) -> list[dict[str, Any]]:
+        boxes = self._renderer.boxes("agent") if self._renderer is not None else {}
+        out = []
+        for name, box in boxes.items():
+            base = name[: -len("__slices")] if name.endswith("__slices") else name
+            if base not in world.objects:
+                continue
+            pos = poses.get(base)
+            out.append({"name": base, "type": world.objects[base].type, "box": tuple(int(v) for v in box),
+                        "position": tuple(round(v, 3) for v in pos[0]) if pos else None})
+        return out
+
+    def _changed(self, key: tuple[str, str], value: Any) -> bool:
+        if self._applied.get(key, object()) == value:
+            return False
+        self._applied[key] = value
+        return True
+
+    def raw_render_ms(self, repeats: int = 5) -> float:
+        """Median time of one bare RGB render of the current scene (no state sync), in milliseconds."""
+        import time
+
+        assert self._renderer is not None
+        times = []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            self._renderer.rgb("agent")
+            times.append((time.perf_counter() - t0) * 1000)
+        return float(np.median(times))
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+        self.model = self.data = None
+
+
+def _room_kind(room: str) -> str:
+    return room
