@@ -78,7 +78,7 @@ def _episode(n: int, rec: dict[str, Any], with_feedback: bool, plain_names: bool
     plan = expert_plan(world, goal)
     if not plan or (plain_names and any("_" in a.split()[-1] for a in plan)):
         return None  # general examples use unsuffixed names, whose ids are the same in every scene
-    head = f"Example {n}\nInstruction: {rec['instruction']}\n"
+    head = f"Instruction: {rec['instruction']}\n"
     skip = _mistake(plan) if with_feedback else None
     if skip is None:
         return head + "Answer: " + _answer(world, goal, plan)

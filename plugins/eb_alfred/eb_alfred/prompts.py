@@ -23,8 +23,7 @@ ROLE = (
     "that completes the task and answer with it."
 )
 
-ACTION_RULES = """How the skills work:
-- "find a X": walk to X and face it. You can only act on things at the place you are standing, so find an object before you pick it up, open it, switch it or slice it. If X is inside a closed container you are taken to that container, but you cannot see or take X until you open it.
+ACTION_RULES = """- "find a X": walk to X and face it. You can only act on things at the place you are standing, so find an object before you pick it up, open it, switch it or slice it. If X is inside a closed container you are taken to that container, but you cannot see or take X until you open it.
 - "pick up the X": take X in your hand. You can hold one object at a time, and a closed container hides and blocks what is inside it.
 - "put down the object in hand": place what you hold in or on the receptacle you last found (or the receptacle holding the object you last found). A sink takes it into its basin. A closed receptacle must be opened first, and a small receptacle only takes small things.
 - "drop the object in hand": let go of what you hold; it falls on the floor where you stand.
@@ -36,11 +35,9 @@ When a room has several things of one kind they carry number suffixes: "Cabinet"
 
 GUIDELINES = (
     "Always give a non-empty plan; an empty plan ends the episode as if you were finished.",
-    "Keep a plan to at most 20 actions.",
     "Find an object before interacting with it, and open closed containers before taking things out or putting things in.",
     "You hold one object at a time: put down or drop what you hold before picking up something else.",
     "Pay attention to number suffixes (Cabinet_2, Apple_3): each one is a different instance; pick the one the task means.",
-    "Only use actions from the list, with their exact ids and names.",
     "Read the action history and the feedback on failed actions, work out what went wrong, and do not repeat a failing action unchanged.",
     "The task is checked in the end state only: for example, a heated object must still be where the task says once you are done.",
 )
@@ -60,5 +57,7 @@ def prompt_parts(subset: str) -> PromptParts:
         action_rules=ACTION_RULES,
         guidelines=GUIDELINES,
         examples=chosen,
-        output_notes="Each executable_plan item is {\"action_id\": <id from the list>, \"action_name\": <its exact name>}.",
+        output_notes=("Take action ids from the current action list. The ids of unnumbered names (find a Fridge) are the "
+                      "same in every room; numbered names (Cabinet_3) get room-specific ids, so ids in the examples "
+                      "may differ from yours."),
     )
