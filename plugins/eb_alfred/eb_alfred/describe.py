@@ -63,6 +63,21 @@ def _contents(world: World, name: str) -> str:
     return ", ".join(looks(world, c) for c in kids)
 
 
+def _nested(world: World, name: str) -> str:
+    """``looks`` of ``name`` followed by what it visibly holds, recursively (closed things hide their contents)."""
+    o = world.objects[name]
+    t = TYPES[o.type]
+    desc = looks(world, name)
+    if not t.receptacle and not world.children(name):
+        return desc
+    if t.openable and not o.is_open:
+        return desc + ", its contents hidden"
+    kids = [c for c in world.children(name) if not world.is_held(c)]
+    if kids:
+        return desc + " holding [" + ", ".join(_nested(world, c) for c in kids) + "]"
+    return desc + ", empty" if o.parent is None else desc
+
+
 def describe(world: World) -> str:
     """One short paragraph for the current state."""
     room = world.room.replace("_", " ")
@@ -75,7 +90,10 @@ def describe(world: World) -> str:
     else:
         order = [n for _, n in furniture]
         place = world.place
-        lines.append(f"You are in a {room}, at the {place}, facing the {world.facing or place}.")
+        facing = world.facing or place
+        if not world.is_held(facing):
+            facing = world.closed_container(facing) or facing  # a hidden thing cannot be seen
+        lines.append(f"You are in a {room}, at the {place}, facing the {facing}.")
         if place in order:
             i = order.index(place)
             left = order[i - 1] if i > 0 else None
@@ -87,25 +105,10 @@ def describe(world: World) -> str:
                 nb.append(f"to your right is the {right}")
             if nb:
                 lines.append("Next to you: " + " and ".join(nb) + ".")
-        seen = visible_at_place(world, place)
-        parts = []
-        for n in seen:
-            o = world.objects[n]
-            desc = looks(world, n)
-            if TYPES[o.type].receptacle:
-                inside = _contents(world, n) if not (TYPES[o.type].openable and not o.is_open) else ""
-                if inside:
-                    desc += f" holding {inside}"
-                elif TYPES[o.type].openable and not o.is_open:
-                    desc += ", its contents hidden"
-                elif TYPES[o.type].receptacle and o.parent is None:
-                    desc += ", empty"
-            if o.floor_at is not None and o.parent is None:
-                desc += " on the floor"
-            parts.append(desc)
-        # Only the place itself and things directly visible as separate entries; contents are nested above.
-        top = [p for n, p in zip(seen, parts) if world.objects[n].parent in (None, place) or n == place]
-        lines.append("You see: " + "; ".join(top) + ".")
+        parts = [_nested(world, place)]
+        parts += [_nested(world, n) + " on the floor" for n, o in world.objects.items()
+                  if o.floor_at == place and o.parent is None and not world.is_held(n)]
+        lines.append("You see: " + "; ".join(parts) + ".")
     if world.held is None:
         lines.append("Your hand is empty.")
     else:

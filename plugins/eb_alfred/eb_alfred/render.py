@@ -92,7 +92,9 @@ class AlfredRenderer:
             centre, along, normal = b.room.wall_frame(wall)  # type: ignore[union-attr]
             used = sum(widths[n] for n in row)
             t = -used / 2
-            for n in row:
+            # rows run left to right as seen from the middle of the room: along +x on the north wall and +y on
+            # the west wall, the other way round on the east and south walls
+            for n in (row if wall in ("north", "west") else list(reversed(row))):
                 t += widths[n] / 2
                 hx = self._half(world.objects[n].type)[0]
                 p = centre + along * t + normal * (hx + 0.02)
@@ -131,6 +133,10 @@ class AlfredRenderer:
         b.add_agent_camera("agent", pos=(0.0, 0.0), height=_EYE, fovy=60.0, marker=False)
         self.builder = b
         self.model, self.data = b.build()
+        # nothing is simulated (the symbolic world decides), so skip collision detection: mj_forward, called on
+        # every pose, door or camera change, stays cheap even with dozens of objects in one cupboard
+        self.model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+        mujoco.mj_forward(self.model, self.data)
         self._renderer = SceneRenderer(self.model, self.data, self.resolution, self.resolution)
         self._geoms: dict[str, list[int]] = {}
         for g in range(self.model.ngeom):
@@ -230,6 +236,8 @@ class AlfredRenderer:
                 r, q = divmod(k, cols)
                 ly = (q - (cols - 1) / 2) * (2 * hy / cols) * 0.9 if cols > 1 else 0.0
                 lx = (((rows - 1) / 2 - r) * (2 * hx / rows) * 0.8) if rows > 1 else 0.0
+                if world.closed_container(kid) is not None:
+                    continue  # closed receptacles hide what is inside (tall things would poke through)
                 lift = 0.07 if world.objects[recep].type in ("SinkBasin", "BathtubBasin") else 0.002
                 p = (float(origin[0] + c * lx - s * ly), float(origin[1] + s * lx + c * ly), float(origin[2]) + lift)
                 poses[kid] = (p, yaw + (20.0 if TYPES[world.objects[kid].type].size == 1 else 0.0))
