@@ -25,6 +25,8 @@ HELD_TOL = 0.010
 """A held object may press into the table or other objects by up to 1 cm (a sponge is soft; the
 simulation settles small overlaps after release)."""
 WORSEN_TOL = 0.003
+MAX_REACH = 1.02
+"""No tool pose farther than this from the shoulder (joint 2) is reachable (sampled maximum: 0.98 m)."""
 """A contact present at the start of a motion is tolerated while it gets no deeper than this."""
 
 
@@ -96,10 +98,14 @@ class Arm:
         self.left_geoms = {g for g in self.robot_geoms if model.geom_bodyid[g] == left}
         self.right_geoms = {g for g in self.robot_geoms if model.geom_bodyid[g] == right}
         self.table_geom = model.geom("table").id
+        mujoco.mj_kinematics(model, data)
+        self.shoulder = data.xpos[model.body("panda0_link2").id].copy()
         self.geom_owner = geom_owner
         self.rest = None  # set by the world: the comfortable posture for the null-space pull
         self._jacp = np.zeros((3, model.nv))
         self._jacr = np.zeros((3, model.nv))
+        self._w = np.array([1.0, 1.0, 1.0, 0.77, 0.77, 0.77])  # rotation error weighs 0.6 (= 0.77^2)
+        self._damp = 0.03 ** 2 * np.eye(6)
 
     def _descends(self, b: int, ancestor: int) -> bool:
         while b != 0:
@@ -136,30 +142,42 @@ class Arm:
     def ik(self, p: np.ndarray, R: np.ndarray, q0: np.ndarray, iters: int = 150,
            pos_tol: float = 1.5e-3, rot_tol: float = 0.015, null_gain: float = 0.05) -> np.ndarray | None:
         """Joint vector reaching pose (p, R) starting from ``q0``, or None. Leaves ``d.qpos`` at the result."""
-        q = np.clip(q0.astype(float).copy(), self.lo, self.hi)
-        rest = self.rest if self.rest is not None else q0
-        lam2 = 0.03 ** 2
-        for _ in range(iters):
-            self.set_q(q)
-            mujoco.mj_kinematics(self.m, self.d)
-            mujoco.mj_comPos(self.m, self.d)
-            pc, Rc = self.tcp()
-            ep = p - pc
-            er = rotvec_between(Rc, R)
-            if np.linalg.norm(ep) < pos_tol and np.linalg.norm(er) < rot_tol:
+        m, d = self.m, self.d
+        q = np.clip(np.asarray(q0, dtype=float), self.lo, self.hi)
+        rest = self.rest if self.rest is not None else q
+        q_goal, q_cur, q_err, er = np.empty(4), np.empty(4), np.empty(4), np.empty(3)
+        mujoco.mju_mat2Quat(q_goal, np.ascontiguousarray(R, dtype=float).ravel())
+        w = self._w
+        checkpoint = np.inf
+        d.qvel[self.dadr] = 0.0
+        for it in range(iters):
+            d.qpos[self.qadr] = q
+            mujoco.mj_kinematics(m, d)
+            ep = p - d.site_xpos[self.site]
+            mujoco.mju_mat2Quat(q_cur, d.site_xmat[self.site])
+            mujoco.mju_negQuat(q_cur, q_cur)
+            mujoco.mju_mulQuat(q_err, q_goal, q_cur)
+            if q_err[0] < 0:
+                q_err *= -1.0
+            mujoco.mju_quat2Vel(er, q_err, 1.0)
+            pe, re = math.sqrt(ep @ ep), math.sqrt(er @ er)
+            if pe < pos_tol and re < rot_tol:
                 return q
-            mujoco.mj_jacSite(self.m, self.d, self._jacp, self._jacr, self.site)
-            J = np.vstack([self._jacp[:, self.dadr], self._jacr[:, self.dadr]])
-            e = np.concatenate([ep, 0.6 * er])
-            W = np.diag([1, 1, 1, 0.6, 0.6, 0.6])
-            Jw = W @ J
-            JJt = Jw @ Jw.T + lam2 * np.eye(6)
-            dq = Jw.T @ np.linalg.solve(JJt, e)
-            # null-space pull toward the rest posture, and away from joint limits
-            Jpinv = Jw.T @ np.linalg.solve(JJt, np.eye(6))
-            N = np.eye(7) - Jpinv @ Jw
-            dq += N @ (null_gain * (rest - q))
-            step = np.max(np.abs(dq))
+            if it % 12 == 11:  # give up on a seed that has stopped making progress
+                err = pe + 0.1 * re
+                if err > 0.85 * checkpoint and err > 0.02:
+                    return None
+                checkpoint = err
+            mujoco.mj_comPos(m, d)
+            mujoco.mj_jacSite(m, d, self._jacp, self._jacr, self.site)
+            Jw = np.vstack([self._jacp[:, self.dadr], self._jacr[:, self.dadr]]) * w[:, None]
+            e = np.concatenate([ep, er]) * w * w
+            A = np.linalg.inv(Jw @ Jw.T + self._damp)
+            JtA = Jw.T @ A
+            dq = JtA @ e
+            # null-space pull toward the rest posture
+            dq += null_gain * ((rest - q) - JtA @ (Jw @ (rest - q)))
+            step = float(np.max(np.abs(dq)))
             if step > 0.25:
                 dq *= 0.25 / step
             q = np.clip(q + dq, self.lo, self.hi)
@@ -167,6 +185,8 @@ class Arm:
 
     def solve(self, p: np.ndarray, R: np.ndarray, q_start: np.ndarray) -> np.ndarray | None:
         """IK from several seeds; the converged solution closest to ``q_start``."""
+        if np.linalg.norm(p - self.shoulder) > MAX_REACH:
+            return None
         seeds = [q_start]
         if self.rest is not None:
             r = self.rest.copy()
@@ -196,7 +216,7 @@ class Arm:
     def _extra_seeds(self) -> np.ndarray:
         if not hasattr(self, "_seeds"):
             rng = np.random.default_rng(20240607)
-            self._seeds = rng.uniform(self.lo + 0.1, self.hi - 0.1, size=(8, 7))
+            self._seeds = rng.uniform(self.lo + 0.1, self.hi - 0.1, size=(5, 7))
         return self._seeds
 
     # --- collisions -------------------------------------------------------------------------------------

@@ -44,7 +44,7 @@ larger y, front = nearer the camera (larger x), back = nearer the robot (smaller
 
 GUIDELINES = (
     "Always give at least one action: an empty plan ends the episode.",
-    "A plan may hold up to 20 actions, but an episode allows only 15 actions in total, so plan economically.",
+    "An episode allows only 15 actions in total, so plan economically.",
     "Use the listed coordinates; they are more exact than what you can estimate from the image.",
     "Approach from above: go over an object with the gripper open, lower to its centre, close, and lift before "
     "moving sideways.",
