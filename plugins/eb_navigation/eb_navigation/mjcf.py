@@ -168,7 +168,7 @@ def layout_to_mjcf(layout: Layout, resolution: int = 500) -> str:
                       f'euler="0 0 {obj.yaw % 4 * 90}">{geoms}</body>')
 
     # Overhead camera: straight down over the room centre, high enough to see the whole floor.
-    half = max(W, D) / 2 + 0.3
+    half = max(W, D) / 2 + 0.7
     cam_h = half / math.tan(math.radians(OVERHEAD_FOVY / 2))
     extent = math.hypot(W, D)
     lights = []

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["contact_sheet"]
+__all__ = ["contact_sheet", "subsets_sheet"]
 
 
 def contact_sheet(task_ids: list[str] | None = None, out: str | Path = "navigation_views.png", cell: int = 400,
@@ -46,6 +46,44 @@ def contact_sheet(task_ids: list[str] | None = None, out: str | Path = "navigati
     sheet = Image.new("RGB", (cols * cell + (cols - 1) * 4, rows * (cell + label_h) + (rows - 1) * 4), "white")
     for k, tile in enumerate(tiles):
         sheet.paste(tile, ((k % cols) * (cell + 4), (k // cols) * (cell + label_h + 4)))
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    sheet.save(out, optimize=True)
+    return out
+
+
+def subsets_sheet(numbers: tuple[int, ...] = (1, 6, 9), out: str | Path = "navigation_subsets.png",
+                  cell: int = 360) -> Path:
+    """Rows of one room each: base, visual_appearance and long_horizon start views, then the overhead view."""
+    from PIL import Image, ImageDraw, ImageFont
+
+    from eb_navigation.env import NavigationEnv
+
+    tasks = {t.id: t for t in NavigationEnv.load_tasks()}
+    env = NavigationEnv(resolution=500, multi_view=True)
+    font = ImageFont.load_default(size=14)
+    label_h = 40
+    rows = []
+    try:
+        for n in numbers:
+            tiles = []
+            for subset, key in (("base", "first_person"), ("visual_appearance", "first_person"),
+                                ("long_horizon", "first_person"), ("visual_appearance", "overhead")):
+                task = tasks[f"{subset}_{n:03d}"]
+                obs = env.reset(task, 0)
+                tile = Image.new("RGB", (cell, cell + label_h), "white")
+                tile.paste(Image.fromarray(obs.images[key]).resize((cell, cell)), (0, label_h))
+                d = ImageDraw.Draw(tile)
+                d.text((4, 2), f"{task.id} ({key.replace('_', ' ')})", fill=(0, 0, 0), font=font)
+                d.text((4, 20), textwrap.shorten(task.instruction, 50), fill=(40, 40, 160), font=font)
+                tiles.append(tile)
+            rows.append(tiles)
+    finally:
+        env.close()
+    sheet = Image.new("RGB", (4 * cell + 12, len(rows) * (cell + label_h + 4) - 4), "white")
+    for r, tiles in enumerate(rows):
+        for c, tile in enumerate(tiles):
+            sheet.paste(tile, (c * (cell + 4), r * (cell + label_h + 4)))
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     sheet.save(out, optimize=True)
