@@ -34,8 +34,8 @@ TABLE_X = (-0.55, 0.78)
 TABLE_Y = (-0.75, 0.75)
 ROBOT_BASE = (-0.3, 0.0, TABLE_TOP)
 """Where the Panda's base stands; the red coordinate frame in the front image is drawn here."""
-FRONT_CAMERA_POS = (0.95, 0.0, 1.80)
-FRONT_CAMERA_TARGET = (0.11, 0.0, 0.81)
+FRONT_CAMERA_POS = (1.0, 0.0, 1.78)
+FRONT_CAMERA_TARGET = (0.06, 0.0, 0.88)
 FRONT_FOVY = 42
 
 
@@ -193,9 +193,9 @@ def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) ->
             bodies.append(
                 f'<body name="{obj.id}" pos="{_fmt((*pos_xy, z))}" quat="{_fmt(quat)}">'
                 f'<freejoint name="{obj.id}:joint"/>'
-                f'<geom name="{obj.id}#0" type="box" size="{sx} {sy} {sz - top / 2}" pos="0 0 {-top / 2}" {world} '
+                f'<geom name="{obj.id}#0" type="box" size="{sx} {sy} {sz - top / 2}" pos="0 0 {top / 2}" {world} '
                 f'rgba="0.98 0.84 0.20 1" friction="1.2 0.02 0.001" density="150" solref="0.004 1"/>'
-                f'<geom name="{obj.id}#1" type="box" size="{sx} {sy} {top / 2}" pos="0 0 {sz - top / 2}" {world} '
+                f'<geom name="{obj.id}#1" type="box" size="{sx} {sy} {top / 2}" pos="0 0 {-sz + top / 2}" {world} '
                 f'rgba="0.10 0.55 0.20 1" friction="1.2 0.02 0.001" density="150" solref="0.004 1"/>'
                 f"</body>")
             free.append(obj.id)

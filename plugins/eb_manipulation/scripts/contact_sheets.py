@@ -1,0 +1,63 @@
+"""Contact sheets for the docs: front and wrist images of one task per family, before/during/after.
+
+Usage: python plugins/eb_manipulation/scripts/contact_sheets.py [out_dir] [resolution]
+Writes <out_dir>/manipulation_<family>.png (default out_dir: docs/img of the repository).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+from PIL import Image, ImageDraw, ImageFont
+
+from eb_manipulation.env import ManipulationEnv
+
+TASKS = {"pick": "base_pick_00", "stack": "base_stack_01", "sorter": "base_sorter_00", "wipe": "base_wipe_00"}
+#: After which oracle action the "during" frame is taken (the object is held then).
+DURING = {"pick": 4, "stack": 4, "sorter": 5, "wipe": 5}
+
+
+def _caption(img: np.ndarray, text: str) -> np.ndarray:
+    pil = Image.fromarray(img)
+    draw = ImageDraw.Draw(pil)
+    font = ImageFont.load_default(size=max(12, img.shape[0] // 28))
+    tb = draw.textbbox((0, 0), text, font=font)
+    draw.rectangle([0, img.shape[0] - (tb[3] - tb[1]) - 10, tb[2] - tb[0] + 12, img.shape[0]], fill=(0, 0, 0))
+    draw.text((6, img.shape[0] - (tb[3] - tb[1]) - 6 - tb[1]), text, fill=(255, 255, 255), font=font)
+    return np.asarray(pil)
+
+
+def main(out_dir: Path, resolution: int) -> None:
+    env = ManipulationEnv(resolution=resolution, multi_view=True)
+    tasks = {t.id: t for t in env.load_tasks()}
+    out_dir.mkdir(parents=True, exist_ok=True)
+    try:
+        for family, task_id in TASKS.items():
+            obs = env.reset(tasks[task_id], 0)
+            frames = [(obs, "start")]
+            plan = env.expert_plan() or []
+            result = None
+            for i, action in enumerate(plan, start=1):
+                result = env.step(action)
+                if i == DURING[family]:
+                    frames.append((result.observation, f"after action {i}"))
+                if result.done:
+                    break
+            assert result is not None and result.task_success, task_id
+            frames.append((result.observation, f"solved after {i} actions"))
+            top = np.hstack([_caption(o.images["front"], f"front, {c}") for o, c in frames])
+            bottom = np.hstack([_caption(o.images["wrist"], f"wrist, {c}") for o, c in frames])
+            sheet = Image.fromarray(np.vstack([top, bottom]))
+            path = out_dir / f"manipulation_{family}.png"
+            sheet.save(path, optimize=True)
+            print(f"{path}  ({path.stat().st_size // 1024} KB)  {tasks[task_id].instruction}")
+    finally:
+        env.close()
+
+
+if __name__ == "__main__":
+    root = Path(__file__).resolve().parents[3]
+    out = Path(sys.argv[1]) if len(sys.argv) > 1 else root / "docs" / "img"
+    main(out, int(sys.argv[2]) if len(sys.argv) > 2 else 400)
