@@ -15,7 +15,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from eb_alfred.catalog import LAMPS, TYPES
 from eb_alfred.world import World
 
 __all__ = ["Condition", "GOAL_KINDS", "conditions", "matches", "candidates", "evaluate", "PROPERTY_OF_KIND"]
@@ -134,22 +133,3 @@ def evaluate(goal: dict[str, Any], world: World) -> tuple[bool, float, list[bool
     flags = [c.check(world) for c in conds]
     met = sum(flags)
     return met == len(flags), met / len(flags), flags
-
-
-def goal_refs_valid(goal: dict[str, Any]) -> str | None:
-    """A reason string if the goal's types are unknown or the kind lacks a field; None if fine."""
-    kind = goal.get("kind")
-    if kind not in GOAL_KINDS:
-        return f"kind must be one of {', '.join(GOAL_KINDS)}"
-    need = {"examine_in_light": ("object", "lamp"), "stack_and_place": ("object", "movable", "receptacle")}.get(
-        kind, ("object", "receptacle"))
-    for key in need:
-        if key not in goal or not isinstance(goal[key], dict):
-            return f"{key} is required for {kind}"
-        ref = goal[key]
-        t = ref.get("type") or ref.get("instance", "").split("_")[0]
-        if t not in TYPES:
-            return f"{key} names unknown type {t!r}"
-        if key == "lamp" and t not in LAMPS:
-            return f"lamp must be one of {LAMPS}"
-    return None

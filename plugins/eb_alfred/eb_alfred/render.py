@@ -71,7 +71,6 @@ class AlfredRenderer:
         furniture = sorted((o.slot, n) for n, o in world.objects.items() if o.parent is None)
         names = [n for _, n in furniture]
         widths = {n: 2 * self._half(world.objects[n].type)[1] + 0.12 for n in names}
-        depth = {n: 2 * self._half(world.objects[n].type)[0] for n in names}
         total = sum(widths.values()) + 1.3  # + the door
         # a room whose usable wall length (minus corners) holds every piece, about 5:4
         sy = max(3.6, (total / 2 + 4 * _CORNER) / 2.25)
@@ -84,7 +83,7 @@ class AlfredRenderer:
         # keep the middle clear: deep furniture (beds) needs room
         self.size = (round(sx, 2), round(sy, 2))
         b = SceneBuilder(name="alfred", offscreen=(max(self.resolution, 500), max(self.resolution, 500)))
-        b.add_room(_room_kind(world.room), self.size, seed=len(names), door=("west", round(sy / 2 - 0.75, 2)),
+        b.add_room(world.room, self.size, seed=len(names), door=("west", round(sy / 2 - 0.75, 2)),
                    windows=[("south", 0.0)] if world.room in ("living_room", "bedroom") else [],
                    rug=(0.9, 0.7) if world.room in ("living_room", "bedroom") else None)
         self.poses: dict[str, _Pose] = {}
@@ -150,6 +149,13 @@ class AlfredRenderer:
             if j >= 0:
                 self._free_adr[n] = int(self.model.jnt_qposadr[j])
 
+    def _kit_obj(self, name: str) -> Any:
+        """The scene kit's record of a static instance, or None for movable/absent ones."""
+        try:
+            return self.builder.object(name)
+        except KeyError:
+            return None
+
     @staticmethod
     def _half(alfred_type: str) -> tuple[float, float]:
         kt, sc = KIT[alfred_type]
@@ -189,7 +195,7 @@ class AlfredRenderer:
             kit_obj = self.builder.object(kit)
             surf = get_type(kit_obj.type).surface("basin")
         else:
-            kit_obj = self.builder.object(kit) if kit in self.builder._by_name else None
+            kit_obj = self._kit_obj(kit)
             t = get_type(KIT[o.type][0])
             surf = self._choose_surface(o.type, t)
         if recep in poses:
@@ -289,8 +295,8 @@ class AlfredRenderer:
                 so = self.builder.object(self.kit_name[target])
                 z = get_type(so.type).surfaces[0].z * so.scale if get_type(so.type).surfaces else 0.9
                 return np.array([so.position[0], so.position[1], so.position[2] + z])
-            if target != world.place and target in self.builder._by_name and target not in self.poses:
-                so = self.builder.object(target)
+            so = self._kit_obj(target) if target != world.place and target not in self.poses else None
+            if so is not None:
                 return np.array([so.position[0], so.position[1], so.position[2] + so.height * 0.5])
         pose0 = self.poses[world.place]  # type: ignore[index]
         return np.array([pose0.pos[0], pose0.pos[1], min(height * 0.65, 1.1)])
@@ -357,7 +363,14 @@ class AlfredRenderer:
         return Frame(images=images, objects=self._objects(world, poses))
 
     def _objects(self, world: World, poses: dict[str, tuple]) -> list[dict[str, Any]]:
-        boxes = self._renderer.boxes("agent") if self._renderer is not None else {}
+        # boxes from a half-size segmentation pass (4x fewer pixels than the image; boxes are scaled back)
+        assert self._renderer is not None
+        small = max(64, self.resolution // 2)
+        k = self.resolution / small
+        seg = self._renderer.segmentation("agent", small, small)
+        boxes = {name: (int(b[0] * k), int(b[1] * k), min(int((b[2] + 1) * k) - 1, self.resolution - 1),
+                        min(int((b[3] + 1) * k) - 1, self.resolution - 1))
+                 for name, b in self._renderer.boxes_from_segmentation(seg, min_pixels=5).items()}
         out = []
         for name, box in boxes.items():
             base = name[: -len("__slices")] if name.endswith("__slices") else name
@@ -392,6 +405,3 @@ class AlfredRenderer:
             self._renderer = None
         self.model = self.data = None
 
-
-def _room_kind(room: str) -> str:
-    return room
