@@ -10,7 +10,7 @@ import pytest
 
 from eb_navigation.env import NavigationEnv
 from eb_navigation.generate import generate
-from eb_navigation.tasks import SUBSETS, load_task_file
+from eb_navigation.tasks import DEFAULT_TASK_FILE, SUBSETS, load_task_file
 
 
 @pytest.fixture(scope="module")
@@ -28,10 +28,15 @@ def test_generated_file_records_parameters_and_validates(small_file: Path) -> No
     assert {t.scene.kind for t in tf.tasks} == {"kitchen", "living_room"}
 
 
-def test_same_seed_same_file(small_file: Path, tmp_path: Path) -> None:
-    again = tmp_path / "again.json"
-    generate(seed=7, scenes=2, out=str(again))
-    assert json.loads(again.read_text()) == json.loads(small_file.read_text())
+def test_shipped_file_is_what_the_generator_makes(tmp_path: Path) -> None:
+    """The first rooms of ``generate(seed=0)`` reproduce the shipped file's first tasks exactly."""
+    out = tmp_path / "again.json"
+    generate(seed=0, scenes=2, out=str(out))
+    made = {t["id"]: t for t in json.loads(out.read_text())["tasks"]}
+    shipped = {t["id"]: t for t in json.loads(DEFAULT_TASK_FILE.read_text())["tasks"]}
+    assert made and all(made[k] == shipped[k] for k in made)
+    params = json.loads(DEFAULT_TASK_FILE.read_text())["generator"]
+    assert params["seed"] == 0 and params["scenes"] == 60
 
 
 def test_generated_tasks_are_solved_by_the_oracle(small_file: Path) -> None:
