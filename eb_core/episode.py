@@ -113,7 +113,8 @@ def run_episode(
                                         "prompt": request.messages[-1].text}
             if save_images and step_dir is not None and obs.primary_image is not None:
                 name = f"step{planner_steps:03d}_{obs.primary}.png"
-                (step_dir / name).write_bytes(encode_png(obs.primary_image))
+                png = getattr(planner, "last_primary_png", None) or encode_png(obs.primary_image)
+                (step_dir / name).write_bytes(png)
                 step_rec["image"] = name
             response = backend.complete(request)
             call_usage = response.usage if response.usage.calls else response.usage.model_copy(update={"calls": 1})

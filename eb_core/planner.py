@@ -38,7 +38,8 @@ _FIELD_HELP = {
 def encode_png(image: np.ndarray) -> bytes:
     """PNG bytes of an RGB array (deterministic for the same pixels)."""
     buf = io.BytesIO()
-    Image.fromarray(np.ascontiguousarray(image)).save(buf, format="PNG", optimize=False, compress_level=6)
+    # Level 1: lossless like any level, ~4x faster to encode than the default, files ~30 % larger.
+    Image.fromarray(np.ascontiguousarray(image)).save(buf, format="PNG", optimize=False, compress_level=1)
     return buf.getvalue()
 
 
@@ -71,6 +72,8 @@ class VLMPlanner:
         self.turns: deque[tuple[str, str]] = deque(maxlen=config.history_window)
         self.frames: deque[np.ndarray] = deque(maxlen=config.multi_step_images)
         self._pending_user_text = ""
+        self.last_primary_png: bytes | None = None
+        """PNG of the current primary image from the last request (the runner saves it instead of re-encoding)."""
 
     # -- episode state ------------------------------------------------------------------------
 
@@ -160,15 +163,18 @@ class VLMPlanner:
         text = self.prompt_text(obs)
         self._pending_user_text = text
         content: list[Any] = []
+        self.last_primary_png = None
         if not self.language_only:
             primary = obs.primary_image
             if primary is not None:
+                self.last_primary_png = encode_png(primary)
                 self.frames.append(primary)
                 if self.config.multi_step_images > 1:
                     for i, frame in enumerate(self.frames):
-                        content.append(ImagePart(png=encode_png(frame), name=f"frame-{i}"))
+                        png = self.last_primary_png if i == len(self.frames) - 1 else encode_png(frame)
+                        content.append(ImagePart(png=png, name=f"frame-{i}"))
                 else:
-                    content.append(ImagePart(png=encode_png(primary), name=obs.primary or "image"))
+                    content.append(ImagePart(png=self.last_primary_png, name=obs.primary or "image"))
             if self.env_config.multi_view:
                 for name, img in obs.images.items():
                     if name != obs.primary:

@@ -39,6 +39,10 @@ class RunError(RuntimeError):
     """The run cannot start or had to stop; the message is one line for the user."""
 
 
+def _one_line(exc: BaseException) -> str:
+    return "; ".join(ln.strip() for ln in str(exc).splitlines() if ln.strip())[:600]
+
+
 def episode_seed(run_seed: int, task_id: str) -> int:
     """Every episode is seeded from the run seed and its task id (independent of order and workers)."""
     digest = hashlib.sha256(f"{run_seed}:{task_id}".encode()).digest()
@@ -70,13 +74,18 @@ class Components:
 
     def make_env(self) -> Env:
         e = self.cfg.env
-        return self.env_cls(resolution=e.resolution, multi_view=e.multi_view, **e.params)
+        try:
+            return self.env_cls(resolution=e.resolution, multi_view=e.multi_view, **e.params)
+        except (TypeError, ValueError) as exc:  # includes pydantic's ValidationError of the env's params
+            raise ConfigError(f"env {e.name!r} rejected its parameters (env.params={e.params}): "
+                              f"{_one_line(exc)}") from None
 
     def make_backend(self) -> ModelBackend:
         try:
             return self.backend_cls(**self.cfg.model.backend_kwargs())
-        except TypeError as exc:
-            raise ConfigError(f"model {self.cfg.model.name!r} (backend {self.cfg.model.backend!r}): {exc}") from None
+        except (TypeError, ValueError) as exc:
+            raise ConfigError(f"model {self.cfg.model.name!r} (backend {self.cfg.model.backend!r}): "
+                              f"{_one_line(exc)}") from None
 
     def make_planner(self, backend: ModelBackend) -> Any:
         return self.planner_cls(self.cfg.planner, self.cfg.env, supports_json_schema=backend.supports_json_schema,
@@ -222,7 +231,12 @@ def run(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, 
     cfg_dict = cfg_dict if cfg_dict is not None else cfg.model_dump()
     files = RunFiles(run_dir)
     comps = Components(cfg, registry)
-    all_tasks = comps.load_tasks()
+    try:
+        all_tasks = comps.load_tasks()
+    except (ConfigError, RunError):
+        raise
+    except Exception as exc:  # a malformed task file: the plugin's message names file, task and field
+        raise RunError(f"cannot load the tasks of env {cfg.env.name!r}: {exc}") from None
     selected = select_tasks(all_tasks, cfg)
 
     # Resume bookkeeping: refuse to mix results of different configs in one directory.
