@@ -9,7 +9,8 @@ the first view (checked by rendering a segmentation image), and an oracle plan o
 * common_sense and complex_instruction: same room, start and target, rewritten instruction;
 * long_horizon: the same start turned by 180 degrees (the target must be out of view);
 * visual_appearance: the room plus one or two objects of the target's type in other colours, the
-  target named only by colour and shape.
+  target named only by colour and shape (when the base target has no room for a same-type twin, as
+  with a TV on its stand, another object of the same room becomes the visual target).
 
 Every shipped task is solved by the oracle within 20 steps (base ones within ``max_oracle_steps``).
 """
@@ -172,6 +173,27 @@ def _visual_variant(layout: Layout, target: Placed, start: AgentState, max_steps
     return None
 
 
+def _visual_task(layout: Layout, free: FreeSpace, target: Placed, start: AgentState, counts: dict[str, int],
+                 lo: float, hi: float, max_steps: int, vis: _Visibility, rng: np.random.Generator
+                 ) -> tuple[Placed, AgentState, list[Placed], int] | None:
+    """The visual-appearance task of a room: the base target with distractors if that works, else another
+    target of the room (things on furniture, like a TV, rarely have room for a same-type twin)."""
+    found = _visual_variant(layout, target, start, max_steps, vis, rng)
+    if found is not None:
+        return target, start, found[0], found[1]
+    others = [o for o in layout.objects if o.id != target.id and o.type in TARGET_TYPES and counts[o.type] == 1
+              and o.obstacle]
+    rng.shuffle(others)
+    for other in others[:3]:
+        got = _find_start(layout, free, other, lo, hi, max_steps, vis, rng, need_behind=False)
+        if got is None:
+            continue
+        found = _visual_variant(layout, other, got[0], max_steps, vis, rng)
+        if found is not None:
+            return other, got[0], found[0], found[1]
+    return None
+
+
 def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_distance: float = 3.0,
              out: str | None = None, max_oracle_steps: int = 15) -> str:
     """Write a navigation task file with ``5 * scenes`` tasks; return a one-line summary.
@@ -219,14 +241,14 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
                 if found is None:
                     continue
                 start, steps, steps_back = found
-                visual = _visual_variant(layout, target, start, max_oracle_steps, vis, rng)
+                visual = _visual_task(layout, free, target, start, counts, lo, hi, max_oracle_steps, vis, rng)
                 if visual is None:
                     continue
                 made = (layout, target, start, steps, steps_back, visual)
                 break
             if made is None:
                 raise RuntimeError(f"could not make a {kind} task for slot {slot} (try other distances)")
-            layout, target, start, steps, steps_back, (extras, steps_visual) = made
+            layout, target, start, steps, steps_back, (v_target, v_start, extras, steps_visual) = made
             used.add((kind, layout.seed))
             other_types = sorted({o.type for o in layout.objects if o.type != target.type and o.obstacle})
             other = other_types[int(rng.integers(len(other_types)))] if other_types else None
@@ -249,9 +271,10 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
                                                      **common, "start": _pose_dict(start), "extra_objects": [],
                                                      "oracle_steps": steps})
             by_subset["visual_appearance"].append({"id": f"visual_appearance_{n:03d}", "subset": "visual_appearance",
-                                                   "instruction": instruction_for("visual_appearance", target.type,
-                                                                                  target.colour, rng),
-                                                   **common, "start": _pose_dict(start),
+                                                   "instruction": instruction_for("visual_appearance", v_target.type,
+                                                                                  v_target.colour, rng),
+                                                   "scene": scene, "target": _target_dict(v_target),
+                                                   "start": _pose_dict(v_start),
                                                    "extra_objects": [e.to_dict() for e in extras],
                                                    "oracle_steps": steps_visual})
             back = replace(start, heading=(start.heading + 2) % 4)
