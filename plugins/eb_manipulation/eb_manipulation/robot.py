@@ -7,7 +7,7 @@ own scene XML, changing only collision bits, colours and adding a tool-centre-po
 
 Why the meshes rather than capsules built from DH parameters: the kinematic chain in that MJCF *is* the
 published Panda chain (same link offsets and joint limits), and a person looking at the image recognises
-the real arm. Rendering its ~130k triangles costs ~20 ms on llvmpipe, well inside our step budget.
+the real arm. Without rendering, the visual meshes are left out (``load_panda_parts(visual=False)``).
 """
 
 from __future__ import annotations
