@@ -49,7 +49,7 @@ GUIDELINES = (
     "Approach from above: go over an object with the gripper open, lower to its centre, close, and lift before "
     "moving sideways.",
     "To put something into a container or a sorter hole, hold it a few steps above the opening before you open the "
-    "gripper; shapes only pass a sorter hole that matches them.",
+    "gripper; an object counts as sorted only when it drops through the hole of its own shape.",
     "To wipe, hold the sponge at the height where you picked it up so it touches the table, and sweep it across the "
     "whole marked area in the asked direction.",
     "Learn from the action history and the feedback: if an action failed, change the pose instead of repeating it.",
