@@ -12,7 +12,7 @@ colour and shape alone while same-type objects of other colours stand in the roo
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np

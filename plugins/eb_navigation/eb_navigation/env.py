@@ -18,7 +18,6 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, ValidationError
 
 from eb_core import Action, DiscreteActionSpace, Env, ObjectInfo, Observation, PromptParts, StepResult, Task
-from eb_navigation.catalogue import get_type
 from eb_navigation.geometry import (
     ACTION_NAMES,
     STEP,

@@ -12,12 +12,12 @@ a number of quarter turns counter-clockwise; at yaw 0 its front faces ``+y``.
 from __future__ import annotations
 
 import zlib
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Iterable, Literal
 
 import numpy as np
 
-from eb_navigation.catalogue import CATALOGUE, get_type
+from eb_navigation.catalogue import get_type
 
 __all__ = ["KINDS", "LAYOUT_VERSION", "Decor", "Layout", "Placed", "generate_layout", "place_extra"]
 

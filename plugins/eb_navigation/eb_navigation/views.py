@@ -9,7 +9,6 @@ import sys
 import textwrap
 from pathlib import Path
 
-import numpy as np
 
 __all__ = ["contact_sheet", "subsets_sheet"]
 
