@@ -65,10 +65,10 @@ _BASE = {
                         "Clean {x} in the sink and set it {p} the {r}."],
     "heat_and_place": ["Warm up {x} and put it {p} the {r}.", "Heat {x}, then set it {p} the {r}.",
                        "Put a heated {xn} {p} the {r}."],
-    "cool_and_place": ["Chill {x} and put it {p} the {r}.", "Cool {x} down, then place it {p} the {r}.",
+    "cool_and_place": ["Chill {x} and put it {p} the {r}.", "Cool down {x}, then place it {p} the {r}.",
                        "Put a cold {xn} {p} the {r}."],
-    "examine_in_light": ["Look at {x} under the {l}.", "Examine {x} by the light of the {l}.",
-                         "Hold {x} up to the lit {l} and inspect it."],
+    "examine_in_light": ["Turn on the {l} and look at {x} under it.", "By the light of the {l}, examine {x}.",
+                         "Switch on the {l} and inspect {x} in its light."],
 }
 _SLICED = {
     "pick_and_place": ["Slice {x} and put a sliced {xn} {p} the {r}."],
@@ -79,7 +79,7 @@ _SLICED = {
                        "Put a heated slice of {xn} {p} the {r}."],
     "cool_and_place": ["Slice {x}, chill it and put it {p} the {r}.",
                        "Put a chilled, sliced {xn} {p} the {r}."],
-    "examine_in_light": ["Slice {x} and look at it under the {l}."],
+    "examine_in_light": ["Slice {x}, then turn on the {l} and look at it."],
 }
 
 

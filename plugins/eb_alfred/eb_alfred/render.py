@@ -32,6 +32,8 @@ _FOOD_SLICEABLE = {"Apple", "Bread", "Lettuce", "Tomato", "Potato"}
 _HIDDEN = (0.0, 0.0, -5.0)
 _DIRT = np.array([0.36, 0.27, 0.14, 1.0])
 _EYE = 1.45
+_WARM = np.array([1.0, 0.78, 0.35, 1.0])
+_GLOW_PARTS = {"Microwave": ("window",), "DeskLamp": ("shade",), "FloorLamp": ("shade",)}
 _CORNER = 0.75
 
 
@@ -142,6 +144,7 @@ class AlfredRenderer:
             gname = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, g) or ""
             self._geoms.setdefault(gname.split("/", 1)[0], []).append(g)
         self._orig_rgba = self.model.geom_rgba.copy()
+        self._orig_mat: dict[int, int] = {}
         self._applied: dict[tuple[str, str], Any] = {}
         self._free_adr: dict[str, int] = {}
         for n in list(world.objects) + [f"{n}__slices" for n in world.objects]:
@@ -182,9 +185,9 @@ class AlfredRenderer:
         siblings = [c for c in world.children(parent) if not TYPES[world.objects[c].type].pickupable
                     and world.objects[c].type not in _PARTS_OF]
         k, n = siblings.index(name), len(siblings)
-        half_w = self._half(world.objects[parent].type)[1]
+        half_d, half_w = self._half(world.objects[parent].type)
         y = (k - (n - 1) / 2) * (2 * half_w / max(n, 1)) * 0.9
-        return (-0.03, y)
+        return (-0.3 * half_d, y)  # towards the wall, leaving the front strip for small things
 
     # ------------------------------------------------------------------ posing
     def _surface_frame(self, world: World, recep: str, poses: dict[str, tuple]) -> tuple[np.ndarray, float, Any, float]:
@@ -234,6 +237,12 @@ class AlfredRenderer:
                 return
             origin, yaw, surf, scale = self._surface_frame(world, recep, poses)
             hx, hy = surf.half_extents[0] * scale, surf.half_extents[1] * scale
+            if any(not TYPES[world.objects[c].type].pickupable and world.objects[c].type not in _PARTS_OF
+                   for c in world.children(recep)):
+                # appliances stand at the back of this counter/desk: use the front strip
+                front = 0.62 * hx
+                origin = origin + np.array([math.cos(math.radians(yaw)) * front, math.sin(math.radians(yaw)) * front, 0])
+                hx = 0.3 * hx
             n = len(kids)
             cols = max(1, math.ceil(math.sqrt(n * max(hy, 0.01) / max(hx, 0.01))))
             rows = math.ceil(n / cols)
@@ -349,6 +358,7 @@ class AlfredRenderer:
                     set_powered(m, kit, o.is_on)
                 except KeyError:
                     pass
+                self._glow(kit, _GLOW_PARTS.get(o.type, ()), o.is_on)
             if t.dirtyable and self._changed((n, "dirty"), o.is_dirty):
                 for g in self._geoms.get(n, []):
                     orig = self._orig_rgba[g]
@@ -380,6 +390,20 @@ class AlfredRenderer:
             out.append({"name": base, "type": world.objects[base].type, "box": tuple(int(v) for v in box),
                         "position": tuple(round(v, 3) for v in pos[0]) if pos else None})
         return out
+
+    def _glow(self, kit: str, parts: tuple[str, ...], on: bool) -> None:
+        """Make a running microwave's window and a lit lamp's shade glow warm (easier to see than the bulb)."""
+        if not parts:
+            return
+        glow = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_MATERIAL, "eb_glow")
+        for g in self._geoms.get(kit, []):
+            gname = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, g) or ""
+            if gname.split("/", 1)[1].split("_")[0] not in parts:
+                continue
+            if g not in self._orig_mat:
+                self._orig_mat[g] = int(self.model.geom_matid[g])
+            self.model.geom_rgba[g] = _WARM if on else self._orig_rgba[g]
+            self.model.geom_matid[g] = glow if on else self._orig_mat[g]
 
     def _changed(self, key: tuple[str, str], value: Any) -> bool:
         if self._applied.get(key, object()) == value:

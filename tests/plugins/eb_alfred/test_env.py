@@ -48,3 +48,26 @@ def test_plugin_registers_env_and_config(eb_registry) -> None:
     spec = plugin.eb_register_envs()[0]
     assert spec.name == "alfred" and spec.subsets == SUBSETS and spec.load() is AlfredEnv
     assert plugin.eb_config_searchpath() == ["pkg://eb_alfred.conf"]
+
+
+def test_examples_are_full_episodes_with_valid_actions() -> None:
+    import json
+
+    from eb_alfred.actions import GLOBAL_ACTIONS
+    from eb_alfred.prompts import load_examples
+    from eb_alfred.world import parse_action
+
+    data = load_examples()
+    assert len(data["general"]) == 10 and len(data["long_horizon"]) == 7
+    for text in data["general"] + data["long_horizon"]:
+        assert text.startswith("Instruction: ")
+        answers = [line[len("Answer: "):] for line in text.splitlines() if line.startswith("Answer: ")]
+        assert answers
+        for raw in answers:
+            answer = json.loads(raw)
+            assert set(answer) == {"visual_state_description", "reasoning_and_reflection", "language_plan",
+                                   "executable_plan"}
+            for item in answer["executable_plan"]:
+                parse_action(item["action_name"])
+                if item["action_name"] in GLOBAL_ACTIONS:  # unnumbered names have the same id everywhere
+                    assert GLOBAL_ACTIONS.index(item["action_name"]) == item["action_id"]
