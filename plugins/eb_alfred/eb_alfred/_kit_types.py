@@ -1,16 +1,20 @@
 """Adapter to the scene kit's object catalogue: which kit type draws each ALFRED type, plus the few shapes
 the kit does not have yet (drawer unit, safe, stove burner, cutlery, shakers, ...).
 
-The extra shapes are registered into ``eb_scenekit.CATALOGUE`` under an ``Alfred`` prefix (``AlfredDrawer``), so
-they can never clash with a kit type; when the kit grows a type of the same kind, switch the mapping below to it.
+The extra shapes are kit ``ObjectType`` s named with an ``Alfred`` prefix (``AlfredDrawer``), so they can never clash
+with a kit type; they are visible to the kit's ``SceneBuilder`` only while one of our scenes is being built
+(:func:`registered`). When the kit grows a type of the same kind, switch the mapping below to it.
 Imports MuJoCo-free parts of the kit only.
 """
 
 from __future__ import annotations
 
-from eb_scenekit.objects import CATALOGUE, COLORS as KIT_COLORS, ObjectType, Parts, Surface
+from collections.abc import Iterator
+from contextlib import contextmanager
 
-__all__ = ["KIT", "ensure_registered", "kit_type"]
+from eb_scenekit.objects import CATALOGUE, COLORS as KIT_COLORS, ObjectType, Parts, Surface, get_type
+
+__all__ = ["EXTRA_TYPES", "KIT", "kit_get", "kit_type", "registered"]
 
 RGB = tuple[float, float, float]
 _CHROME = (0.85, 0.86, 0.9)
@@ -279,10 +283,30 @@ _EXTRA: list[tuple[str, str, tuple[float, float], float, dict, object]] = [
 ]
 
 
-def ensure_registered() -> None:
-    """Add the extra shapes to the kit catalogue once (idempotent)."""
-    for name, category, half, height, kw, builder in _EXTRA:
-        if name in CATALOGUE:
-            continue
-        CATALOGUE[name] = ObjectType(name=name, category=category, colors={"gray": KIT_COLORS["gray"]},  # type: ignore[arg-type]
-                                     half_extents=half, height=height, builder=builder, **kw)  # type: ignore[arg-type]
+def _build_extra() -> dict[str, ObjectType]:
+    return {name: ObjectType(name=name, category=category, colors={"gray": KIT_COLORS["gray"]},  # type: ignore[arg-type]
+                             half_extents=half, height=height, builder=builder, **kw)  # type: ignore[arg-type]
+            for name, category, half, height, kw, builder in _EXTRA}
+
+
+EXTRA_TYPES: dict[str, ObjectType] = _build_extra()
+"""The shapes this package adds (not registered in the kit's catalogue outside :func:`registered`)."""
+
+
+def kit_get(name: str) -> ObjectType:
+    """A kit type or one of ours, by name."""
+    return EXTRA_TYPES.get(name) or get_type(name)
+
+
+@contextmanager
+def registered() -> Iterator[None]:
+    """Make our extra shapes known to the kit's ``SceneBuilder`` while a scene is being built, then remove them
+    again, so the kit's catalogue (and other worlds or tests in the same process) never see them."""
+    added = [name for name in EXTRA_TYPES if name not in CATALOGUE]
+    for name in added:
+        CATALOGUE[name] = EXTRA_TYPES[name]
+    try:
+        yield
+    finally:
+        for name in added:
+            CATALOGUE.pop(name, None)

@@ -16,11 +16,11 @@ from typing import Any
 
 import numpy as np
 
-from eb_alfred._kit_types import KIT, ensure_registered
+from eb_alfred._kit_types import KIT, kit_get, registered
 from eb_alfred.catalog import COLORS, TYPES
 from eb_alfred.world import World
 
-from eb_scenekit import SceneBuilder, get_type, set_agent_pose, set_open, set_powered  # noqa: E402  (picks GL first)
+from eb_scenekit import SceneBuilder, set_agent_pose, set_open, set_powered  # noqa: E402  (picks GL first)
 from eb_scenekit._mujoco import mujoco  # noqa: E402
 from eb_scenekit.render import SceneRenderer, free_camera  # noqa: E402
 
@@ -59,7 +59,6 @@ class AlfredRenderer:
     """Builds one MuJoCo scene per task and renders the agent's view of a :class:`World`."""
 
     def __init__(self, resolution: int = 500, multi_view: bool = False) -> None:
-        ensure_registered()
         self.resolution = int(resolution)
         self.multi_view = multi_view
         self._renderer: SceneRenderer | None = None
@@ -102,35 +101,36 @@ class AlfredRenderer:
                 yaw = math.degrees(math.atan2(normal[1], normal[0]))
                 self.poses[n] = _Pose((float(p[0]), float(p[1]), 0.0), yaw, (float(normal[0]), float(normal[1])))
                 t += widths[n] / 2
-        self.kit_name: dict[str, str] = {}
-        for n in names:
-            o = world.objects[n]
-            kt, sc = KIT[o.type]
-            pose = self.poses[n]
-            b.add_object(kt, n, pos=pose.pos, yaw=pose.yaw, color=_rgb(o.color, "gray"), scale=sc)
-            self.kit_name[n] = n
-        # fixtures standing on furniture (microwave, toaster, coffee machine, desk lamp), and sink parts
-        for n, o in world.objects.items():
-            if o.parent is None:
-                continue
-            if o.type in _PARTS_OF:
-                self.kit_name[n] = o.parent
-                continue
-            if not TYPES[o.type].pickupable:
+        with registered():
+            self.kit_name: dict[str, str] = {}
+            for n in names:
+                o = world.objects[n]
                 kt, sc = KIT[o.type]
-                offset = self._fixture_offset(world, n)
-                b.add_object(kt, n, pos=offset, color=_rgb(o.color, "gray"), scale=sc, parent=o.parent,
-                             surface="top")
+                pose = self.poses[n]
+                b.add_object(kt, n, pos=pose.pos, yaw=pose.yaw, color=_rgb(o.color, "gray"), scale=sc)
                 self.kit_name[n] = n
-        # movable objects: placed by pose every frame; sliceable food also gets its slices (hidden)
-        for n, o in world.objects.items():
-            if not TYPES[o.type].pickupable:
-                continue
-            kt, sc = KIT[o.type]
-            b.add_object(kt, n, pos=_HIDDEN, color=_rgb(o.color, TYPES[o.type].colors[0]), scale=sc, movable=True)
-            self.kit_name[n] = n
-            if o.type in _FOOD_SLICEABLE:
-                b.add_object("AlfredSlices", f"{n}__slices", pos=_HIDDEN, color=_rgb(o.color, "red"), movable=True)
+            # fixtures standing on furniture (microwave, toaster, coffee machine, desk lamp), and sink parts
+            for n, o in world.objects.items():
+                if o.parent is None:
+                    continue
+                if o.type in _PARTS_OF:
+                    self.kit_name[n] = o.parent
+                    continue
+                if not TYPES[o.type].pickupable:
+                    kt, sc = KIT[o.type]
+                    offset = self._fixture_offset(world, n)
+                    b.add_object(kt, n, pos=offset, color=_rgb(o.color, "gray"), scale=sc, parent=o.parent,
+                                 surface="top")
+                    self.kit_name[n] = n
+            # movable objects: placed by pose every frame; sliceable food also gets its slices (hidden)
+            for n, o in world.objects.items():
+                if not TYPES[o.type].pickupable:
+                    continue
+                kt, sc = KIT[o.type]
+                b.add_object(kt, n, pos=_HIDDEN, color=_rgb(o.color, TYPES[o.type].colors[0]), scale=sc, movable=True)
+                self.kit_name[n] = n
+                if o.type in _FOOD_SLICEABLE:
+                    b.add_object("AlfredSlices", f"{n}__slices", pos=_HIDDEN, color=_rgb(o.color, "red"), movable=True)
         b.add_agent_camera("agent", pos=(0.0, 0.0), height=_EYE, fovy=60.0, marker=False)
         self.builder = b
         self.model, self.data = b.build()
@@ -162,7 +162,7 @@ class AlfredRenderer:
     @staticmethod
     def _half(alfred_type: str) -> tuple[float, float]:
         kt, sc = KIT[alfred_type]
-        t = get_type(kt)
+        t = kit_get(kt)
         return t.half_extents[0] * sc, t.half_extents[1] * sc
 
     def _fill(self, names: list[str], widths: dict[str, float], sx: float, sy: float) -> dict[str, list[str]] | None:
@@ -196,10 +196,10 @@ class AlfredRenderer:
         o = world.objects[recep]
         if o.type in ("SinkBasin", "BathtubBasin"):
             kit_obj = self.builder.object(kit)
-            surf = get_type(kit_obj.type).surface("basin")
+            surf = kit_get(kit_obj.type).surface("basin")
         else:
             kit_obj = self._kit_obj(kit)
-            t = get_type(KIT[o.type][0])
+            t = kit_get(KIT[o.type][0])
             surf = self._choose_surface(o.type, t)
         if recep in poses:
             pos, yaw = poses[recep]
@@ -283,7 +283,7 @@ class AlfredRenderer:
             return np.array([0.0, -sy * 0.3, 1.6]), np.array([0.0, sy / 2, 0.9])
         pose = self.poses[world.place]
         hx, hy = self._half(world.objects[world.place].type)
-        height = get_type(KIT[world.objects[world.place].type][0]).height
+        height = kit_get(KIT[world.objects[world.place].type][0]).height
         n = np.array(pose.normal)
         front = np.array(pose.pos[:2]) + n * hx
         dist = max(0.95, 0.9 * hy + 0.5, 0.7 * height)
@@ -302,7 +302,7 @@ class AlfredRenderer:
                 return np.array([pose[0][0], pose[0][1], pose[0][2] + 0.05])
             if world.objects[target].type in ("SinkBasin", "BathtubBasin", "Faucet"):
                 so = self.builder.object(self.kit_name[target])
-                z = get_type(so.type).surfaces[0].z * so.scale if get_type(so.type).surfaces else 0.9
+                z = kit_get(so.type).surfaces[0].z * so.scale if kit_get(so.type).surfaces else 0.9
                 return np.array([so.position[0], so.position[1], so.position[2] + z])
             so = self._kit_obj(target) if target != world.place and target not in self.poses else None
             if so is not None:

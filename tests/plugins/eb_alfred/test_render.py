@@ -83,3 +83,11 @@ def test_symbolic_mode_never_imports_mujoco() -> None:
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0 and "ok" in out.stdout, out.stderr
+
+
+def test_scene_kit_catalogue_is_left_untouched(env) -> None:
+    from eb_scenekit import CATALOGUE
+
+    before = set(CATALOGUE)
+    env.reset(_task("base_01"), 0)
+    assert set(CATALOGUE) == before and not any(name.startswith("Alfred") for name in CATALOGUE)
