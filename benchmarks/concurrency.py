@@ -106,6 +106,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--episodes", type=int, default=32)
     ap.add_argument("--latency", type=float, default=2.0, help="seconds the stub server takes per answer")
     ap.add_argument("--workers", default="1,8,32", help="comma-separated worker counts; 1 (serial) comes first")
+    ap.add_argument("--verbose", action="store_true", help="also print when the first request came and the last ended")
     args = ap.parse_args(argv)
     counts = [int(w) for w in args.workers.split(",")]
     if counts[0] != 1:
@@ -139,7 +140,7 @@ def main(argv: list[str] | None = None) -> int:
             reqs = [r for r in server.requests[first:] if r.path.endswith("/chat/completions")
                     and isinstance(r.body, dict) and r.body.get("max_tokens") != 8]  # leave out the preflight
             phase = max(r.received_at for r in reqs) + args.latency - min(r.received_at for r in reqs)
-            if os.environ.get("EB_BENCH_DEBUG"):
+            if args.verbose:
                 print(f"   debug: run started {started:.1f}, first episode request +{min(r.received_at for r in reqs) - started:.1f} s, "
                       f"last answer +{max(r.received_at for r in reqs) + args.latency - started:.1f} s")
             if base_total is None:

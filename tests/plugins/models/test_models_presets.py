@@ -112,3 +112,15 @@ def test_registration_and_backend_classes_import_no_sdk():
         "assert 'litellm' not in sys.modules and 'openai' not in sys.modules, 'SDK imported'\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True, timeout=60)
+
+
+def test_preload_module_warms_litellm_offline():
+    code = (
+        "import sys\n"
+        "seen = []\n"
+        "sys.addaudithook(lambda e, a: seen.append(a) if e == 'socket.connect' else None)\n"
+        "import os, eb_models.preload\n"
+        "assert 'litellm' in sys.modules and os.environ['LITELLM_LOCAL_MODEL_COST_MAP'] == 'True'\n"
+        "assert not seen, seen\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=120)
