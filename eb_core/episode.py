@@ -116,6 +116,14 @@ def run_episode(
                 png = getattr(planner, "last_primary_png", None) or encode_png(obs.primary_image)
                 (step_dir / name).write_bytes(png)
                 step_rec["image"] = name
+                if env_config.multi_view:
+                    extra = []
+                    for key, img in obs.images.items():
+                        if key != obs.primary:
+                            extra_name = f"step{planner_steps:03d}_{key}.png"
+                            (step_dir / extra_name).write_bytes(encode_png(img))
+                            extra.append(extra_name)
+                    step_rec["extra_images"] = extra
             response = backend.complete(request)
             call_usage = response.usage if response.usage.calls else response.usage.model_copy(update={"calls": 1})
             usage = usage + call_usage

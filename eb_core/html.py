@@ -64,6 +64,10 @@ def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path) -> str:
                 continue
     for s in steps:
         img = f"<img src='{_e(s['image'])}' alt='what the model saw at step {s['planner_step']}'>" if s.get("image") else ""
+        for extra in s.get("extra_images", []):
+            img += f"<img src='{_e(extra)}' alt='extra view {_e(extra)}'>"
+        if img:
+            img = f"<div style='display:flex;flex-direction:column;gap:6px'>{img}</div>"
         actions = "".join(
             f"<tr><td class=num>{a['env_step']}</td><td>{_e(a['action_name'])}</td>"
             f"<td>{'<span class=ok>ok</span>' if a['success'] else '<span class=fail>failed</span>'}</td>"

@@ -12,7 +12,6 @@ import importlib
 import json
 import multiprocessing as mp
 import os
-import queue
 import sys
 import time
 import traceback
@@ -135,8 +134,12 @@ def _build_registry(plugin_modules: Sequence[str]) -> Registry:
     return Registry(get_plugin_manager(plugins=plugins))
 
 
-def _worker_main(cfg_dict: dict[str, Any], run_dir: str, plugin_modules: list[str], tasks_q: Any,
-                 results_q: Any, shared_cost: Any, worker_id: int) -> None:
+def _worker_main(cfg_dict: dict[str, Any], run_dir: str, plugin_modules: list[str], conn: Any,
+                 shared_cost: Any) -> None:
+    """A worker process: owns one env and one backend, plays the tasks sent over its own pipe.
+
+    Each worker has a private pipe, so a worker that dies mid-message can only break its own channel.
+    """
     cfg = RunConfig.model_validate(cfg_dict)
     registry = _build_registry(plugin_modules)
     comps = Components(cfg, registry)
@@ -146,29 +149,29 @@ def _worker_main(cfg_dict: dict[str, Any], run_dir: str, plugin_modules: list[st
     budget = BudgetGuard(cfg.model.max_cost_usd, shared_cost)
     try:
         while True:
-            item = tasks_q.get()
+            item = conn.recv()
             if item is None:
                 break
             task = Task.model_validate_json(item)
-            seed = episode_seed(cfg.seed, task.id)
-            results_q.put(("start", worker_id, task.id))
             try:
                 record = run_episode(
-                    env=env, task=task, seed=seed, planner=comps.make_planner(backend), backend=backend,
-                    env_config=cfg.env, step_dir=files.staging_dir(task.id), save_images=cfg.runner.save_images,
-                    augmenters=comps.augmenters, budget=budget, hook=registry.pm.hook, run_dir=run_dir,
+                    env=env, task=task, seed=episode_seed(cfg.seed, task.id), planner=comps.make_planner(backend),
+                    backend=backend, env_config=cfg.env, step_dir=files.staging_dir(task.id),
+                    save_images=cfg.runner.save_images, augmenters=comps.augmenters, budget=budget,
+                    hook=registry.pm.hook, run_dir=run_dir,
                 )
             except ModelFatalError as exc:
-                results_q.put(("fatal", worker_id, str(exc)))
+                conn.send(("fatal", str(exc)))
                 break
             except ModelBudgetExceeded as exc:
-                results_q.put(("budget", worker_id, str(exc)))
+                conn.send(("budget", str(exc)))
                 break
-            results_q.put(("done", worker_id, record.model_dump_json()))
+            conn.send(("done", record.model_dump_json()))
+    except (EOFError, KeyboardInterrupt):
+        pass
     finally:
         env.close()
         backend.close()
-        results_q.put(("exit", worker_id, None))
 
 
 # -- progress ----------------------------------------------------------------------------------------
@@ -342,86 +345,87 @@ def _run_inline(cfg: RunConfig, comps: Components, files: RunFiles, pending: lis
 
 def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pending: list[Task],
                  progress: _Progress, hook: Any, plugin_modules: list[str]) -> str | None:
+    from multiprocessing.connection import wait
+
     ctx = mp.get_context("spawn")
-    tasks_q = ctx.Queue()
-    results_q = ctx.Queue()
     shared_cost = ctx.Value("d", 0.0)
-    n_workers = min(cfg.runner.workers, len(pending))
-    by_id = {t.id: t for t in pending}
-    for t in pending:
-        tasks_q.put(t.model_dump_json())
-
-    def spawn(wid: int) -> Any:
-        p = ctx.Process(target=_worker_main, args=(cfg_dict, str(files.root), plugin_modules, tasks_q, results_q,
-                                                   shared_cost, wid), daemon=True)
-        p.start()
-        return p
-
-    workers = {wid: spawn(wid) for wid in range(n_workers)}
-    current: dict[int, tuple[str, float]] = {}
-    exited: set[int] = set()
-    remaining = set(by_id)
-    stopped: str | None = None
-    next_id = n_workers
+    queue_: list[Task] = list(pending)
     timeout = cfg.runner.episode_timeout_s
+
+    class Worker:
+        def __init__(self) -> None:
+            self.conn, child = ctx.Pipe(duplex=True)
+            self.proc = ctx.Process(target=_worker_main, daemon=True,
+                                    args=(cfg_dict, str(files.root), plugin_modules, child, shared_cost))
+            self.proc.start()
+            child.close()
+            self.task: Task | None = None
+            self.started = 0.0
+
+        def give(self, task: Task) -> None:
+            self.task, self.started = task, time.monotonic()
+            self.conn.send(task.model_dump_json())
+
+    def lost(w: Worker, why: str) -> None:
+        if w.task is not None:
+            t = w.task
+            _finish(files, EpisodeRecord(task_id=t.id, subset=t.subset, instruction=t.instruction, status="error",
+                                         end_reason="error", error=why, seed=episode_seed(cfg.seed, t.id)),
+                    progress, hook)
+            w.task = None
+
+    workers = [Worker() for _ in range(min(cfg.runner.workers, len(pending)))]
+    stopped: str | None = None
     try:
-        while remaining and stopped is None:
-            try:
-                kind, wid, payload = results_q.get(timeout=0.5)
-            except queue.Empty:
-                kind = None
-            if kind == "start":
-                current[wid] = (payload, time.monotonic())
-            elif kind == "done":
-                rec = EpisodeRecord.model_validate_json(payload)
-                current.pop(wid, None)
-                if rec.task_id in remaining:
-                    remaining.discard(rec.task_id)
-                    _finish(files, rec, progress, hook)
-            elif kind == "fatal":
-                raise RunError(payload)
-            elif kind == "budget":
-                stopped = f"budget: {payload}"
+        while stopped is None:
+            for w in workers:
+                if w.task is None and queue_:
+                    w.give(queue_.pop(0))
+            busy = [w for w in workers if w.task is not None]
+            if not busy:
                 break
-            elif kind == "exit":
-                exited.add(wid)
-            # Crashed or hung workers: record their episode as an error and replace them.
-            for wid_, proc in list(workers.items()):
-                started = current.get(wid_)
-                hung = started is not None and timeout is not None and time.monotonic() - started[1] > timeout
-                if hung and proc.is_alive():
-                    proc.kill()
-                    proc.join(5)
-                if not proc.is_alive() and wid_ not in exited:
-                    del workers[wid_]
-                    if started is not None:
-                        task_id = started[0]
-                        current.pop(wid_, None)
-                        why = (f"episode exceeded runner.episode_timeout_s={timeout}" if hung
-                               else f"worker process died (exit code {proc.exitcode})")
-                        if task_id in remaining:
-                            remaining.discard(task_id)
-                            t = by_id[task_id]
-                            _finish(files, EpisodeRecord(task_id=t.id, subset=t.subset, instruction=t.instruction,
-                                                         status="error", end_reason="error", error=why,
-                                                         seed=episode_seed(cfg.seed, t.id)), progress, hook)
-                    if remaining:
-                        workers[next_id] = spawn(next_id)
-                        next_id += 1
-                elif not proc.is_alive():
-                    del workers[wid_]
-            if not workers and remaining:
-                stopped = "all workers exited"
-                break
+            ready = wait([w.conn for w in busy] + [w.proc.sentinel for w in busy], timeout=0.5)
+            for w in list(busy):
+                msg = None
+                if w.conn in ready:
+                    try:
+                        msg = w.conn.recv()
+                    except (EOFError, OSError):
+                        msg = None
+                if msg is not None:
+                    kind, payload = msg
+                    if kind == "done":
+                        w.task = None
+                        _finish(files, EpisodeRecord.model_validate_json(payload), progress, hook)
+                    elif kind == "fatal":
+                        raise RunError(payload)
+                    elif kind == "budget":
+                        w.task = None
+                        stopped = f"budget: {payload}"
+                    continue
+                hung = timeout is not None and time.monotonic() - w.started > timeout
+                if hung or not w.proc.is_alive():
+                    if hung:
+                        w.proc.kill()
+                    w.proc.join(5)
+                    why = (f"episode exceeded runner.episode_timeout_s={timeout}" if hung
+                           else f"worker process died (exit code {w.proc.exitcode})")
+                    lost(w, why)
+                    workers.remove(w)
+                    if queue_:
+                        workers.append(Worker())
     finally:
-        for _ in workers:
-            tasks_q.put(None)
-        deadline = time.monotonic() + (10 if stopped is None else 2)
-        for proc in workers.values():
-            proc.join(max(0.1, deadline - time.monotonic()))
-            if proc.is_alive():
-                proc.kill()
-                proc.join(2)
+        for w in workers:
+            try:
+                w.conn.send(None)
+            except (OSError, BrokenPipeError):
+                pass
+        deadline = time.monotonic() + (10 if stopped is None else 3)
+        for w in workers:
+            w.proc.join(max(0.1, deadline - time.monotonic()))
+            if w.proc.is_alive():
+                w.proc.kill()
+                w.proc.join(2)
     return stopped
 
 

@@ -143,6 +143,13 @@ def test_step_records_hold_prompt_output_and_actions(tmp_path):
     assert (tmp_path / lines[0]["image"]).read_bytes().startswith(b"\x89PNG")
 
 
+def test_multi_view_saves_every_view(tmp_path):
+    play([plan(1, 1)], tmp_path=tmp_path, env__multi_view=True)
+    first = json.loads((tmp_path / "steps.jsonl").read_text().splitlines()[0])
+    assert first["image"] == "step001_top.png" and first["extra_images"] == ["step001_side.png"]
+    assert (tmp_path / "step001_side.png").read_bytes().startswith(b"\x89PNG")
+
+
 def test_budget_guard_raises_when_spent():
     g = BudgetGuard(0.05)
     g.add(0.03)

@@ -135,3 +135,11 @@ def test_kill_9_loses_nothing_finished_and_resume_completes(tmp_path):
     assert after[: len(before)] == [r.task_id for r in before]
     assert len(after) == 10 == len(set(after))
     assert "success rate: 100.0% (10/10 episodes)" in done.stdout
+
+
+def test_a_hung_episode_is_killed_at_the_timeout(tmp_path):
+    cfg = make_config(runner__workers=2, runner__episode_timeout_s=1.0, limit=2, env__params={"sleep_s": 3.0})
+    summary = run(cfg, tmp_path, plugins=[fixture_plugin])
+    recs = lines(tmp_path)
+    assert len(recs) == 2 and all(r["status"] == "error" and "episode_timeout_s=1.0" in r["error"] for r in recs)
+    assert summary["overall"]["error_episodes"] == 2
