@@ -39,6 +39,10 @@ _HINTS = {
 
 def validate_settings(cls: type[S], backend: str, kwargs: dict[str, Any]) -> S:
     """Validate ``kwargs`` for ``backend`` or raise :class:`ModelConfigError` with one clear line."""
+    for key, value in kwargs.items():
+        if value == "???":  # Hydra's mandatory-value marker, left unset
+            raise ModelConfigError(f"model backend {backend!r} needs a value for 'model.{key}': add model.{key}=... "
+                                   f"to the command")
     try:
         return cls.model_validate(kwargs)
     except ValidationError as exc:

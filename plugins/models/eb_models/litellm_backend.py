@@ -124,10 +124,17 @@ def _import_litellm() -> Any:
     try:
         import litellm
     except ModuleNotFoundError as exc:
-        raise ModelFatalError("the litellm backend needs litellm: pip install 'litellm==1.106.2'") from exc
+        from eb_core.specs import MissingDependencyError
+
+        raise MissingDependencyError("the litellm backend needs litellm: pip install 'litellm==1.106.2'") from exc
     litellm.suppress_debug_info = True
     litellm.set_verbose = False
     litellm.telemetry = False
+    # litellm and httpx log every call at INFO (and Hydra's root logger shows INFO): keep runs readable.
+    for name in ("LiteLLM", "LiteLLM Router", "LiteLLM Proxy", "httpx", "httpcore", "openai"):
+        logger = logging.getLogger(name)
+        if logger.level < logging.WARNING:
+            logger.setLevel(logging.WARNING)
     return litellm
 
 
@@ -171,7 +178,7 @@ class LiteLLMBackend(ModelBackend):
         if s.api_key_env:
             key = os.environ.get(s.api_key_env) or None
             if key is None:
-                raise ModelFatalError(
+                raise ModelConfigError(
                     f"model {s.model_id}: environment variable {s.api_key_env} is not set; export your API key "
                     f"in it (keys are read only from the environment)"
                 )

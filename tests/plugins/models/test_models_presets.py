@@ -124,3 +124,11 @@ def test_preload_module_warms_litellm_offline():
         "assert not seen, seen\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True, timeout=120)
+
+
+def test_an_unset_mandatory_value_is_named():
+    from eb_models._settings import ModelConfigError
+    from eb_models.replay import ReplayBackend
+
+    with pytest.raises(ModelConfigError, match=r"needs a value for 'model.run_dir'"):
+        ReplayBackend(run_dir="???")
