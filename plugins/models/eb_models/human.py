@@ -9,6 +9,7 @@ or end of input answers an empty plan. Use it with ``runner.workers=1``.
 
 from __future__ import annotations
 
+import multiprocessing
 import re
 import sys
 import tempfile
@@ -19,7 +20,7 @@ from typing import Any, TextIO
 from eb_core.env import Action, DiscreteActionSpace, PlanItemError
 from eb_core.model import EpisodeContext, ImagePart, ModelBackend, ModelFatalError, ModelRequest, ModelResponse, Usage
 from eb_models._answer import planner_answer
-from eb_models._settings import BackendSettings, validate_settings
+from eb_models._settings import BackendSettings, ModelConfigError, validate_settings
 
 __all__ = ["HumanBackend", "HumanSettings"]
 
@@ -37,6 +38,9 @@ class HumanBackend(ModelBackend):
 
     def __init__(self, *, stdin: TextIO | None = None, stdout: TextIO | None = None, **kwargs: Any) -> None:
         self.settings = validate_settings(HumanSettings, "human", kwargs)
+        if stdin is None and multiprocessing.parent_process() is not None:
+            raise ModelConfigError("the human backend reads your terminal, which worker processes do not have: "
+                                   "run it with runner.workers=1")
         self.stdin = stdin if stdin is not None else sys.stdin
         self.stdout = stdout if stdout is not None else sys.stdout
         self.image_dir = Path(self.settings.image_dir) if self.settings.image_dir else None

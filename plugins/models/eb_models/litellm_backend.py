@@ -155,7 +155,9 @@ def _fits_strict(schema: Any) -> bool:
         props = schema.get("properties", {})
         if schema.get("additionalProperties") is not False or set(schema.get("required", [])) != set(props):
             return False
-    return all(_fits_strict(v) for k, v in schema.items() if k not in ("required", "enum", "const"))
+    subs: list[Any] = list(schema.get("properties", {}).values()) + list(schema.get("$defs", {}).values())
+    subs += [v for k, v in schema.items() if k in ("items", "anyOf", "allOf", "oneOf")]
+    return all(_fits_strict(v) for v in subs)
 
 
 class LiteLLMBackend(ModelBackend):

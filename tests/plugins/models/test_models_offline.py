@@ -210,3 +210,22 @@ def test_human_vector_actions(tmp_path):
 
     answer = json.loads(backend.complete(ModelRequest(messages=())).text)
     assert answer["executable_plan"] == [{"action": [1, 2, 3]}, {"action": [3, 4, 5]}]
+
+
+def _make_human(q):
+    try:
+        HumanBackend()
+        q.put("constructed")
+    except ModelConfigError as exc:
+        q.put(str(exc))
+
+
+def test_human_refuses_worker_processes():
+    import multiprocessing as mp
+
+    ctx = mp.get_context("fork")
+    q = ctx.Queue()
+    p = ctx.Process(target=_make_human, args=(q,))
+    p.start()
+    p.join(20)
+    assert "runner.workers=1" in q.get(timeout=5)
