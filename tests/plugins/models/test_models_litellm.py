@@ -62,6 +62,7 @@ def test_request_shape_and_recorded_usage(make_backend, server):
     fmt = body["response_format"]
     assert fmt["type"] == "json_schema" and fmt["json_schema"]["name"] == "embodied_plan"
     assert fmt["json_schema"]["schema"]["required"][-1] == "executable_plan"
+    assert fmt["json_schema"]["strict"] is True  # the discrete plan schema fits OpenAI strict mode
 
 
 def test_textual_format_when_the_preset_has_no_json_schema(make_backend, server):
