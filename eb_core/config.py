@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
@@ -98,6 +99,9 @@ class RunnerConfig(_Strict):
     """Plain progress lines instead of the live display."""
     episode_timeout_s: float | None = None
     """Kill a worker whose episode runs longer than this (recorded as an error episode)."""
+    start_method: Literal["fork", "spawn", "forkserver"] = "fork" if sys.platform == "linux" else "spawn"
+    """How worker processes start. ``fork`` (Linux default) inherits the already imported model SDK and
+    simulator modules, so a worker is ready at once; ``spawn`` starts each from scratch."""
 
 
 class RunConfig(_Strict):

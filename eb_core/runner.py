@@ -245,7 +245,7 @@ def run(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, 
     # Resume bookkeeping: refuse to mix results of different configs in one directory.
     fp_path = files.root / "fingerprint.json"
     fp = _fingerprint(json.loads(json.dumps(cfg_dict, default=str)))
-    if fp_path.exists():
+    if fp_path.exists() and files.episodes_path.exists() and files.episodes_path.stat().st_size > 0:
         old = json.loads(fp_path.read_text())
         diff = _diff_keys(old, fp)
         if diff:
@@ -253,7 +253,7 @@ def run(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, 
                 f"{files.root} holds results of a different config (differs in: {', '.join(diff[:6])}); "
                 f"pick a new experiment=NAME or hydra.run.dir=DIR, or delete that directory"
             )
-    else:
+    else:  # a fresh directory, or one where no episode ever finished (e.g. a missing key): take it over
         files.write_json("fingerprint.json", fp)
     import yaml  # shipped with omegaconf
 
@@ -347,7 +347,7 @@ def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pend
                  progress: _Progress, hook: Any, plugin_modules: list[str]) -> str | None:
     from multiprocessing.connection import wait
 
-    ctx = mp.get_context("spawn")
+    ctx = mp.get_context(cfg.runner.start_method)
     shared_cost = ctx.Value("d", 0.0)
     queue_: list[Task] = list(pending)
     timeout = cfg.runner.episode_timeout_s

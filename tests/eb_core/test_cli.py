@@ -77,6 +77,7 @@ def test_cfg_job_shows_the_resolved_config():
     (("run", "env=corridor", "model=scripted-oracle", "subset=middle", "hydra.run.dir=/tmp/eb-sub"),
      "unknown subset 'middle' for env 'corridor'; available: near, far"),
     (("rnu",), "unknown command 'rnu'"),
+    (("run", "env=corridor", "model=scripted-oracle", "+model.api_key=sk-live-123"), "refusing 'model.api_key=...'"),
     (("report", "/nonexistent/run"), "is not a run directory"),
     (("tasks", "generate", "env=corridor"), "ships no task generator"),
 ])

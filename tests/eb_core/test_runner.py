@@ -88,6 +88,14 @@ def test_fatal_model_error_fails_before_the_first_episode(tmp_path):
     assert not (tmp_path / "episodes.jsonl").exists()
 
 
+def test_a_failed_start_does_not_lock_the_directory(tmp_path):
+    bad = make_config(model={"name": "s", "backend": "scripted", "fail": "auth"})
+    with pytest.raises(RunError):
+        run(bad, tmp_path, plugins=[fixture_plugin])
+    summary = run(make_config(limit=1), tmp_path, plugins=[fixture_plugin])  # different config, same dir
+    assert summary["n_finished"] == 1
+
+
 def test_budget_cap_stops_cleanly_with_finished_episodes_saved(tmp_path):
     cfg = make_config(model={"name": "s", "backend": "scripted", "oracle": True, "cost_per_call": 0.01,
                              "max_cost_usd": 0.035})
