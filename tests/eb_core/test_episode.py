@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from conftest import make_config
+from eb_core_testutil import make_config
 from eb_core.episode import BudgetGuard, run_episode
 from eb_core.model import ImagePart, ModelBudgetExceeded
 from eb_core.planner import VLMPlanner

@@ -3,7 +3,7 @@
 import json
 
 import fixture_plugin
-from conftest import make_config
+from eb_core_testutil import make_config
 from eb_core.html import write_html
 from eb_core.runner import run
 

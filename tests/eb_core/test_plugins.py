@@ -81,7 +81,7 @@ def test_plugin_versions_are_recorded(registry):
 
 
 def test_lifecycle_hooks_observe_a_run(tmp_path):
-    from conftest import make_config
+    from eb_core_testutil import make_config
     from eb_core.runner import run
 
     seen = []

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 import fixture_plugin
-from conftest import make_config
+from eb_core_testutil import make_config
 from eb_core.config import ConfigError
 from eb_core.records import RunFiles
 from eb_core.runner import RunError, episode_seed, run, select_tasks
