@@ -16,15 +16,47 @@ from typing import Any
 
 import numpy as np
 
-from eb_alfred._kit_types import KIT, kit_get, registered
 from eb_alfred.catalog import COLORS, TYPES
 from eb_alfred.world import World
 
-from eb_scenekit import SceneBuilder, set_agent_pose, set_open, set_powered  # noqa: E402  (picks GL first)
-from eb_scenekit._mujoco import mujoco  # noqa: E402
-from eb_scenekit.render import SceneRenderer, free_camera  # noqa: E402
+from eb_scenekit import SceneBuilder, Surface, get_type, set_agent_pose, set_open, set_powered  # (picks GL first)
+from eb_scenekit._mujoco import mujoco
+from eb_scenekit.render import SceneRenderer, free_camera
 
-__all__ = ["AlfredRenderer", "Frame"]
+__all__ = ["AlfredRenderer", "Frame", "KIT"]
+
+#: ALFRED type -> (scene-kit catalogue type, scale). Sink basins, faucets and bathtub basins are parts of their
+#: sink/bathtub (see ``_PARTS_OF``).
+KIT: dict[str, tuple[str, float]] = {
+    "AlarmClock": ("AlarmClock", 1.0), "Apple": ("Apple", 1.0), "ArmChair": ("ArmChair", 1.0),
+    "BaseballBat": ("BaseballBat", 1.0), "BasketBall": ("BasketBall", 1.0), "Bathtub": ("Bathtub", 1.0),
+    "Bed": ("Bed", 1.0), "Book": ("Book", 1.0), "Bowl": ("Bowl", 1.0), "Box": ("Box", 1.0),
+    "Bread": ("Bread", 1.0), "ButterKnife": ("Knife", 0.8), "CD": ("CD", 1.0), "Cabinet": ("Cabinet", 1.0),
+    "Candle": ("Candle", 0.8), "CellPhone": ("CellPhone", 1.0), "Cloth": ("Towel", 0.7),
+    "CoffeeMachine": ("CoffeeMachine", 1.0), "CoffeeTable": ("CoffeeTable", 1.0), "CounterTop": ("CounterTop", 1.0),
+    "CreditCard": ("CreditCard", 1.0), "Cup": ("Cup", 1.0), "Desk": ("Desk", 1.0),
+    "DeskLamp": ("DeskLamp", 1.0), "DiningTable": ("DiningTable", 1.0), "DishSponge": ("Sponge", 1.0),
+    "Drawer": ("Drawer", 1.0), "Dresser": ("Dresser", 1.0), "Egg": ("Egg", 1.0),
+    "FloorLamp": ("FloorLamp", 1.0), "Fork": ("Fork", 1.0), "Fridge": ("Fridge", 1.0),
+    "GarbageCan": ("GarbageCan", 1.0), "GlassBottle": ("WineBottle", 0.85), "HandTowel": ("Towel", 0.8),
+    "HandTowelHolder": ("HandTowelHolder", 1.0), "Kettle": ("Kettle", 1.0), "KeyChain": ("KeyChain", 1.0),
+    "Knife": ("Knife", 1.0), "Ladle": ("Ladle", 1.0), "Laptop": ("Laptop", 1.0),
+    "LaundryHamper": ("LaundryHamper", 1.0), "Lettuce": ("Lettuce", 1.0), "Microwave": ("Microwave", 1.0),
+    "Mug": ("Mug", 1.0), "Newspaper": ("Newspaper", 1.0), "Ottoman": ("Ottoman", 1.0),
+    "Pan": ("Pan", 1.0), "Pen": ("Pen", 1.0), "Pencil": ("Pen", 1.2), "PepperShaker": ("PepperShaker", 1.0),
+    "Pillow": ("Pillow", 1.0), "Plate": ("Plate", 1.0), "Plunger": ("Plunger", 1.0), "Pot": ("Pot", 1.0),
+    "Potato": ("Potato", 1.0), "RemoteControl": ("RemoteControl", 1.0), "Safe": ("Safe", 1.0),
+    "SaltShaker": ("SaltShaker", 1.0), "ScrubBrush": ("ScrubBrush", 1.0), "Shelf": ("Shelf", 1.0),
+    "SideTable": ("SideTable", 1.0), "Sink": ("Sink", 1.0), "SoapBar": ("SoapBar", 1.0),
+    "SoapBottle": ("SoapBottle", 1.0), "Sofa": ("Sofa", 1.0), "Spatula": ("Spatula", 1.0),
+    "Spoon": ("Spoon", 1.0), "SprayBottle": ("SprayBottle", 1.0), "Statue": ("Statue", 1.0),
+    "StoveBurner": ("StoveBurner", 1.0), "TVStand": ("TVStand", 1.0), "TennisRacket": ("TennisRacket", 1.0),
+    "TissueBox": ("TissueBox", 1.0), "Toaster": ("Toaster", 1.0), "Toilet": ("Toilet", 1.0),
+    "ToiletPaper": ("ToiletPaper", 1.0), "ToiletPaperHanger": ("ToiletPaperHanger", 1.0),
+    "Tomato": ("Tomato", 1.0), "Towel": ("Towel", 1.0), "TowelHolder": ("TowelHolder", 1.0),
+    "Vase": ("Vase", 0.8), "Watch": ("Watch", 1.0), "WateringCan": ("WateringCan", 1.0),
+    "WineBottle": ("WineBottle", 1.0),
+}
 
 _PARTS_OF = {"SinkBasin": "Sink", "Faucet": "Sink", "BathtubBasin": "Bathtub"}
 """Types drawn as a part of their parent (the sink's basin and tap, the bathtub's basin)."""
@@ -101,36 +133,35 @@ class AlfredRenderer:
                 yaw = math.degrees(math.atan2(normal[1], normal[0]))
                 self.poses[n] = _Pose((float(p[0]), float(p[1]), 0.0), yaw, (float(normal[0]), float(normal[1])))
                 t += widths[n] / 2
-        with registered():
-            self.kit_name: dict[str, str] = {}
-            for n in names:
-                o = world.objects[n]
+        self.kit_name: dict[str, str] = {}
+        for n in names:
+            o = world.objects[n]
+            kt, sc = KIT[o.type]
+            pose = self.poses[n]
+            b.add_object(kt, n, pos=pose.pos, yaw=pose.yaw, color=_rgb(o.color, "gray"), scale=sc)
+            self.kit_name[n] = n
+        # fixtures standing on furniture (microwave, toaster, coffee machine, desk lamp), and sink parts
+        for n, o in world.objects.items():
+            if o.parent is None:
+                continue
+            if o.type in _PARTS_OF:
+                self.kit_name[n] = o.parent
+                continue
+            if not TYPES[o.type].pickupable:
                 kt, sc = KIT[o.type]
-                pose = self.poses[n]
-                b.add_object(kt, n, pos=pose.pos, yaw=pose.yaw, color=_rgb(o.color, "gray"), scale=sc)
+                offset = self._fixture_offset(world, n)
+                b.add_object(kt, n, pos=offset, color=_rgb(o.color, "gray"), scale=sc, parent=o.parent,
+                             surface="top")
                 self.kit_name[n] = n
-            # fixtures standing on furniture (microwave, toaster, coffee machine, desk lamp), and sink parts
-            for n, o in world.objects.items():
-                if o.parent is None:
-                    continue
-                if o.type in _PARTS_OF:
-                    self.kit_name[n] = o.parent
-                    continue
-                if not TYPES[o.type].pickupable:
-                    kt, sc = KIT[o.type]
-                    offset = self._fixture_offset(world, n)
-                    b.add_object(kt, n, pos=offset, color=_rgb(o.color, "gray"), scale=sc, parent=o.parent,
-                                 surface="top")
-                    self.kit_name[n] = n
-            # movable objects: placed by pose every frame; sliceable food also gets its slices (hidden)
-            for n, o in world.objects.items():
-                if not TYPES[o.type].pickupable:
-                    continue
-                kt, sc = KIT[o.type]
-                b.add_object(kt, n, pos=_HIDDEN, color=_rgb(o.color, TYPES[o.type].colors[0]), scale=sc, movable=True)
-                self.kit_name[n] = n
-                if o.type in _FOOD_SLICEABLE:
-                    b.add_object("AlfredSlices", f"{n}__slices", pos=_HIDDEN, color=_rgb(o.color, "red"), movable=True)
+        # movable objects: placed by pose every frame; sliceable food also gets its slices (hidden)
+        for n, o in world.objects.items():
+            if not TYPES[o.type].pickupable:
+                continue
+            kt, sc = KIT[o.type]
+            b.add_object(kt, n, pos=_HIDDEN, color=_rgb(o.color, TYPES[o.type].colors[0]), scale=sc, movable=True)
+            self.kit_name[n] = n
+            if o.type in _FOOD_SLICEABLE:
+                b.add_object("Slices", f"{n}__slices", pos=_HIDDEN, color=_rgb(o.color, "red"), movable=True)
         b.add_agent_camera("agent", pos=(0.0, 0.0), height=_EYE, fovy=60.0, marker=False)
         self.builder = b
         self.model, self.data = b.build()
@@ -162,7 +193,7 @@ class AlfredRenderer:
     @staticmethod
     def _half(alfred_type: str) -> tuple[float, float]:
         kt, sc = KIT[alfred_type]
-        t = kit_get(kt)
+        t = get_type(kt)
         return t.half_extents[0] * sc, t.half_extents[1] * sc
 
     def _fill(self, names: list[str], widths: dict[str, float], sx: float, sy: float) -> dict[str, list[str]] | None:
@@ -196,10 +227,10 @@ class AlfredRenderer:
         o = world.objects[recep]
         if o.type in ("SinkBasin", "BathtubBasin"):
             kit_obj = self.builder.object(kit)
-            surf = kit_get(kit_obj.type).surface("basin")
+            surf = get_type(kit_obj.type).surface("basin")
         else:
             kit_obj = self._kit_obj(kit)
-            t = kit_get(KIT[o.type][0])
+            t = get_type(KIT[o.type][0])
             surf = self._choose_surface(o.type, t)
         if recep in poses:
             pos, yaw = poses[recep]
@@ -216,8 +247,6 @@ class AlfredRenderer:
 
     @staticmethod
     def _choose_surface(alfred_type: str, kit_t: Any) -> Any:
-        from eb_scenekit import Surface
-
         if not kit_t.surfaces:  # a kit shape without a support surface: use its top
             hx, hy = kit_t.half_extents
             return Surface("top", kit_t.height, (hx * 0.5, hy * 0.5))
@@ -283,7 +312,7 @@ class AlfredRenderer:
             return np.array([0.0, -sy * 0.3, 1.6]), np.array([0.0, sy / 2, 0.9])
         pose = self.poses[world.place]
         hx, hy = self._half(world.objects[world.place].type)
-        height = kit_get(KIT[world.objects[world.place].type][0]).height
+        height = get_type(KIT[world.objects[world.place].type][0]).height
         n = np.array(pose.normal)
         front = np.array(pose.pos[:2]) + n * hx
         dist = max(0.95, 0.9 * hy + 0.5, 0.7 * height)
@@ -302,7 +331,7 @@ class AlfredRenderer:
                 return np.array([pose[0][0], pose[0][1], pose[0][2] + 0.05])
             if world.objects[target].type in ("SinkBasin", "BathtubBasin", "Faucet"):
                 so = self.builder.object(self.kit_name[target])
-                z = kit_get(so.type).surfaces[0].z * so.scale if kit_get(so.type).surfaces else 0.9
+                z = get_type(so.type).surfaces[0].z * so.scale if get_type(so.type).surfaces else 0.9
                 return np.array([so.position[0], so.position[1], so.position[2] + z])
             so = self._kit_obj(target) if target != world.place and target not in self.poses else None
             if so is not None:

@@ -9,7 +9,9 @@ from eb_scenekit.gl import RenderBackendError, select_gl_backend
 from eb_scenekit.objects import (
     CATALOGUE,
     COLORS,
+    Builder,
     ObjectType,
+    Parts,
     Surface,
     articulated_joints,
     get_open,
@@ -18,6 +20,7 @@ from eb_scenekit.objects import (
     set_object_pose,
     set_open,
     set_powered,
+    shade,
 )
 from eb_scenekit.rooms import ROOM_KINDS, RoomLayout, generate_room
 from eb_scenekit.scene import RoomShell, SceneBuilder, SceneObject, lookat_xyaxes, set_agent_pose
@@ -25,9 +28,11 @@ from eb_scenekit.scene import RoomShell, SceneBuilder, SceneObject, lookat_xyaxe
 __version__ = "0.1.0"
 
 __all__ = [
+    "Builder",
     "CATALOGUE",
     "COLORS",
     "ObjectType",
+    "Parts",
     "ROOM_KINDS",
     "RenderBackendError",
     "RoomLayout",
@@ -51,6 +56,7 @@ __all__ = [
     "set_object_pose",
     "set_open",
     "set_powered",
+    "shade",
     "__version__",
 ]
 

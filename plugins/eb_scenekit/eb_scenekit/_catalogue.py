@@ -937,3 +937,240 @@ def _basketball(p: Parts, c: RGB) -> None:
     p.sph("ball", 0.12, (0, 0, 0.12), (0.85, 0.38, 0.1), "eb_peel")
     for rot in ((0, 0, 0), (90, 0, 0), (0, 90, 0)):
         p.mesh("seam", "ball_seam", (0, 0, 0.12), (0.08, 0.05, 0.04), "eb_matte", rot=rot, collide=False)
+
+
+# ============================================================ household extras (first drawn for EB-ALFRED)
+
+
+@_register("Drawer", "furniture", ("wood", "white", "walnut", "oak", "gray"), (0.24, 0.25), 0.58, mount="floor",
+           surfaces=(S("top", 0.58, (0.2, 0.22)), S("interior", 0.377, (0.16, 0.18), (0.02, 0.0), True, 0.08)),
+           articulations=("drawer",))
+def _drawer(p: Parts, c: RGB) -> None:
+    """A low chest with one pull-out drawer at the top (a drawer you can walk up to)."""
+    p.box("plinth", (0.2, 0.22, 0.03), (-0.01, 0, 0.03), _DARK, "eb_matte")
+    p.box("carcass", (0.22, 0.24, 0.25), (-0.02, 0, 0.31), c, "eb_wood")
+    p.box("top", (0.235, 0.25, 0.012), (-0.01, 0, 0.572), c, "eb_wood")
+    d = p.slide("drawer", (0, 0, 0), (1, 0, 0), 0.3)
+    d.box("front", (0.012, 0.23, 0.1), (0.215, 0, 0.45), tuple(min(1.0, v * 1.1) for v in c), "eb_wood")
+    d.box("floor", (0.2, 0.21, 0.006), (0.02, 0, 0.37), _shade(c, 0.8), "eb_wood")
+    for sy in (-1, 1):
+        d.box("wall", (0.2, 0.006, 0.05), (0.02, sy * 0.21, 0.42), _shade(c, 0.8), "eb_wood")
+    d.box("back", (0.006, 0.21, 0.05), (-0.18, 0, 0.42), _shade(c, 0.8), "eb_wood")
+    d.cap_ft("handle", (0.245, -0.07, 0.45), (0.245, 0.07, 0.45), 0.009, _CHROME, "eb_metal")
+    p.box("lower_front", (0.004, 0.23, 0.13), (0.205, 0, 0.19), _shade(c, 0.92), "eb_wood", collide=False)
+
+
+@_register("Safe", "furniture", ("dark_gray", "gray", "black", "steel"), (0.21, 0.23), 0.4, mount="floor",
+           surfaces=(S("interior", 0.035, (0.14, 0.16), (0.03, 0.0), True, 0.3), S("top", 0.4, (0.18, 0.2))),
+           articulations=("door",))
+def _safe(p: Parts, c: RGB) -> None:
+    p.box("body", (0.2, 0.22, 0.2), (0, 0, 0.2), c, "eb_metal")
+    p.box("inside", (0.17, 0.19, 0.17), (0.03, 0, 0.2), _DARK, "eb_matte", collide=False)
+    d = p.hinge("door", (0.2, -0.22, 0.0), (0, 0, -1), 100)
+    d.box("panel", (0.012, 0.22, 0.2), (0.012, 0.22, 0.2), _shade(c, 0.85), "eb_metal")
+    d.cyl_ft("dial", (0.024, 0.22, 0.24), (0.04, 0.22, 0.24), 0.045, _CHROME, "eb_metal")
+    d.cap_ft("handle", (0.045, 0.36, 0.14), (0.045, 0.36, 0.26), 0.01, _CHROME, "eb_metal")
+
+
+@_register("Ottoman", "furniture", ("beige", "gray", "blue", "green", "red"), (0.3, 0.3), 0.42, mount="floor",
+           surfaces=(S("top", 0.42, (0.25, 0.25)),))
+def _ottoman(p: Parts, c: RGB) -> None:
+    """An upholstered footstool: a padded box with a soft, buttoned top."""
+    p.box("cushion", (0.29, 0.29, 0.175), (0, 0, 0.215), c, "eb_fabric")
+    p.mesh("top", "pillow", (0, 0, 0.4), c, "eb_fabric", stretch=(1.5, 1.0, 0.3))
+    p.box("piping", (0.295, 0.295, 0.006), (0, 0, 0.388), _shade(c, 0.8), "eb_fabric", collide=False)
+    for sx in (-1, 1):
+        for sy in (-1, 1):
+            p.sph("button", 0.012, (sx * 0.1, sy * 0.1, 0.418), _shade(c, 0.7), "eb_fabric", collide=False)
+    for sx in (-1, 1):
+        for sy in (-1, 1):
+            p.cyl("foot", 0.025, 0.02, (sx * 0.25, sy * 0.25, 0.02), _DARK, "eb_wood")
+
+
+@_register("LaundryHamper", "furniture", ("tan", "white", "brown"), (0.23, 0.23), 0.62, mount="floor",
+           surfaces=(S("interior", 0.4, (0.12, 0.12), (0.0, 0.0), True),))
+def _hamper(p: Parts, c: RGB) -> None:
+    """An open wicker laundry basket, half full of clothes."""
+    p.mesh("basket", "garbage_can", (0, 0, 0), c, "eb_wicker", stretch=(1.38, 1.38, 1.5))
+    laundry = (0.82, 0.8, 0.76)
+    p.cyl("laundry", 0.17, 0.18, (0, 0, 0.21), laundry, "eb_fabric", collide=False)
+    p.ell("laundry_top", (0.185, 0.185, 0.03), (0, 0, 0.375), laundry, "eb_fabric", collide=False)
+    p.mesh("rim", "burner", (0, 0, 0.6), _shade(c, 0.8), "eb_wicker", stretch=(3.15, 3.15, 1.5), collide=False)
+
+
+@_register("TowelHolder", "furniture", ("silver",), (0.05, 0.32), 1.02, mount="floor",
+           surfaces=(S("bar", 0.92, (0.02, 0.2)),))
+def _towel_holder(p: Parts, c: RGB) -> None:
+    """A free-standing chrome rail for bath towels."""
+    for sy in (-1, 1):
+        p.cyl_ft("post", (0, sy * 0.3, 0), (0, sy * 0.3, 1.1), 0.015, _CHROME, "eb_metal")
+        p.cyl("foot", 0.08, 0.01, (0, sy * 0.3, 0.01), _CHROME, "eb_metal")
+    p.cyl_ft("bar", (0, -0.3, 1.0), (0, 0.3, 1.0), 0.015, _CHROME, "eb_metal")
+
+
+@_register("HandTowelHolder", "furniture", ("silver",), (0.05, 0.1), 0.95, mount="floor",
+           surfaces=(S("ring", 0.72, (0.02, 0.05), (0.03, 0.0)),))
+def _hand_towel_holder(p: Parts, c: RGB) -> None:
+    """A chrome stand with a ring for a hand towel."""
+    p.cyl_ft("post", (0, 0, 0), (0, 0, 0.95), 0.015, _CHROME, "eb_metal")
+    p.cyl("foot", 0.1, 0.01, (0, 0, 0.01), _CHROME, "eb_metal")
+    p.geom("ring", "ellipsoid", size=(0.02, 0.1, 0.1), pos=(0.03, 0, 0.85), rgba=_CHROME, mat="eb_metal")
+
+
+@_register("ToiletPaperHanger", "furniture", ("silver",), (0.08, 0.16), 0.7, mount="floor",
+           surfaces=(S("arm", 0.62, (0.02, 0.04), (0.0, 0.09)),))
+def _tp_hanger(p: Parts, c: RGB) -> None:
+    p.cyl_ft("post", (0, 0, 0), (0, 0, 0.7), 0.012, _CHROME, "eb_metal")
+    p.cyl("foot", 0.08, 0.01, (0, 0, 0.01), _CHROME, "eb_metal")
+    p.cyl_ft("arm", (0, 0, 0.68), (0.0, 0.14, 0.68), 0.01, _CHROME, "eb_metal")
+
+
+@_register("StoveBurner", "appliance", ("black",), (0.31, 0.23), 0.96, mount="floor",
+           surfaces=(S("top", 0.955, (0.1, 0.1)),), toggleable=True)
+def _stove_burner(p: Parts, c: RGB) -> None:
+    """A narrow one-burner cooker with an oven door (one burner you can walk up to)."""
+    p.box("base", (0.3, 0.22, 0.44), (0, 0, 0.46), (0.85, 0.85, 0.86), "eb_metal")
+    p.box("oven", (0.004, 0.18, 0.2), (0.302, 0, 0.42), _DARK, "eb_glass")
+    p.box("top", (0.31, 0.23, 0.02), (0, 0, 0.92), (0.08, 0.08, 0.09), "eb_glossy")
+    p.cyl("burner", 0.1, 0.008, (0, 0, 0.945), (0.2, 0.2, 0.22), "eb_metal")
+    p.cyl("burner_ring", 0.06, 0.01, (0, 0, 0.948), (0.05, 0.05, 0.05), "eb_metal")
+    p.cyl_ft("knob", (0.3, 0.0, 0.8), (0.33, 0.0, 0.8), 0.025, _CHROME, "eb_metal")
+
+
+@_register("Slices", "food", ("red", "green", "yellow", "tan", "brown"), (0.05, 0.04), 0.08, movable=True)
+def _slices(p: Parts, c: RGB) -> None:
+    """Three cut pieces of a fruit or vegetable: its colour outside, a pale cut face."""
+    flesh = tuple(min(1.0, 0.6 * v + 0.4 * w) for v, w in zip(c, (1.0, 0.95, 0.8)))
+    for dx in (-0.03, 0.0, 0.03):
+        p.cyl_ft("skin", (dx - 0.009, 0, 0.04), (dx + 0.009, 0, 0.04), 0.04, c, "eb_peel")
+        p.cyl_ft("face", (dx + 0.0092, 0, 0.04), (dx + 0.0095, 0, 0.04), 0.036, flesh, "eb_matte", collide=False)
+
+
+def _shaker(p: Parts, c: RGB) -> None:
+    """A glass shaker showing its filling, with a chrome cap."""
+    p.cyl("body", 0.022, 0.04, (0, 0, 0.04), (0.85, 0.88, 0.9, 0.35), "eb_glass")
+    p.cyl("fill", 0.02, 0.028, (0, 0, 0.03), c, "eb_matte", collide=False)
+    p.ell("cap", (0.022, 0.022, 0.014), (0, 0, 0.08), _CHROME, "eb_metal")
+
+
+_register("SaltShaker", "small", ("white", "cream"), (0.022, 0.022), 0.095, movable=True)(_shaker)
+_register("PepperShaker", "small", ("dark_gray", "black", "brown"), (0.022, 0.022), 0.095, movable=True)(_shaker)
+
+
+@_register("Fork", "small", ("silver", "steel", "gold"), (0.1, 0.013), 0.008, movable=True)
+def _fork(p: Parts, c: RGB) -> None:
+    p.box("handle", (0.06, 0.008, 0.003), (-0.04, 0, 0.004), c, "eb_metal")
+    p.box("neck", (0.02, 0.012, 0.003), (0.035, 0, 0.004), c, "eb_metal")
+    for dy in (-0.009, -0.003, 0.003, 0.009):
+        p.box("tine", (0.025, 0.0018, 0.002), (0.075, dy, 0.004), c, "eb_metal")
+
+
+@_register("Spoon", "small", ("silver", "steel", "gold"), (0.1, 0.018), 0.012, movable=True)
+def _spoon(p: Parts, c: RGB) -> None:
+    p.box("handle", (0.06, 0.007, 0.003), (-0.04, 0, 0.004), c, "eb_metal")
+    p.ell("bowl", (0.028, 0.018, 0.006), (0.05, 0, 0.006), c, "eb_metal")
+
+
+@_register("Ladle", "small", ("steel", "silver", "black"), (0.17, 0.045), 0.05, movable=True)
+def _ladle(p: Parts, c: RGB) -> None:
+    p.box("handle", (0.11, 0.008, 0.004), (-0.06, 0, 0.01), c, "eb_metal")
+    p.ell("cup", (0.045, 0.045, 0.025), (0.09, 0, 0.025), c, "eb_metal")
+
+
+@_register("CD", "small", ("silver", "gold"), (0.06, 0.06), 0.004, movable=True)
+def _cd(p: Parts, c: RGB) -> None:
+    p.cyl("disc", 0.06, 0.001, (0, 0, 0.002), c, "eb_metal")
+    p.cyl("label", 0.035, 0.0012, (0, 0, 0.0025), (0.3, 0.5, 0.9), "eb_plastic", collide=False)
+    p.cyl("hole", 0.008, 0.0015, (0, 0, 0.003), _DARK, "eb_matte", collide=False)
+
+
+@_register("CreditCard", "small", ("blue", "gold", "black", "red"), (0.027, 0.043), 0.004, movable=True)
+def _credit_card(p: Parts, c: RGB) -> None:
+    p.box("card", (0.027, 0.043, 0.001), (0, 0, 0.002), c, "eb_glossy")
+    p.box("chip", (0.006, 0.008, 0.0005), (0.008, -0.025, 0.0032), (0.85, 0.7, 0.3), "eb_metal", collide=False)
+    p.box("stripe", (0.004, 0.04, 0.0005), (-0.015, 0, 0.0032), _WHITE, "eb_plastic", collide=False)
+
+
+@_register("Watch", "small", ("silver", "gold", "black"), (0.02, 0.06), 0.017, movable=True)
+def _watch(p: Parts, c: RGB) -> None:
+    p.box("band", (0.012, 0.06, 0.002), (0, 0, 0.003), (0.2, 0.15, 0.1), "eb_fabric")
+    p.cyl("case", 0.02, 0.006, (0, 0, 0.01), c, "eb_metal")
+    p.cyl("face", 0.016, 0.001, (0, 0, 0.0165), _WHITE, "eb_glossy", collide=False)
+
+
+@_register("Statue", "small", ("gold", "silver", "dark_gray"), (0.045, 0.05), 0.21, movable=True)
+def _statue(p: Parts, c: RGB) -> None:
+    """A small metal figure on a stone plinth."""
+    p.box("plinth", (0.045, 0.045, 0.015), (0, 0, 0.015), _DARK, "eb_stone")
+    p.cap_ft("body", (0, 0, 0.04), (0, 0, 0.16), 0.025, c, "eb_metal")
+    p.sph("head", 0.022, (0, 0, 0.19), c, "eb_metal")
+    p.cap_ft("arm", (0, -0.03, 0.14), (0, -0.045, 0.2), 0.009, c, "eb_metal")
+
+
+@_register("ToiletPaper", "small", ("white", "cream"), (0.055, 0.055), 0.1, movable=True)
+def _toilet_paper(p: Parts, c: RGB) -> None:
+    p.cyl("roll", 0.055, 0.05, (0, 0, 0.05), c, "eb_fabric")
+    p.cyl("core", 0.02, 0.051, (0, 0, 0.05), (0.6, 0.45, 0.3), "eb_matte", collide=False)
+
+
+@_register("TennisRacket", "small", ("red", "blue", "green", "black"), (0.27, 0.1), 0.025, movable=True)
+def _tennis_racket(p: Parts, c: RGB) -> None:
+    p.geom("frame", "ellipsoid", size=(0.13, 0.1, 0.01), pos=(0.12, 0, 0.012), rgba=c, mat="eb_glossy")
+    p.geom("strings", "ellipsoid", size=(0.115, 0.087, 0.011), pos=(0.12, 0, 0.013), rgba=(0.95, 0.95, 0.85),
+           mat="eb_matte", collide=False)
+    p.cap_ft("handle", (-0.01, 0, 0.012), (-0.26, 0, 0.012), 0.014, (0.1, 0.1, 0.1), "eb_fabric")
+
+
+@_register("BaseballBat", "small", ("wood", "oak", "black"), (0.43, 0.035), 0.07, movable=True)
+def _baseball_bat(p: Parts, c: RGB) -> None:
+    p.cap_ft("barrel", (0.05, 0, 0.035), (0.4, 0, 0.035), 0.033, c, "eb_wood")
+    p.cap_ft("handle", (-0.4, 0, 0.035), (0.05, 0, 0.035), 0.015, c, "eb_wood")
+    p.cyl_ft("knob", (-0.42, 0, 0.035), (-0.4, 0, 0.035), 0.024, c, "eb_wood")
+
+
+@_register("Plunger", "small", ("red", "black"), (0.07, 0.07), 0.5, movable=True)
+def _plunger(p: Parts, c: RGB) -> None:
+    p.ell("cup", (0.07, 0.07, 0.05), (0.0, 0, 0.05), c, "eb_glossy")
+    p.cyl_ft("stick", (0, 0, 0.08), (0, 0, 0.5), 0.012, (0.55, 0.38, 0.2), "eb_wood")
+
+
+@_register("ScrubBrush", "small", ("blue", "green", "red", "yellow"), (0.09, 0.035), 0.1, movable=True)
+def _scrub_brush(p: Parts, c: RGB) -> None:
+    p.box("block", (0.08, 0.035, 0.015), (0, 0, 0.035), c, "eb_plastic")
+    p.box("bristles", (0.075, 0.03, 0.012), (0, 0, 0.012), (0.95, 0.95, 0.9), "eb_fabric")
+    p.cap_ft("handle", (0.04, 0, 0.05), (-0.08, 0, 0.09), 0.012, c, "eb_plastic")
+
+
+@_register("SprayBottle", "small", ("blue", "green", "white", "yellow"), (0.05, 0.035), 0.235, movable=True)
+def _spray_bottle(p: Parts, c: RGB) -> None:
+    p.cyl("bottle", 0.035, 0.08, (0, 0, 0.08), c, "eb_glossy")
+    p.cyl("neck", 0.015, 0.02, (0, 0, 0.18), _WHITE, "eb_plastic")
+    p.box("head", (0.035, 0.015, 0.02), (0.015, 0, 0.215), _WHITE, "eb_plastic")
+    p.box("trigger", (0.006, 0.01, 0.025), (0.03, 0, 0.18), _DARK, "eb_plastic")
+
+
+@_register("Newspaper", "small", ("light_gray", "cream", "white"), (0.14, 0.1), 0.013, movable=True)
+def _newspaper(p: Parts, c: RGB) -> None:
+    p.box("paper", (0.14, 0.1, 0.006), (0, 0, 0.006), c, "eb_matte")
+    p.box("headline", (0.02, 0.08, 0.001), (0.1, 0, 0.0125), _DARK, "eb_matte", collide=False)
+    for x in (0.04, 0.0, -0.04, -0.08):
+        p.box("column", (0.012, 0.08, 0.0008), (x, 0, 0.0125), (0.55, 0.55, 0.55), "eb_matte", collide=False)
+
+
+@_register("TissueBox", "small", ("blue", "white", "green", "pink"), (0.06, 0.11), 0.13, movable=True)
+def _tissue_box(p: Parts, c: RGB) -> None:
+    p.box("box", (0.06, 0.11, 0.05), (0, 0, 0.05), c, "eb_plastic")
+    p.ell("tissue", (0.03, 0.05, 0.03), (0, 0, 0.1), _WHITE, "eb_fabric")
+
+
+@_register("SoapBar", "small", ("pink", "white", "green", "yellow"), (0.045, 0.03), 0.032, movable=True)
+def _soap_bar(p: Parts, c: RGB) -> None:
+    p.ell("bar", (0.045, 0.03, 0.016), (0, 0, 0.016), c, "eb_glossy")
+
+
+@_register("WateringCan", "small", ("green", "red", "blue", "yellow"), (0.15, 0.09), 0.23, movable=True)
+def _watering_can(p: Parts, c: RGB) -> None:
+    p.cyl("tank", 0.09, 0.1, (0, 0, 0.1), c, "eb_glossy")
+    p.cyl_ft("spout", (0.07, 0, 0.08), (0.22, 0, 0.2), 0.012, c, "eb_glossy")
+    p.cyl("rose", 0.025, 0.012, (0.225, 0, 0.205), c, "eb_glossy")
+    p.cap_ft("handle", (-0.08, 0, 0.22), (0.05, 0, 0.22), 0.012, c, "eb_glossy")

@@ -52,7 +52,7 @@ def render_object(type_name: str, size: int = 240, color: str | None = None) -> 
         return rgb, seg, r.instance_ids[obj.name]
 
 
-def objects_sheet(tile: int = 200, cols: int = 9) -> np.ndarray:
+def objects_sheet(tile: int = 200, cols: int = 10) -> np.ndarray:
     """All catalogue objects in one scene, one labelled tile each."""
     types = object_types()
     b = SceneBuilder(name="catalogue", fovy=45, shadows=True)

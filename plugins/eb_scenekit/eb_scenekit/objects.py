@@ -1,4 +1,4 @@
-"""The household object catalogue: 65 object types built from MuJoCo primitives and generated meshes.
+"""The household object catalogue: 93 object types built from MuJoCo primitives and generated meshes.
 
 Every type is an :class:`ObjectType` with an AI2-THOR style CamelCase name, a category, named colour variants, a
 footprint and height, support surfaces (for receptacles), and a builder that writes one MJCF ``<body>`` subtree.
@@ -30,7 +30,9 @@ from eb_scenekit._mjcf import El, fmt
 __all__ = [
     "CATALOGUE",
     "COLORS",
+    "Builder",
     "ObjectType",
+    "Parts",
     "Surface",
     "get_type",
     "object_types",
@@ -40,6 +42,7 @@ __all__ = [
     "articulated_joints",
     "set_object_pose",
     "set_powered",
+    "shade",
     "yaw_quat",
 ]
 
@@ -100,12 +103,15 @@ _STONE = (0.8, 0.79, 0.76)
 _WARM_LIGHT = (1.0, 0.85, 0.55)
 
 
-def _shade(c: tuple[float, ...], f: float) -> RGB:
-    """Darken (f < 1) or lighten (f > 1) a colour."""
+def shade(c: tuple[float, ...], f: float) -> RGB:
+    """Darken (``f < 1``: scale towards black) or lighten (``f > 1``: move towards white) an RGB colour."""
     if f <= 1:
         return (c[0] * f, c[1] * f, c[2] * f)
     g = f - 1
     return (c[0] + (1 - c[0]) * g, c[1] + (1 - c[1]) * g, c[2] + (1 - c[2]) * g)
+
+
+_shade = shade
 
 
 def _rgba(c: tuple[float, ...]) -> RGBA:
@@ -209,7 +215,16 @@ class _Ctx:
 
 
 class Parts:
-    """Writes the geoms and child bodies of one object instance; all lengths are at scale 1 (metres)."""
+    """Writes the geoms and child bodies of one object instance: the first argument of every builder.
+
+    A builder (``def build(p: Parts, c: RGB) -> None``) draws its object at scale 1 with the base centre at the
+    origin and the front towards +x; :meth:`ObjectType.build` creates the ``Parts`` and applies the instance's
+    scale and name prefix. Each method takes a part name (unique names are made for repeats: ``leg``, ``leg_2``
+    ...), lengths in metres at scale 1, an ``rgba`` (or RGB) colour and a material from
+    :func:`material_assets` (``eb_plastic``, ``eb_wood``, ``eb_metal``, ``eb_glass``, ``eb_fabric`` ...);
+    ``collide=False`` makes a decoration that never takes part in contacts. :meth:`hinge` and :meth:`slide`
+    return the writer of a moving child body (a door, a drawer) whose joint is ``"<instance>/<part>"``.
+    """
 
     def __init__(self, ctx: _Ctx, el: El) -> None:
         self.ctx = ctx
@@ -356,6 +371,7 @@ class Surface:
 
 
 Builder = Callable[[Parts, RGB], None]
+"""Draws one object: ``builder(parts, rgb)`` with the instance's colour (see :class:`Parts`)."""
 
 
 @dataclass(frozen=True)

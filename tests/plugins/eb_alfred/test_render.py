@@ -85,9 +85,14 @@ def test_symbolic_mode_never_imports_mujoco() -> None:
     assert out.returncode == 0 and "ok" in out.stdout, out.stderr
 
 
-def test_scene_kit_catalogue_is_left_untouched(env) -> None:
+def test_every_type_is_drawn_by_a_kit_type_and_the_catalogue_is_left_untouched(env) -> None:
     from eb_scenekit import CATALOGUE
 
-    before = set(CATALOGUE)
+    from eb_alfred.catalog import TYPES
+    from eb_alfred.render import _PARTS_OF, KIT
+
+    assert set(TYPES) == set(KIT) | set(_PARTS_OF)
+    assert {kit for kit, _ in KIT.values()} <= set(CATALOGUE)
+    before = dict(CATALOGUE)
     env.reset(_task("base_01"), 0)
-    assert set(CATALOGUE) == before and not any(name.startswith("Alfred") for name in CATALOGUE)
+    assert CATALOGUE == before

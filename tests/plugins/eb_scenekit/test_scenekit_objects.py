@@ -22,11 +22,16 @@ REQUIRED = {
     "Mug", "Cup", "Bowl", "Plate", "Pot", "Pan", "Vase", "Box", "GarbageCan", "Basket", "Kettle", "Knife",
     "Spatula", "Book", "CellPhone", "RemoteControl", "KeyChain", "Pen", "Sponge", "SoapBottle", "Towel",
     "Pillow", "AlarmClock", "Candle", "HousePlant", "Painting", "TeddyBear", "BasketBall",
+    # household extras first drawn for EB-ALFRED
+    "Drawer", "Safe", "Ottoman", "LaundryHamper", "TowelHolder", "HandTowelHolder", "ToiletPaperHanger",
+    "StoveBurner", "Slices", "SaltShaker", "PepperShaker", "Fork", "Spoon", "Ladle", "CD", "CreditCard", "Watch",
+    "Statue", "ToiletPaper", "TennisRacket", "BaseballBat", "Plunger", "ScrubBrush", "SprayBottle", "Newspaper",
+    "TissueBox", "SoapBar", "WateringCan",
 }
 
 
 def test_catalogue_has_the_required_types() -> None:
-    assert len(CATALOGUE) >= 45
+    assert len(CATALOGUE) >= 93
     assert REQUIRED <= set(CATALOGUE)
 
 
