@@ -172,6 +172,9 @@ def _worker_main(cfg_dict: dict[str, Any], run_dir: str, plugin_modules: list[st
     finally:
         env.close()
         backend.close()
+        conn.close()
+    # Everything is flushed and closed: skip the interpreter's slow teardown of a big process.
+    os._exit(0)
 
 
 # -- progress ----------------------------------------------------------------------------------------
@@ -275,17 +278,20 @@ def run(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, 
     progress = _Progress(len(pending), cfg.runner.quiet, f"{cfg.env.name} / {cfg.model.name}")
     try:
         if pending:
-            backend = comps.make_backend()
-            try:
-                backend.preflight()
-            except ModelFatalError as exc:
-                raise RunError(str(exc)) from None
-            finally:
-                backend.close()
+            def preflight() -> None:
+                backend = comps.make_backend()
+                try:
+                    backend.preflight()
+                except ModelFatalError as exc:
+                    raise RunError(str(exc)) from None
+                finally:
+                    backend.close()
+
             if cfg.runner.workers <= 1:
+                preflight()
                 stopped = _run_inline(cfg, comps, files, pending, progress, hook)
-            else:
-                stopped = _run_workers(cfg, cfg_dict, files, pending, progress, hook, plugin_modules)
+            else:  # workers start up while the preflight call is in flight
+                stopped = _run_workers(cfg, cfg_dict, files, pending, progress, hook, plugin_modules, preflight)
     finally:
         progress.close()
 
@@ -344,7 +350,8 @@ def _run_inline(cfg: RunConfig, comps: Components, files: RunFiles, pending: lis
 
 
 def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pending: list[Task],
-                 progress: _Progress, hook: Any, plugin_modules: list[str]) -> str | None:
+                 progress: _Progress, hook: Any, plugin_modules: list[str],
+                 preflight: Any = None) -> str | None:
     from multiprocessing.connection import wait
 
     ctx = mp.get_context(cfg.runner.start_method)
@@ -377,6 +384,8 @@ def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pend
     workers = [Worker() for _ in range(min(cfg.runner.workers, len(pending)))]
     stopped: str | None = None
     try:
+        if preflight is not None:
+            preflight()
         while stopped is None:
             for w in workers:
                 if w.task is None and queue_:
