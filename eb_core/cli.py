@@ -280,28 +280,19 @@ def cmd_list(args: list[str]) -> int:
     console.print(t)
 
     with _hydra_context():
-        presets = _group_options("model")
-        ablations = _group_options("ablation")
         from hydra.core.global_hydra import GlobalHydra
 
-        repo = GlobalHydra.instance().config_loader()
-        backends: dict[str, str] = {}
-        for p in presets:
-            try:
-                from hydra import compose as hydra_compose
-
-                c = hydra_compose(config_name="config", overrides=[f"model={p}"])
-                backends[p] = str(c.model.get("backend", "?"))
-            except Exception:  # a broken preset is shown, not hidden
-                backends[p] = "(invalid preset)"
-        del repo
+        repo = GlobalHydra.instance().config_loader().repository
+        presets = {p: _load_option(repo, "model", p) for p in _group_options("model")}
+        ablations = {a: _load_option(repo, "ablation", a) for a in _group_options("ablation")}
     m = Table(title="Models (model=NAME)")
-    for col in ("preset", "backend", "backend plugin"):
+    for col in ("preset", "backend", "model id / description", "plugin"):
         m.add_column(col)
-    for p in presets:
-        b = backends[p]
+    for p, node in presets.items():
+        b = str(node.get("backend", "(invalid preset)"))
         spec = registry.model_backends.get(b)
-        m.add_row(p, b, spec.plugin if spec else "[red]backend not installed[/red]")
+        m.add_row(p, b, str(node.get("model_id") or node.get("description") or ""),
+                  spec.plugin if spec else "[red]backend not installed[/red]")
     console.print(m)
     for title, specs in (("Planners", registry.planners), ("Augmenters", registry.augmenters),
                          ("Metrics", registry.metrics)):
@@ -313,10 +304,22 @@ def cmd_list(args: list[str]) -> int:
         console.print(tt)
     a = Table(title="Ablations (ablation=NAME)")
     a.add_column("name")
-    for name in ablations:
-        a.add_row(name)
+    a.add_column("what changes")
+    for name, node in ablations.items():
+        a.add_row(name, str((node.get("ablation") or {}).get("description", "")))
     console.print(a)
     return 0
+
+
+def _load_option(repo: Any, group: str, name: str) -> dict[str, Any]:
+    """The raw YAML of a config option (no composition), or {} if it cannot be read."""
+    from omegaconf import OmegaConf
+
+    try:
+        result = repo.load_config(config_path=f"{group}/{name}")
+        return OmegaConf.to_container(result.config, resolve=False) if result is not None else {}
+    except Exception:  # a broken option is listed, not hidden
+        return {}
 
 
 # -- eb report -----------------------------------------------------------------------------------------
