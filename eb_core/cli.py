@@ -109,7 +109,7 @@ def _unknown_option_message(group: str, value: str, options: list[str]) -> str:
     close = difflib.get_close_matches(value, options, n=1)
     hint = f" Did you mean {close[0]!r}?" if close else ""
     plugin = {"env": " Is its plugin installed? (pip install a plugin, e.g. plugins/eb_navigation, then `eb list`)",
-              "model": " For any other model use model=openai-compatible model.model_id=... model.api_base=...",
+              "model": " For any other model use model=openai-compatible model.name=... model.api_base=...",
               }.get(group, "")
     return f"unknown {group} {value!r}; available: {', '.join(options) or 'none'}.{hint}{plugin}"
 
@@ -196,6 +196,8 @@ def _refuse_secrets(overrides: list[str]) -> None:
 
 
 def cmd_run(args: list[str]) -> int:
+    # `--quiet` is a friendlier spelling of runner.quiet=true (plain lines instead of the live display).
+    args = ["runner.quiet=true" if a in ("--quiet", "-q") else a for a in args]
     overrides, info_only = _split_hydra_args(args)
     _refuse_secrets(overrides)
     cfg_dict = compose(overrides)
