@@ -282,8 +282,7 @@ class AlfredRenderer:
                 lx = (((rows - 1) / 2 - r) * (2 * hx / rows) * 0.8) if rows > 1 else 0.0
                 if world.closed_container(kid) is not None:
                     continue  # closed receptacles hide what is inside (tall things would poke through)
-                lift = 0.07 if world.objects[recep].type in ("SinkBasin", "BathtubBasin") else 0.002
-                p = (float(origin[0] + c * lx - s * ly), float(origin[1] + s * lx + c * ly), float(origin[2]) + lift)
+                p = (float(origin[0] + c * lx - s * ly), float(origin[1] + s * lx + c * ly), float(origin[2]) + 0.002)
                 poses[kid] = (p, yaw + (20.0 if TYPES[world.objects[kid].type].size == 1 else 0.0))
                 place_children(kid)
 

@@ -1,18 +1,19 @@
 """YCB-style small objects the scene kit's catalogue does not have, built from MuJoCo primitives.
 
-Each is an :class:`eb_scenekit.objects.ObjectType` (same conventions as the kit: origin at the bottom centre,
-front along local +x, parts named ``<instance>/<part>``, a free joint when movable) but is NOT registered in
-the kit's catalogue: :mod:`eb_habitat.render` builds these bodies itself. Types the kit already has (apple,
-banana, orange, mug, cup, bowl, plate, frying pan, spatula, sponge) come from the kit.
+Each is an :class:`eb_scenekit.ObjectType` drawn through the kit's :class:`eb_scenekit.Parts` (same conventions
+as the catalogue: origin at the bottom centre, front along local +x, parts named ``<instance>/<part>``, a free
+joint when movable). They are not in the kit's catalogue: :mod:`eb_habitat.render` registers the ones a task
+uses with that apartment's ``SceneBuilder`` (``register_type``). Types the kit already has (apple, banana,
+orange, mug, cup, bowl, plate, frying pan, spatula, sponge) come from the kit.
 """
 
 from __future__ import annotations
 
 import math
 
-from eb_scenekit.objects import ObjectType, Surface
+from eb_scenekit.objects import ObjectType, Parts, get_type, shade
 
-__all__ = ["KIT_TYPES", "WIDE_SINK", "YCB_TYPES", "kit_or_ycb"]
+__all__ = ["KIT_TYPES", "YCB_TYPES", "kit_or_ycb"]
 
 RGB = tuple[float, float, float]
 
@@ -25,35 +26,28 @@ _BROWN_STEM = (0.35, 0.22, 0.1)
 _WOOD = (0.68, 0.47, 0.26)
 
 
-def _shade(c: tuple[float, ...], f: float) -> RGB:
-    if f <= 1:
-        return (c[0] * f, c[1] * f, c[2] * f)
-    g = f - 1
-    return (c[0] + (1 - c[0]) * g, c[1] + (1 - c[1]) * g, c[2] + (1 - c[2]) * g)
-
-
 # -- fruit -----------------------------------------------------------------------------------------------
 
 
-def _lemon(p, c: RGB) -> None:
+def _lemon(p: Parts, c: RGB) -> None:
     p.ell("fruit", (0.042, 0.03, 0.03), (0, 0, 0.03), c, "eb_peel")
     for sx in (-1, 1):
-        p.ell("tip", (0.012, 0.009, 0.009), (sx * 0.045, 0, 0.03), _shade(c, 0.92), "eb_peel", collide=False)
+        p.ell("tip", (0.012, 0.009, 0.009), (sx * 0.045, 0, 0.03), shade(c, 0.92), "eb_peel", collide=False)
 
 
-def _pear(p, c: RGB) -> None:
+def _pear(p: Parts, c: RGB) -> None:
     p.sph("bottom", 0.04, (0, 0, 0.04), c, "eb_peel")
     p.ell("neck", (0.026, 0.026, 0.036), (0, 0, 0.082), c, "eb_peel", collide=False)
     p.cap_ft("stem", (0, 0, 0.11), (0.006, 0.004, 0.132), 0.003, _BROWN_STEM, "eb_matte", collide=False)
 
 
-def _plum(p, c: RGB) -> None:
+def _plum(p: Parts, c: RGB) -> None:
     p.ell("fruit", (0.032, 0.03, 0.03), (0, 0, 0.03), c, "eb_glossy")
-    p.ell("crease", (0.033, 0.004, 0.026), (0, 0.0, 0.032), _shade(c, 0.75), "eb_glossy", collide=False)
+    p.ell("crease", (0.033, 0.004, 0.026), (0, 0.0, 0.032), shade(c, 0.75), "eb_glossy", collide=False)
     p.cap_ft("stem", (0, 0, 0.058), (0.003, 0.0, 0.07), 0.002, _BROWN_STEM, "eb_matte", collide=False)
 
 
-def _strawberry(p, c: RGB) -> None:
+def _strawberry(p: Parts, c: RGB) -> None:
     p.ell("berry", (0.03, 0.03, 0.034), (0, 0, 0.036), c, "eb_glossy")
     p.ell("point", (0.017, 0.017, 0.02), (0, 0, 0.014), c, "eb_glossy", collide=False)
     for i in range(6):
@@ -71,7 +65,7 @@ def _strawberry(p, c: RGB) -> None:
 # -- packaged food -----------------------------------------------------------------------------------------
 
 
-def _soda_can(p, c: RGB) -> None:
+def _soda_can(p: Parts, c: RGB) -> None:
     p.cyl("body", 0.033, 0.058, (0, 0, 0.062), c, "eb_glossy")
     p.cyl("stripe", 0.0333, 0.012, (0, 0, 0.07), _WHITE, "eb_glossy", collide=False)
     p.cyl("top", 0.029, 0.003, (0, 0, 0.122), _SILVER, "eb_metal", collide=False)
@@ -79,7 +73,7 @@ def _soda_can(p, c: RGB) -> None:
     p.box("tab", (0.008, 0.005, 0.001), (0.01, 0, 0.1255), _STEEL, "eb_metal", collide=False)
 
 
-def _soup_can(p, c: RGB) -> None:
+def _soup_can(p: Parts, c: RGB) -> None:
     p.cyl("label_top", 0.034, 0.025, (0, 0, 0.075), c, "eb_glossy")
     p.cyl("label_bottom", 0.034, 0.025, (0, 0, 0.027), _WHITE, "eb_glossy")
     p.cyl("medal", 0.0342, 0.004, (0, 0, 0.052), (0.85, 0.68, 0.2), "eb_metal", collide=False)
@@ -87,14 +81,14 @@ def _soup_can(p, c: RGB) -> None:
         p.cyl("rim", 0.0335, 0.002, (0, 0, z), _SILVER, "eb_metal", collide=False)
 
 
-def _tuna_can(p, c: RGB) -> None:
+def _tuna_can(p: Parts, c: RGB) -> None:
     p.cyl("label", 0.043, 0.015, (0, 0, 0.017), c, "eb_glossy")
     p.cyl("band", 0.0432, 0.004, (0, 0, 0.018), (0.95, 0.8, 0.2), "eb_glossy", collide=False)
     p.cyl("lid", 0.041, 0.002, (0, 0, 0.034), _SILVER, "eb_metal", collide=False)
     p.cyl("ring", 0.008, 0.0015, (0.02, 0, 0.0365), _STEEL, "eb_metal", collide=False)
 
 
-def _cracker_box(p, c: RGB) -> None:
+def _cracker_box(p: Parts, c: RGB) -> None:
     p.box("box", (0.03, 0.08, 0.106), (0, 0, 0.106), c, "eb_plastic")
     p.box("panel", (0.001, 0.06, 0.05), (0.031, 0, 0.11), (0.98, 0.85, 0.25), "eb_plastic", collide=False)
     for k in range(3):
@@ -103,20 +97,20 @@ def _cracker_box(p, c: RGB) -> None:
     p.box("logo", (0.001, 0.05, 0.012), (0.031, 0, 0.18), _WHITE, "eb_plastic", collide=False)
 
 
-def _sugar_box(p, c: RGB) -> None:
+def _sugar_box(p: Parts, c: RGB) -> None:
     p.box("box", (0.022, 0.047, 0.088), (0, 0, 0.088), _WHITE, "eb_plastic")
     p.box("band", (0.0225, 0.0475, 0.035), (0, 0, 0.12), c, "eb_plastic", collide=False)
     p.box("logo", (0.001, 0.03, 0.012), (0.0232, 0, 0.125), (0.1, 0.3, 0.7), "eb_plastic", collide=False)
     p.box("cubes", (0.001, 0.02, 0.012), (0.0232, 0, 0.05), (0.85, 0.85, 0.85), "eb_plastic", collide=False)
 
 
-def _gelatin_box(p, c: RGB) -> None:
+def _gelatin_box(p: Parts, c: RGB) -> None:
     p.box("box", (0.018, 0.045, 0.036), (0, 0, 0.036), c, "eb_plastic")
     p.box("window", (0.001, 0.028, 0.016), (0.019, 0, 0.04), (0.85, 0.15, 0.2), "eb_glossy", collide=False)
     p.box("brand", (0.001, 0.035, 0.006), (0.019, 0, 0.062), _WHITE, "eb_plastic", collide=False)
 
 
-def _mustard_bottle(p, c: RGB) -> None:
+def _mustard_bottle(p: Parts, c: RGB) -> None:
     p.ell("body", (0.03, 0.045, 0.07), (0, 0, 0.07), c, "eb_glossy")
     p.cyl("shoulder", 0.018, 0.01, (0, 0, 0.142), c, "eb_glossy", collide=False)
     p.cyl("cap", 0.014, 0.012, (0, 0, 0.162), c, "eb_glossy", collide=False)
@@ -127,10 +121,10 @@ def _mustard_bottle(p, c: RGB) -> None:
 # -- kitchenware ---------------------------------------------------------------------------------------------
 
 
-def _pitcher(p, c: RGB) -> None:
+def _pitcher(p: Parts, c: RGB) -> None:
     p.cyl("body", 0.065, 0.1, (0, 0, 0.1), c, "eb_glossy")
-    p.cyl("rim", 0.068, 0.006, (0, 0, 0.2), _shade(c, 0.8), "eb_glossy", collide=False)
-    p.cyl("inside", 0.058, 0.001, (0, 0, 0.205), _shade(c, 0.55), "eb_glossy", collide=False)
+    p.cyl("rim", 0.068, 0.006, (0, 0, 0.2), shade(c, 0.8), "eb_glossy", collide=False)
+    p.cyl("inside", 0.058, 0.001, (0, 0, 0.205), shade(c, 0.55), "eb_glossy", collide=False)
     p.ell("spout", (0.03, 0.022, 0.012), (0.065, 0, 0.198), c, "eb_glossy", collide=False)
     p.cap_ft("handle_top", (-0.06, 0, 0.175), (-0.11, 0, 0.17), 0.011, c, "eb_glossy")
     p.cap_ft("handle_side", (-0.11, 0, 0.17), (-0.11, 0, 0.06), 0.011, c, "eb_glossy")
@@ -140,7 +134,7 @@ def _pitcher(p, c: RGB) -> None:
 # -- tools ----------------------------------------------------------------------------------------------------
 
 
-def _hammer(p, c: RGB) -> None:
+def _hammer(p: Parts, c: RGB) -> None:
     p.cap_ft("handle", (0, -0.14, 0.014), (0, 0.1, 0.014), 0.013, c, "eb_wood")
     p.box("head", (0.06, 0.016, 0.016), (0.0, 0.12, 0.016), _STEEL, "eb_metal")
     p.cyl("face", 0.017, 0.008, (0.066, 0.12, 0.016), _SILVER, "eb_metal", rot=(0, 90, 0), collide=False)
@@ -148,7 +142,7 @@ def _hammer(p, c: RGB) -> None:
     p.cap_ft("grip", (0, -0.15, 0.014), (0, -0.07, 0.014), 0.0145, (0.15, 0.15, 0.15), "eb_rubber", collide=False)
 
 
-def _wrench(p, c: RGB) -> None:
+def _wrench(p: Parts, c: RGB) -> None:
     p.box("shaft", (0.011, 0.085, 0.004), (0, 0, 0.005), c, "eb_metal")
     # open jaw at +y: a C made of three boxes
     p.box("jaw_back", (0.026, 0.007, 0.005), (0, 0.094, 0.005), c, "eb_metal")
@@ -156,22 +150,22 @@ def _wrench(p, c: RGB) -> None:
         p.box("jaw", (0.007, 0.018, 0.005), (sx * 0.02, 0.116, 0.005), c, "eb_metal")
     # ring at -y
     p.cyl("ring", 0.024, 0.005, (0, -0.1, 0.005), c, "eb_metal")
-    p.cyl("ring_hole", 0.012, 0.0052, (0, -0.1, 0.005), _shade(c, 0.35), "eb_matte", collide=False)
-    p.box("groove", (0.004, 0.05, 0.0002), (0, 0, 0.0092), _shade(c, 0.7), "eb_metal", collide=False)
+    p.cyl("ring_hole", 0.012, 0.0052, (0, -0.1, 0.005), shade(c, 0.35), "eb_matte", collide=False)
+    p.box("groove", (0.004, 0.05, 0.0002), (0, 0, 0.0092), shade(c, 0.7), "eb_metal", collide=False)
 
 
-def _screwdriver(p, c: RGB) -> None:
+def _screwdriver(p: Parts, c: RGB) -> None:
     p.cap_ft("handle", (0, -0.1, 0.017), (0, -0.01, 0.017), 0.016, c, "eb_glossy")
     for k in range(4):
         a = k * math.pi / 2
         p.cap_ft("rib", (0.016 * math.cos(a), -0.09, 0.017 + 0.016 * math.sin(a)),
-                 (0.016 * math.cos(a), -0.03, 0.017 + 0.016 * math.sin(a)), 0.004, _shade(c, 0.7), "eb_glossy",
+                 (0.016 * math.cos(a), -0.03, 0.017 + 0.016 * math.sin(a)), 0.004, shade(c, 0.7), "eb_glossy",
                  collide=False)
     p.cyl_ft("shaft", (0, -0.01, 0.017), (0, 0.1, 0.017), 0.0035, _SILVER, "eb_metal")
     p.box("tip", (0.006, 0.008, 0.0012), (0, 0.104, 0.017), _SILVER, "eb_metal", collide=False)
 
 
-def _scissors(p, c: RGB) -> None:
+def _scissors(p: Parts, c: RGB) -> None:
     for sx in (-1, 1):
         p.cyl("loop", 0.022, 0.005, (sx * 0.024, -0.055, 0.005), c, "eb_glossy")
         p.cyl("loop_hole", 0.013, 0.0052, (sx * 0.024, -0.055, 0.005), _WHITE, "eb_matte", collide=False)
@@ -183,11 +177,11 @@ def _scissors(p, c: RGB) -> None:
 # -- toys and household -----------------------------------------------------------------------------------
 
 
-def _toy_airplane(p, c: RGB) -> None:
+def _toy_airplane(p: Parts, c: RGB) -> None:
     p.cap_ft("fuselage", (-0.1, 0, 0.04), (0.1, 0, 0.04), 0.024, c, "eb_glossy")
-    p.box("wing", (0.03, 0.13, 0.005), (0.02, 0, 0.038), _shade(c, 0.85), "eb_glossy")
-    p.box("tailplane", (0.016, 0.05, 0.004), (-0.1, 0, 0.05), _shade(c, 0.85), "eb_glossy", collide=False)
-    p.box("fin", (0.022, 0.004, 0.03), (-0.1, 0, 0.075), _shade(c, 0.85), "eb_glossy", collide=False)
+    p.box("wing", (0.03, 0.13, 0.005), (0.02, 0, 0.038), shade(c, 0.85), "eb_glossy")
+    p.box("tailplane", (0.016, 0.05, 0.004), (-0.1, 0, 0.05), shade(c, 0.85), "eb_glossy", collide=False)
+    p.box("fin", (0.022, 0.004, 0.03), (-0.1, 0, 0.075), shade(c, 0.85), "eb_glossy", collide=False)
     p.ell("cockpit", (0.03, 0.016, 0.014), (0.04, 0, 0.062), (0.35, 0.75, 0.95), "eb_glass", collide=False)
     p.box("propeller", (0.003, 0.05, 0.006), (0.128, 0, 0.04), _BLACK, "eb_matte", collide=False)
     p.cyl("spinner", 0.008, 0.006, (0.124, 0, 0.04), _WHITE, "eb_glossy", rot=(0, 90, 0), collide=False)
@@ -197,7 +191,7 @@ def _toy_airplane(p, c: RGB) -> None:
                  collide=False)
 
 
-def _ball(p, c: RGB) -> None:
+def _ball(p: Parts, c: RGB) -> None:
     p.sph("ball", 0.036, (0, 0, 0.036), c, "eb_rubber" if c[1] > 0.7 else "eb_glossy")
     # two seam bands make it read as a ball rather than a fruit
     p.ell("seam_a", (0.0365, 0.003, 0.0365), (0, 0, 0.036), _WHITE, "eb_matte", rot=(0, 0, 35), collide=False)
@@ -208,7 +202,7 @@ _CUBE_FACES = ((1.0, 1.0, 1.0), (0.85, 0.1, 0.1), (0.1, 0.35, 0.85), (0.15, 0.65
                (0.98, 0.85, 0.1))
 
 
-def _rubiks_cube(p, c: RGB) -> None:
+def _rubiks_cube(p: Parts, c: RGB) -> None:
     h = 0.028
     p.box("core", (h, h, h), (0, 0, h), _BLACK, "eb_glossy")
     step = 2 * h / 3
@@ -230,9 +224,9 @@ def _rubiks_cube(p, c: RGB) -> None:
                 p.box("sticker", tuple(half), tuple(pos), col, "eb_glossy", collide=False)
 
 
-def _padlock(p, c: RGB) -> None:
+def _padlock(p: Parts, c: RGB) -> None:
     p.box("body", (0.013, 0.03, 0.028), (0, 0, 0.028), c, "eb_metal")
-    p.box("face", (0.0135, 0.026, 0.024), (0, 0, 0.028), _shade(c, 0.85), "eb_metal", collide=False)
+    p.box("face", (0.0135, 0.026, 0.024), (0, 0, 0.028), shade(c, 0.85), "eb_metal", collide=False)
     p.cyl("keyhole", 0.004, 0.001, (0.0142, 0, 0.024), _BLACK, "eb_matte", rot=(0, 90, 0), collide=False)
     r = 0.019
     pts = [(0.0, -r * math.cos(a), 0.056 + 0.008 + r * math.sin(a)) for a in
@@ -243,13 +237,13 @@ def _padlock(p, c: RGB) -> None:
         p.cap_ft("shackle", a, b, 0.0045, _SILVER, "eb_metal", collide=False)
 
 
-def _foam_brick(p, c: RGB) -> None:
+def _foam_brick(p: Parts, c: RGB) -> None:
     p.box("brick", (0.025, 0.038, 0.025), (0, 0, 0.025), c, "eb_fabric")
     for sy in (-1, 1):
-        p.cyl("hole", 0.007, 0.0252, (0, sy * 0.017, 0.025), _shade(c, 0.55), "eb_matte", collide=False)
+        p.cyl("hole", 0.007, 0.0252, (0, sy * 0.017, 0.025), shade(c, 0.55), "eb_matte", collide=False)
 
 
-def _bleach_bottle(p, c: RGB) -> None:
+def _bleach_bottle(p: Parts, c: RGB) -> None:
     p.box("body", (0.035, 0.055, 0.085), (0, 0, 0.085), c, "eb_glossy")
     for sy in (-1, 1):
         p.cyl("edge", 0.035, 0.085, (0, sy * 0.055, 0.085), c, "eb_glossy", collide=False)
@@ -257,53 +251,6 @@ def _bleach_bottle(p, c: RGB) -> None:
     p.cyl("cap", 0.02, 0.014, (0, -0.03, 0.212), (0.1, 0.35, 0.85), "eb_glossy", collide=False)
     p.cap_ft("handle", (0, 0.02, 0.17), (0, 0.07, 0.12), 0.012, c, "eb_glossy", collide=False)
     p.box("label", (0.001, 0.04, 0.04), (0.0355, -0.005, 0.08), (0.1, 0.35, 0.85), "eb_plastic", collide=False)
-
-
-# -- furniture ------------------------------------------------------------------------------------------------
-
-
-_STONE = (0.8, 0.79, 0.76)
-_DARK = (0.16, 0.16, 0.18)
-_CHROME = (0.85, 0.86, 0.9)
-
-
-def _wide_sink(p, c: RGB) -> None:
-    """A kitchen sink unit as wide and deep as a counter, with a rectangular steel basin that holds dishes.
-
-    (The kit's sink has a small round vessel basin: a frying pan or a cereal box does not fit in it.)"""
-    mat = "eb_plastic"
-    p.box("plinth", (0.26, 0.29, 0.045), (-0.03, 0, 0.045), _DARK, "eb_matte")
-    p.box("body", (0.285, 0.3, 0.33), (-0.02, 0, 0.42), _shade(c, 0.95), mat)
-    for sy in (-1, 1):
-        p.box("door", (0.008, 0.145, 0.33), (0.27, sy * 0.15, 0.42), c, mat)
-        p.cap_ft("handle", (0.29, sy * 0.04, 0.6), (0.29, sy * 0.04, 0.7), 0.007, _CHROME, "eb_metal")
-    x0, x1, y = -0.16, 0.2, 0.24  # basin opening
-    z = 0.9
-    p.box("slab_front", ((0.31 - x1) / 2, 0.3, 0.02), ((0.31 + x1) / 2, 0, z), _STONE, "eb_stone")
-    p.box("slab_back", ((x0 + 0.31) / 2, 0.3, 0.02), ((x0 - 0.31) / 2, 0, z), _STONE, "eb_stone")
-    for sy in (-1, 1):
-        p.box("slab_side", ((x1 - x0) / 2, (0.3 - y) / 2, 0.02), ((x0 + x1) / 2, sy * (0.3 + y) / 2, z), _STONE,
-              "eb_stone")
-    bottom = 0.77
-    depth = (z + 0.02 - bottom) / 2
-    p.box("basin_bottom", ((x1 - x0) / 2, y, 0.006), ((x0 + x1) / 2, 0, bottom), _SILVER, "eb_metal")
-    p.box("basin_front", (0.004, y, depth), (x1 - 0.004, 0, bottom + depth), _STEEL, "eb_metal")
-    p.box("basin_back", (0.004, y, depth), (x0 + 0.004, 0, bottom + depth), _STEEL, "eb_metal")
-    for sy in (-1, 1):
-        p.box("basin_side", ((x1 - x0) / 2, 0.004, depth), ((x0 + x1) / 2, sy * (y - 0.004), bottom + depth), _STEEL,
-              "eb_metal")
-    p.cyl("drain", 0.025, 0.002, ((x0 + x1) / 2, 0, bottom + 0.007), _DARK, "eb_metal", collide=False)
-    p.cyl("faucet_base", 0.025, 0.015, (-0.25, 0, 0.935), _CHROME, "eb_metal")
-    p.cap_ft("faucet_riser", (-0.25, 0, 0.94), (-0.25, 0, 1.2), 0.014, _CHROME, "eb_metal")
-    p.cap_ft("faucet_spout", (-0.25, 0, 1.2), (-0.08, 0, 1.2), 0.013, _CHROME, "eb_metal")
-    p.cap_ft("faucet_tip", (-0.08, 0, 1.2), (-0.08, 0, 1.15), 0.012, _CHROME, "eb_metal")
-    for sy in (-1, 1):
-        p.cap_ft("tap", (-0.25, sy * 0.07, 0.94), (-0.25, sy * 0.07, 0.99), 0.012, _CHROME, "eb_metal")
-
-
-WIDE_SINK = ObjectType(name="ycb_wide_sink", category="furniture", colors={"white": (0.93, 0.93, 0.91)},
-                       half_extents=(0.31, 0.3), height=1.2, builder=_wide_sink, mount="floor",
-                       surfaces=(Surface("basin", 0.776, (0.16, 0.22), (0.02, 0.0), True, 0.14),))
 
 
 def _t(key: str, builder, half: tuple[float, float], height: float) -> ObjectType:
@@ -355,7 +302,5 @@ KIT_TYPES: dict[str, str] = {
 def kit_or_ycb(type_key: str) -> ObjectType:
     """The ObjectType that draws ``type_key`` (from the kit's catalogue when it has one)."""
     if type_key in KIT_TYPES:
-        from eb_scenekit.objects import get_type
-
         return get_type(KIT_TYPES[type_key])
     return YCB_TYPES[type_key]

@@ -1,8 +1,8 @@
 """The MuJoCo apartment that draws the symbolic world: ReplicaCAD-style open-plan layouts built with the scene kit.
 
 This is the only module of eb_habitat that imports MuJoCo (through :mod:`eb_scenekit`). It is an adapter: the
-room shell, the furniture and ten object types come from the kit; the other YCB-style objects are our own
-bodies (:mod:`eb_habitat._ycb`), added to the kit's MJCF before compiling. Nothing is simulated: after every
+room shell, the furniture and ten object types come from the kit; the other YCB-style objects are our own types
+(:mod:`eb_habitat._ycb`), registered with each apartment's ``SceneBuilder``. Nothing is simulated: after every
 step the renderer moves the objects to their receptacle slots (or into the agent's hand), sets door and drawer
 joints, puts the first-person camera in front of the receptacle the agent stands at, and renders.
 """
@@ -10,19 +10,15 @@ joints, puts the first-person camera in front of the receptacle the agent stands
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from eb_scenekit import SceneBuilder, set_agent_pose
+from eb_scenekit import SceneBuilder, get_type, set_agent_pose, set_open, surface_position
 from eb_scenekit._mujoco import mujoco
-from eb_scenekit.objects import COLORS as KIT_COLORS
-from eb_scenekit.objects import get_type, set_open
 from eb_scenekit.render import SceneRenderer, camera_from_eye
-from eb_scenekit.scene import INSTANCES_TEXT
-from eb_habitat._ycb import KIT_TYPES, WIDE_SINK, kit_or_ycb
+from eb_habitat._ycb import KIT_TYPES, kit_or_ycb
 from eb_habitat.catalog import COLORS, N_APARTMENTS, RECEPTACLES
 from eb_habitat.world import HAND
 
@@ -66,12 +62,10 @@ class Layout:
 
 
 _BROWN = COLORS["brown"][:3]
-WIDE_SINK_TYPE = "eb_habitat.WideSink"
-"""Our own sink unit (a wide steel basin), used instead of the kit's small round one."""
-
-
-def _furniture_type(kit_type: str):
-    return WIDE_SINK if kit_type == WIDE_SINK_TYPE else get_type(kit_type)
+_SINK_WORKTOP = (0.31, 0.025)
+"""The kit's sink unit is 5 cm shallower than a counter: it stands flush with the counter fronts, and a strip of
+worktop fills the gap to the wall behind it: (distance of the strip's centre behind the sink's origin, half
+depth), metres."""
 
 
 def _kitchen(x0: float, ywall: float, counter: str, fridge: str) -> dict[str, Place]:
@@ -80,7 +74,7 @@ def _kitchen(x0: float, ywall: float, counter: str, fridge: str) -> dict[str, Pl
         "fridge": Place("Fridge", (x0, ywall - 0.38), -90, fridge),
         "cabinet": Place("Cabinet", (x0 + 0.7, ywall - 0.25), -90, counter),
         "left_counter": Place("CounterTop", (x0 + 1.62, ywall - 0.33), -90, counter),
-        "sink": Place(WIDE_SINK_TYPE, (x0 + 2.53, ywall - 0.33), -90, counter),
+        "sink": Place("Sink", (x0 + 2.53, ywall - 0.355), -90, counter),
         "right_counter": Place("CounterTop", (x0 + 3.44, ywall - 0.33), -90, counter),
     }
 
@@ -163,8 +157,6 @@ class _Slots:
     """(distance, eye height, target local x, target local y, target z) of the first-person view."""
     view_dir: float = 0.0
     """Extra turn (degrees, in the furniture frame) of the side the agent views from; 0 = from the front."""
-    lift: float = 0.0
-    """Raise objects above the kit's surface height (the kit's sink basin surface lies below the basin floor)."""
     lay_tall: bool = False
     """Lay tall objects on their side (drawers are shallow; things in a sink lie down)."""
 
@@ -175,16 +167,19 @@ def _row(surface: str, n: int, half_width: float, dx: float = 0.0) -> tuple[tupl
     return tuple((surface, dx, -half_width + 2 * half_width * i / (n - 1)) for i in range(n))
 
 
+_DRAWER_FRONT = 0.0725
+"""Objects in a counter drawer stand this far in front of the centre of its floor: in the part that comes out."""
+
 _GEOMETRY: dict[str, _Slots] = {
     "left_counter": _Slots("left_counter", None, _row("top", 4, 0.42, 0.02), (0.95, EYE_HEIGHT, 0.0, 0.0, 0.9)),
     "right_counter": _Slots("right_counter", None, _row("top", 4, 0.42, 0.02), (0.95, EYE_HEIGHT, 0.0, 0.0, 0.9)),
     "sink": _Slots("sink", None, _row("basin", 2, 0.1), (0.7, 1.6, 0.02, 0.0, 0.8), lay_tall=True),
     "fridge": _Slots("fridge", "door", _row("shelf_2", 2, 0.13) + _row("shelf_1", 2, 0.13),
                      (1.8, 1.45, 0.0, 0.0, 0.9)),
-    "left_drawer": _Slots("left_counter", "drawer", _row("drawer", 3, 0.16), (0.62, 1.45, 0.42, -0.3, 0.66),
-                          lay_tall=True),
-    "right_drawer": _Slots("right_counter", "drawer", _row("drawer", 3, 0.16), (0.62, 1.45, 0.42, -0.3, 0.66),
-                          lay_tall=True),
+    "left_drawer": _Slots("left_counter", "drawer", _row("drawer", 3, 0.16, _DRAWER_FRONT),
+                          (0.62, 1.45, 0.42, -0.3, 0.66), lay_tall=True),
+    "right_drawer": _Slots("right_counter", "drawer", _row("drawer", 3, 0.16, _DRAWER_FRONT),
+                           (0.62, 1.45, 0.42, -0.3, 0.66), lay_tall=True),
     "cabinet": _Slots("cabinet", "door", _row("shelf", 2, 0.11) + _row("interior", 2, 0.11),
                       (1.15, 1.25, 0.0, 0.0, 0.45)),
     "sofa": _Slots("sofa", None, _row("seat", 3, 0.5), (1.25, EYE_HEIGHT, 0.0, 0.0, 0.45)),
@@ -201,8 +196,6 @@ assert set(_GEOMETRY) == {r.key for r in RECEPTACLES}
 #: Extra yaw (degrees) per object type so that long things show their profile to the camera.
 _YAW = {"skillet": 90.0, "toy_airplane": 60.0, "spatula": 70.0, "pitcher": -60.0, "mug": -30.0,
         "banana": 20.0, "hammer": 15.0, "bleach_bottle": -20.0}
-#: Drawer interiors: (local x from the drawer body, z below the drawer body) of the tray the objects stand on.
-_DRAWER_TRAY = (-0.17, -0.075)
 
 
 def _rot(yaw_deg: float, x: float, y: float) -> tuple[float, float]:
@@ -245,6 +238,17 @@ def _lying(type_key: str, pos: tuple[float, float, float], front_yaw: float,
     return (pos[0] + fx, pos[1] + fy, pos[2] + lift), q
 
 
+def _worktop_behind(b: SceneBuilder, sink: Place) -> None:
+    """A strip of worktop between the back of the sink unit and the wall, level with the counters' worktops."""
+    back, half_depth = _SINK_WORKTOP
+    x, y = _rot(sink.yaw, -back, 0.0)
+    half_width = get_type(sink.kit_type).half_extents[1]
+    along_x = abs(math.cos(math.radians(sink.yaw))) > 0.5  # the unit's depth runs along world x
+    size = (half_depth, half_width, 0.02) if along_x else (half_width, half_depth, 0.02)
+    b.add_static_geom("room/sink_worktop", "box", (sink.pos[0] + x, sink.pos[1] + y, 0.9), size,
+                      rgba=(0.8, 0.79, 0.76, 1.0), material="eb_stone")
+
+
 def _kit_color(kit_type: str, color: str) -> str | tuple[float, float, float]:
     """A kit type's own variant when it has one of that name, else our RGB for the colour."""
     variants = get_type(kit_type).colors
@@ -282,42 +286,22 @@ class ApartmentRenderer:
                          fovy=FOVY)
         b.add_room("living_room", layout.size, seed=layout.seed, door=("south", 0.0),
                    windows=[("east", 0.4), ("west", 0.9)], rug=None)
-        own: list[tuple[str, Place]] = []
         for name, place in layout.furniture.items():
-            if place.kit_type == WIDE_SINK_TYPE:
-                own.append((name, place))
-            else:
-                b.add_object(place.kit_type, name, pos=place.pos, yaw=place.yaw, color=place.color)
+            b.add_object(place.kit_type, name, pos=place.pos, yaw=place.yaw, color=place.color)
+        _worktop_behind(b, layout.furniture["sink"])
+        self._furniture = {so.name: (so.position, so.yaw) for so in b.objects}
         for kit_type, name, pos, yaw, color, parent in layout.decor:
             b.add_object(kit_type, name, pos=pos, yaw=yaw, color=color, parent=parent)
         b.add_agent_camera(AGENT, pos=layout.start_eye, fovy=FOVY)
-        xml = b.to_xml()
-        # our objects: built as kit-style bodies and added to the worldbody, listed as instances
-        bodies, assets = [], {}
-        self._furniture = {so.name: (so.position, so.yaw) for so in b.objects}
-        for name, place in own:
-            rgb = KIT_COLORS[place.color] if isinstance(place.color, str) else place.color
-            body, assets = WIDE_SINK.build(name, (place.pos[0], place.pos[1], 0.0), place.yaw, rgb, 1.0, False, None,
-                                           assets)
-            bodies.append(body.to_string(2))
-            self._furniture[name] = ((place.pos[0], place.pos[1], 0.0), place.yaw)
         for o in spec.objects:
             otype = kit_or_ycb(o.type)
-            color = _kit_color(otype.name, o.color) if o.type in KIT_TYPES else COLORS[o.color][:3]
-            body, assets = otype.build(o.name, (0.0, 0.0, -5.0), 0.0, color, OBJECT_SCALE, True, None, assets)
-            bodies.append(body.to_string(2))
-        mesh_xml = "\n".join(a.to_string(2) for a in assets.values() if a.tag == "mesh"
-                             and f'name="{a.attrs["name"]}"' not in xml)
-        if mesh_xml:
-            xml = xml.replace("</asset>", mesh_xml + "\n  </asset>", 1)
-        xml = xml.replace("</worldbody>", "\n".join(bodies) + "\n  </worldbody>", 1)
-        names = " ".join([name for name, _ in own] + [o.name for o in spec.objects])
-        xml, n = re.subn(rf'(<text name="{INSTANCES_TEXT}" data=")([^"]*)(")',
-                         lambda m: m.group(1) + (m.group(2).replace("none", "").strip() + " " + names).strip()
-                         + m.group(3), xml, count=1)
-        if n != 1:
-            raise RuntimeError("eb_scenekit changed its MJCF layout: cannot find the instance list")
-        return xml
+            if o.type in KIT_TYPES:
+                color: str | tuple[float, ...] = _kit_color(otype.name, o.color)
+            else:
+                b.register_type(otype)
+                color = COLORS[o.color][:3]
+            b.add_object(otype.name, o.name, pos=(0.0, 0.0, -5.0), color=color, scale=OBJECT_SCALE, movable=True)
+        return b.to_xml()
 
     def load(self, spec: TaskSpec) -> None:
         """Build (or reuse) the apartment of ``spec``: one compile per distinct scene."""
@@ -344,18 +328,13 @@ class ApartmentRenderer:
         return px + dx, py + dy, pz + z
 
     def slot_position(self, key: str, slot: int) -> tuple[float, float, float]:
-        """World position of slot ``slot`` of receptacle ``key`` in the current joint state."""
+        """World position of slot ``slot`` of receptacle ``key`` in the current joint state (things in a drawer
+        come out with it)."""
         g = _GEOMETRY[key]
         surface, dx, dy = g.points[slot]
-        place_type = _furniture_type(self._kit_type(g.instance))
-        if surface == "drawer":
-            bid = mujoco.mj_name2id(self._model, mujoco.mjtObj.mjOBJ_BODY, f"{g.instance}/drawer")
-            bx, by, bz = (float(v) for v in self._data.xpos[bid])
-            _, yaw = self._furniture[g.instance]
-            ox, oy = _rot(yaw, _DRAWER_TRAY[0], dy)
-            return bx + ox, by + oy, bz + _DRAWER_TRAY[1]
-        s = place_type.surface(surface)
-        return self._local_to_world(g.instance, s.center[0] + dx, s.center[1] + dy, s.z + g.lift)
+        s = get_type(self._kit_type(g.instance)).surface(surface)
+        x, y, z = surface_position(self._model, self._data, g.instance, s, offset=(dx, dy))
+        return float(x), float(y), float(z)
 
     def _kit_type(self, instance: str) -> str:
         assert self._key is not None

@@ -21,6 +21,7 @@ from eb_scenekit.objects import (
     set_open,
     set_powered,
     shade,
+    surface_position,
 )
 from eb_scenekit.rooms import ROOM_KINDS, RoomLayout, generate_room
 from eb_scenekit.scene import RoomShell, SceneBuilder, SceneObject, lookat_xyaxes, set_agent_pose
@@ -57,6 +58,7 @@ __all__ = [
     "set_open",
     "set_powered",
     "shade",
+    "surface_position",
     "__version__",
 ]
 

@@ -240,21 +240,35 @@ def _tv_stand(p: Parts, c: RGB) -> None:
 
 
 @_register("CounterTop", "furniture", ("white", "wood", "gray", "navy", "green"), (0.31, 0.6), 0.92,
-           mount="floor", surfaces=(S("top", 0.92, (0.26, 0.55)),), articulations=("drawer",))
+           mount="floor", surfaces=(S("top", 0.92, (0.26, 0.55)),
+                                    S("drawer", 0.685, (0.2, 0.24), (0.0225, -0.3), True, 0.18, part="drawer")),
+           articulations=("drawer",))
 def _counter(p: Parts, c: RGB) -> None:
+    """Base cabinets under a stone worktop: two doors, a dummy drawer front on the right and a real drawer on the
+    left, whose box has a floor (the ``drawer`` surface) and slides out with its contents."""
     mat = "eb_wood" if c == (0.62, 0.43, 0.26) else "eb_plastic"
+    body = _shade(c, 0.95)
     p.box("plinth", (0.26, 0.59, 0.045), (-0.03, 0, 0.045), _DARK, "eb_matte")
-    p.box("body", (0.285, 0.6, 0.4), (-0.02, 0, 0.49), _shade(c, 0.95), mat)
+    # the carcass, hollow where the drawer slides: lower part, right block, and the drawer bay's walls
+    p.box("body", (0.285, 0.6, 0.275), (-0.02, 0, 0.365), body, mat)
+    p.box("body_right", (0.285, 0.3, 0.12), (-0.02, 0.3, 0.76), body, mat)
+    p.box("bay_side", (0.285, 0.01, 0.12), (-0.02, -0.59, 0.76), body, mat)
+    p.box("bay_back", (0.01, 0.29, 0.12), (-0.295, -0.3, 0.76), body, mat)
     p.box("slab", (0.31, 0.61, 0.02), (0, 0, 0.9), _STONE, "eb_stone")
     for sy in (-1, 1):
         p.box("door", (0.008, 0.29, 0.26), (0.27, sy * 0.3, 0.36), c, mat)
         p.cap_ft("door_handle", (0.29, sy * 0.06, 0.48), (0.29, sy * 0.06, 0.56), 0.007, _CHROME, "eb_metal")
-    p.box("front_right", (0.008, 0.29, 0.1), (0.27, 0.3, 0.76), c, mat)
+    # drawer fronts close the bay from the carcass to the worktop (no slit shows what is inside)
+    p.box("front_right", (0.008, 0.29, 0.12), (0.27, 0.3, 0.76), c, mat)
     p.cap_ft("handle_right", (0.29, 0.24, 0.78), (0.29, 0.36, 0.78), 0.007, _CHROME, "eb_metal")
     d = p.slide("drawer", (0.265, -0.3, 0.76), (1, 0, 0), 0.35)
-    d.box("front", (0.008, 0.29, 0.1), (0.008, 0, 0), c, mat)
+    d.box("front", (0.008, 0.29, 0.12), (0.008, 0, 0), c, mat)
     d.cap_ft("handle", (0.028, -0.06, 0.02), (0.028, 0.06, 0.02), 0.007, _CHROME, "eb_metal")
-    d.box("tray", (0.25, 0.27, 0.005), (-0.25, 0, -0.08), _shade(c, 0.8), mat, collide=False)
+    inner = _shade(c, 0.8)
+    d.box("tray", (0.2375, 0.27, 0.005), (-0.2425, 0, -0.08), inner, mat)
+    for sy in (-1, 1):
+        d.box("tray_side", (0.2375, 0.005, 0.065), (-0.2425, sy * 0.265, -0.02), inner, mat, collide=False)
+    d.box("tray_back", (0.005, 0.26, 0.065), (-0.475, 0, -0.02), inner, mat, collide=False)
 
 
 @_register("Shelf", "furniture", ("oak", "white", "black"), (0.16, 0.5), 1.23, mount="floor",
@@ -465,21 +479,40 @@ def _rgba_a(c: tuple[float, ...], a: float) -> tuple[float, float, float, float]
 
 
 @_register("Sink", "appliance", ("white", "wood", "gray", "navy"), (0.28, 0.3), 1.1, mount="floor",
-           surfaces=(S("basin", 0.895, (0.07, 0.1), (0.04, 0.0), True, 0.2),), toggleable=True)
+           surfaces=(S("basin", 0.78, (0.15, 0.2), (0.035, 0.0), True, 0.3),), toggleable=True)
 def _sink(p: Parts, c: RGB) -> None:
+    """A kitchen sink unit: a cabinet under a stone worktop with a deep rectangular steel basin (the ``basin``
+    surface is its floor, 14 cm below the worktop) and a mixer tap whose stream shows when it is on."""
     mat = "eb_wood" if c == (0.62, 0.43, 0.26) else "eb_plastic"
+    body = _shade(c, 0.95)
     p.box("plinth", (0.24, 0.28, 0.04), (-0.02, 0, 0.04), _DARK, "eb_matte")
-    p.box("cabinet", (0.265, 0.3, 0.4), (-0.015, 0, 0.48), _shade(c, 0.95), mat)
+    p.box("cabinet", (0.265, 0.3, 0.34), (-0.015, 0, 0.42), body, mat)  # stops below the basin
     for sy in (-1, 1):
         p.box("door", (0.008, 0.145, 0.36), (0.255, sy * 0.15, 0.47), c, mat)
         p.cap_ft("handle", (0.275, sy * 0.04, 0.62), (0.275, sy * 0.04, 0.74), 0.007, _CHROME, "eb_metal")
-    p.box("counter", (0.285, 0.31, 0.02), (0, 0, 0.9), _STONE, "eb_stone")
-    p.mesh("basin", "sink_basin", (0.04, 0, 0.92), _WHITE, "eb_glossy", stretch=(0.8, 1.0, 1.0))
-    p.cyl("drain", 0.018, 0.001, (0.04, 0, 0.933), _STEEL, "eb_metal", collide=False)
+        p.box("side", (0.265, 0.01, 0.06), (-0.015, sy * 0.29, 0.82), body, mat)
+    p.box("back", (0.01, 0.28, 0.06), (-0.27, 0, 0.82), body, mat)
+    p.box("apron", (0.008, 0.3, 0.025), (0.25, 0, 0.855), c, mat)
+    # worktop around the basin opening x in [x0, x1], y in [-y, y]
+    x0, x1, y, top = -0.13, 0.2, 0.22, 0.92
+    p.box("counter_front", ((0.285 - x1) / 2, 0.31, 0.02), ((0.285 + x1) / 2, 0, 0.9), _STONE, "eb_stone")
+    p.box("counter_back", ((x0 + 0.285) / 2, 0.31, 0.02), ((x0 - 0.285) / 2, 0, 0.9), _STONE, "eb_stone")
+    for sy in (-1, 1):
+        p.box("counter_side", ((x1 - x0) / 2, (0.31 - y) / 2, 0.02), ((x0 + x1) / 2, sy * (0.31 + y) / 2, 0.9),
+              _STONE, "eb_stone")
+    floor = 0.78
+    depth = (top - floor + 0.012) / 2
+    zc = floor - 0.012 + depth
+    p.box("basin", ((x1 - x0) / 2, y, 0.006), ((x0 + x1) / 2, 0, floor - 0.006), _CHROME, "eb_metal")
+    for part, x in (("basin_front", x1 - 0.004), ("basin_back", x0 + 0.004)):
+        p.box(part, (0.004, y, depth), (x, 0, zc), _STEEL, "eb_metal")
+    for sy in (-1, 1):
+        p.box("basin_side", ((x1 - x0) / 2, 0.004, depth), ((x0 + x1) / 2, sy * (y - 0.004), zc), _STEEL, "eb_metal")
+    p.cyl("drain", 0.025, 0.001, ((x0 + x1) / 2, 0, floor + 0.001), _DARK, "eb_metal", collide=False)
     p.cyl("faucet_base", 0.022, 0.015, (-0.19, 0, 0.935), _CHROME, "eb_metal")
     p.mesh("faucet", "faucet", (-0.19, 0, 0.95), _CHROME, "eb_metal")
     p.cap_ft("faucet_lever", (-0.19, 0, 1.13), (-0.25, 0, 1.16), 0.007, _CHROME, "eb_metal")
-    p.cyl("stream", 0.007, 0.065, (-0.07, 0, 1.005), (0.6, 0.8, 1.0, 0.0), "eb_glass", collide=False)
+    p.cyl("stream", 0.007, 0.145, (-0.07, 0, 0.925), (0.6, 0.8, 1.0, 0.0), "eb_glass", collide=False)
 
 
 @_register("Toilet", "appliance", ("white", "cream"), (0.35, 0.21), 0.8, mount="floor",
@@ -943,7 +976,8 @@ def _basketball(p: Parts, c: RGB) -> None:
 
 
 @_register("Drawer", "furniture", ("wood", "white", "walnut", "oak", "gray"), (0.24, 0.25), 0.58, mount="floor",
-           surfaces=(S("top", 0.58, (0.2, 0.22)), S("interior", 0.377, (0.16, 0.18), (0.02, 0.0), True, 0.08)),
+           surfaces=(S("top", 0.58, (0.2, 0.22)),
+                     S("interior", 0.377, (0.16, 0.18), (0.02, 0.0), True, 0.08, part="drawer")),
            articulations=("drawer",))
 def _drawer(p: Parts, c: RGB) -> None:
     """A low chest with one pull-out drawer at the top (a drawer you can walk up to)."""

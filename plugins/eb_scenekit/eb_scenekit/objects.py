@@ -43,6 +43,7 @@ __all__ = [
     "set_object_pose",
     "set_powered",
     "shade",
+    "surface_position",
     "yaw_quat",
 ]
 
@@ -368,6 +369,9 @@ class Surface:
     """True for interiors (fridge, drawer, bowl): objects there are 'in' the receptacle."""
     clearance: float | None = None
     """Maximum height of an object that fits (None: unlimited)."""
+    part: str | None = None
+    """The drawer (a slide articulation) that carries this surface, or None for a fixed one. The surface is given
+    in the closed pose and moves with the drawer: :func:`surface_position` gives where it is now."""
 
 
 Builder = Callable[[Parts, RGB], None]
@@ -578,6 +582,28 @@ def get_open(model: object, data: object, instance_name: str, part: str | None =
         lo, hi = model.jnt_range[j]  # type: ignore[attr-defined]
         fr.append(float((data.qpos[model.jnt_qposadr[j]] - lo) / (hi - lo)))  # type: ignore[attr-defined]
     return max(fr)
+
+
+def surface_position(model: object, data: object, instance_name: str, surface: Surface, scale: float = 1.0,
+                     offset: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
+    """World (x, y, z) of a point of a support surface in the current state of the model.
+
+    The point is the surface centre moved by ``offset`` (local x, y of the object, metres at scale 1), at the
+    surface height; ``scale`` is the instance's scale. A surface carried by a drawer (:attr:`Surface.part`)
+    follows the drawer's joint, so things put "in the drawer" come out with it when it opens.
+    """
+    mujoco = _mj()
+    b = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, instance_name)
+    if b < 0:
+        raise KeyError(f"no instance {instance_name!r} in the model")
+    local = np.array([surface.center[0] + offset[0], surface.center[1] + offset[1], surface.z]) * scale
+    pos = data.xpos[b] + data.xmat[b].reshape(3, 3) @ local  # type: ignore[attr-defined]
+    if surface.part is not None:
+        j = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, f"{instance_name}/{surface.part}")
+        if j < 0 or model.jnt_type[j] != mujoco.mjtJoint.mjJNT_SLIDE:  # type: ignore[attr-defined]
+            raise KeyError(f"{instance_name!r} has no drawer {surface.part!r} carrying surface {surface.name!r}")
+        pos = pos + data.qpos[model.jnt_qposadr[j]] * data.xaxis[j]  # type: ignore[attr-defined]
+    return pos
 
 
 def set_object_pose(model: object, data: object, instance_name: str, pos: tuple[float, float, float],

@@ -577,7 +577,8 @@ def generate_room(kind: RoomKind, seed: int, clutter: int = 8, *, shadows: bool 
         if not parents:
             continue
         parent = parents[int(rng.integers(len(parents)))]
-        surfaces = [s for s in get_type(parent.type).surfaces]
+        # surfaces carried by a drawer are left empty: a closed drawer would hide whatever is put in it
+        surfaces = [s for s in get_type(parent.type).surfaces if s.part is None]
         # mostly on top; sometimes inside (fridge shelves, cabinets, microwave)
         on_top = [s for s in surfaces if not s.inside]
         inside = [s for s in surfaces if s.inside]

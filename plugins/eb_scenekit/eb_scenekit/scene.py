@@ -15,7 +15,7 @@ from typing import Literal
 import numpy as np
 
 from eb_scenekit._mjcf import El
-from eb_scenekit.objects import ObjectType, _rpy_quat, get_type, material_assets
+from eb_scenekit.objects import CATALOGUE, ObjectType, _rpy_quat, get_type, material_assets
 
 __all__ = [
     "INSTANCES_TEXT",
@@ -225,6 +225,7 @@ class SceneBuilder:
         self._counts: dict[str, int] = {}
         self._by_name: dict[str, SceneObject] = {}
         self._reserved: set[str] = {"room", "world"}
+        self._types: dict[str, ObjectType] = {}
         for el in material_assets():
             self._assets[str(el.attrs["name"])] = el
 
@@ -414,6 +415,33 @@ class SceneBuilder:
                 self._counts[type_name] = n
                 return name
 
+    def register_type(self, otype: ObjectType) -> ObjectType:
+        """Make a world's own object type available to :meth:`add_object` of this builder (and of no other).
+
+        The type follows the catalogue's conventions (see :class:`~eb_scenekit.objects.Parts`); its name must
+        not clash with a catalogue type or another registered one. Registering the same object again is a no-op.
+        """
+        name = otype.name
+        if not name or "/" in name or " " in name:
+            raise ValueError(f"object type names must be non-empty without '/' or spaces: {name!r}")
+        if self._types.get(name) is otype:
+            return otype
+        if name in CATALOGUE:
+            raise ValueError(f"{name!r} is a catalogue type: give your own type another name")
+        if name in self._types:
+            raise ValueError(f"another object type named {name!r} is already registered with this builder")
+        self._types[name] = otype
+        return otype
+
+    def object_type(self, name: str) -> ObjectType:
+        """A type registered with :meth:`register_type`, else the catalogue's; an unknown name lists both."""
+        if name in self._types:
+            return self._types[name]
+        if name in CATALOGUE or not self._types:
+            return get_type(name)
+        raise KeyError(f"unknown object type {name!r}; registered here: {', '.join(self._types)}; catalogue: "
+                       f"{', '.join(CATALOGUE)}")
+
     def object(self, name: str) -> SceneObject:
         """The placed object with this instance name."""
         try:
@@ -425,10 +453,10 @@ class SceneBuilder:
                    pos: Sequence[float] = (0.0, 0.0), yaw: float = 0.0, color: str | Sequence[float] | None = None,
                    scale: float = 1.0, parent: str | None = None, *, surface: str | None = None,
                    movable: bool | None = None, open: Mapping[str, float] | float | None = None) -> SceneObject:
-        """Place one catalogue object.
+        """Place one catalogue object (or one of a type added with :meth:`register_type`).
 
         Args:
-            type_name: catalogue name, e.g. ``"Mug"``.
+            type_name: catalogue name, e.g. ``"Mug"``, or the name of a registered type.
             instance_name: unique name (no ``/``); default ``"<Type>_<n>"`` (``"Mug_1"``, ``"Mug_2"`` ...).
             pos: without ``parent``: world (x, y) or (x, y, z) of the base centre (z defaults to 0, or 1.25 for
                 wall-mounted types). With ``parent``: (dx, dy[, dz]) offset on the parent's surface, in the
@@ -444,7 +472,7 @@ class SceneBuilder:
         Returns:
             The recorded :class:`SceneObject`.
         """
-        otype: ObjectType = get_type(type_name)
+        otype = self.object_type(type_name)
         name = instance_name or self._auto_name(type_name)
         if name in self._by_name or name in self._reserved or "/" in name or " " in name:
             raise ValueError(f"instance name {name!r} is taken or invalid (no '/' or spaces)")
@@ -454,7 +482,7 @@ class SceneBuilder:
         surf_name: str | None = None
         if parent is not None:
             par = self.object(parent)
-            ptype = get_type(par.type)
+            ptype = self.object_type(par.type)
             surf = ptype.surface(surface)
             surf_name = surf.name
             inside = surf.inside

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from eb_scenekit import (
-    CATALOGUE, SceneBuilder, SceneRenderer, articulated_joints, free_camera, get_open, get_type, object_types,
-    set_object_pose, set_open, set_powered,
+    CATALOGUE, ObjectType, Parts, SceneBuilder, SceneRenderer, Surface, articulated_joints, free_camera, get_open,
+    get_type, object_types, set_object_pose, set_open, set_powered, shade, surface_position,
 )
 from eb_scenekit._mujoco import mujoco
 from eb_scenekit.gallery import object_view
@@ -204,3 +204,65 @@ def test_every_toggleable_type_switches() -> None:
     assert model.geom_rgba[stream][3] == 0.0
     set_powered(model, "sink", True)
     assert model.geom_rgba[stream][3] > 0.0
+
+
+def _geom_top(model, data, name: str) -> float:  # type: ignore[no-untyped-def]
+    g = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
+    return float(data.geom_xpos[g][2] + model.geom_size[g][2])
+
+
+def test_sink_basin_surface_is_the_basin_floor_and_holds_a_plate() -> None:
+    sink = get_type("Sink")
+    basin = sink.surface("basin")
+    assert basin.inside and min(basin.half_extents) >= 0.125  # a dinner plate lies flat in it
+    b = SceneBuilder()
+    b.add_studio()
+    b.add_object("Sink", "sink", (0, 0))
+    model, data = b.build()
+    assert _geom_top(model, data, "sink/basin") == pytest.approx(basin.z, abs=1e-6)
+    # objects in the basin are below the worktop, i.e. really in the sink
+    assert basin.z < _geom_top(model, data, "sink/counter_front") - 0.1
+
+
+def test_counter_drawer_surface_moves_with_the_drawer() -> None:
+    counter = get_type("CounterTop")
+    tray = counter.surface("drawer")
+    assert tray.inside and tray.part == "drawer"
+    b = SceneBuilder()
+    b.add_studio()
+    b.add_object("CounterTop", "counter", (1.0, 2.0), yaw=90)
+    model, data = b.build()
+    assert _geom_top(model, data, "counter/tray") == pytest.approx(tray.z, abs=1e-6)
+    closed = surface_position(model, data, "counter", tray)
+    assert closed == pytest.approx((1.0 - tray.center[1], 2.0 + tray.center[0], tray.z), abs=1e-6)
+    set_open(model, data, "counter", 1.0)
+    opened = surface_position(model, data, "counter", tray, offset=(0.05, 0.0))
+    assert opened == pytest.approx(closed + np.array([0.0, 0.35 + 0.05, 0.0]), abs=1e-6)  # front = +y here
+    assert surface_position(model, data, "counter", counter.surface("top"))[2] == pytest.approx(0.92)
+
+
+def test_a_world_registers_its_own_type_with_one_builder_only() -> None:
+    def crate(p: Parts, c) -> None:  # type: ignore[no-untyped-def]
+        p.box("box", (0.15, 0.2, 0.1), (0, 0, 0.1), c, "eb_wood")
+        p.box("band", (0.152, 0.202, 0.01), (0, 0, 0.15), shade(c, 0.6), "eb_wood", collide=False)
+
+    otype = ObjectType("Crate", "container", {"oak": (0.78, 0.62, 0.42)}, (0.15, 0.2), 0.2, crate, movable=True,
+                       surfaces=(Surface("top", 0.2, (0.13, 0.18)),))
+    b = SceneBuilder()
+    b.add_studio()
+    assert b.register_type(otype) is otype and b.register_type(otype) is otype  # idempotent
+    c = b.add_object("Crate", None, (0.5, 0.0))
+    apple = b.add_object("Apple", None, parent=c.name)
+    assert c.name == "Crate_1" and c.movable and apple.position[2] == pytest.approx(0.2)
+    model, data = b.build()
+    with SceneRenderer(model, data, 64, 64) as r:
+        assert "Crate_1" in r.instance_ids  # listed as an instance: segmented and boxed like catalogue objects
+    assert "Crate" not in CATALOGUE
+    with pytest.raises(KeyError, match="Crate"):
+        SceneBuilder().add_object("Crate")
+    with pytest.raises(ValueError, match="catalogue"):
+        b.register_type(ObjectType("Mug", "small", {"red": (1, 0, 0)}, (0.1, 0.1), 0.1, crate))
+    with pytest.raises(ValueError, match="already"):
+        b.register_type(ObjectType("Crate", "small", {"red": (1, 0, 0)}, (0.1, 0.1), 0.1, crate))
+    with pytest.raises(KeyError, match="registered here: Crate"):
+        b.add_object("Crat")
