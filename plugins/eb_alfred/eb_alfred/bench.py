@@ -5,7 +5,8 @@
 * ``step_s``: median wall time of ``env.step`` with rendering (the symbolic action, syncing poses, doors and
   switches into MuJoCo, one first-person render, the segmentation pass for boxes, the text description);
 * ``raw_render_s``: median time of one plain ``mujoco.Renderer`` render of the same scene from the same camera
-  (``update_scene`` + ``render``), the floor a step cannot beat;
+  (``update_scene`` + ``render``) right after each step, the floor a step cannot beat
+  (:func:`eb_scenekit.bench.median_step_vs_render`);
 * ``ratio``: ``step_s / raw_render_s``;
 * ``reset_s``: median ``env.reset`` (lay out the room, compile it, first render) over a few different tasks;
 * ``symbolic_step_s``: median step with ``render=False``.
@@ -23,48 +24,35 @@ __all__ = ["step_times"]
 
 
 def step_times(n: int = 30, resolution: int = 500) -> dict[str, Any]:
+    from eb_scenekit.bench import median_seconds, median_step_vs_render
+
     from eb_alfred.env import AlfredEnv
 
     tasks = AlfredEnv.load_tasks()
     order = tasks[3::37]  # a spread over subsets and rooms
     env = AlfredEnv(resolution=resolution, render=True)
-    try:
-        resets = []
-        for task in order[: max(3, min(8, n // 5))]:
-            t0 = time.perf_counter()
-            env.reset(task, 0)
-            resets.append(time.perf_counter() - t0)
-        steps: list[float] = []
-        k = 0
-        env.reset(order[0], 0)
-        while len(steps) < n:
-            plan = env.expert_plan() or []
-            done = not plan
-            for a in plan:
-                t0 = time.perf_counter()
-                r = env.step(a)
-                steps.append(time.perf_counter() - t0)
-                done = r.done
-                if done or len(steps) >= n:
-                    break
-            if done:
+    plan: list[int] = []
+    k = 0
+    done = False
+
+    def next_action() -> None:  # untimed: re-plan from the current state, or move on to the next task
+        nonlocal plan, k, done
+        while done or not plan:
+            plan = [] if done else list(env.expert_plan() or [])
+            if not plan:
                 k += 1
                 env.reset(order[k % len(order)], 0)
-        from eb_scenekit._mujoco import mujoco
+            done = False
 
+    def step() -> None:
+        nonlocal done
+        done = env.step(plan.pop(0)).done
+
+    try:
+        reset_s = median_seconds(lambda task: env.reset(task, 0), order[: max(3, min(8, n // 5))])
+        env.reset(order[0], 0)
         view = env._renderer  # noqa: SLF001 - the benchmark looks inside on purpose
-        renderer = mujoco.Renderer(view.model, resolution, resolution)
-        try:
-            raw = []
-            renderer.update_scene(view.data, camera="agent")
-            renderer.render()  # warm-up
-            for _ in range(max(n, 10)):
-                t0 = time.perf_counter()
-                renderer.update_scene(view.data, camera="agent")
-                renderer.render()
-                raw.append(time.perf_counter() - t0)
-        finally:
-            renderer.close()
+        timing = median_step_vs_render(step, lambda: (view.model, view.data), "agent", n, resolution, next_action)
     finally:
         env.close()
     sym = AlfredEnv(render=False)
@@ -75,9 +63,7 @@ def step_times(n: int = 30, resolution: int = 500) -> dict[str, Any]:
             t0 = time.perf_counter()
             sym.step(a)
             symbolic.append(time.perf_counter() - t0)
-    step_s, raw_s = statistics.median(steps), statistics.median(raw)
-    return {"env": "alfred", "resolution": resolution, "n": len(steps), "step_s": step_s, "raw_render_s": raw_s,
-            "ratio": step_s / raw_s, "reset_s": statistics.median(resets),
+    return {"env": "alfred", "resolution": resolution, **timing, "reset_s": reset_s,
             "symbolic_step_s": statistics.median(symbolic)}
 
 

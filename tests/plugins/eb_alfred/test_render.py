@@ -96,3 +96,11 @@ def test_every_type_is_drawn_by_a_kit_type_and_the_catalogue_is_left_untouched(e
     before = dict(CATALOGUE)
     env.reset(_task("base_01"), 0)
     assert CATALOGUE == before
+
+
+def test_bench_step_times_keys() -> None:
+    from eb_alfred.bench import step_times
+
+    out = step_times(3, resolution=64)
+    assert {"step_s", "raw_render_s", "ratio", "reset_s", "symbolic_step_s"} <= set(out) and out["n"] == 3
+    assert out["step_s"] > 0 and out["raw_render_s"] > 0 and out["reset_s"] > 0

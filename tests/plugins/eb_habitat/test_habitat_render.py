@@ -100,3 +100,11 @@ def test_each_apartment_builds_and_renders_every_receptacle() -> None:
                 assert img.std() > 10, (apartment, r)
     finally:
         renderer.close()
+
+
+def test_bench_step_times_keys() -> None:
+    from eb_habitat.bench import step_times
+
+    out = step_times(3, resolution=64)
+    assert {"step_s", "raw_render_s", "ratio", "reset_s"} <= set(out) and out["n"] == 3
+    assert out["step_s"] > 0 and out["raw_render_s"] > 0 and out["reset_s"] > 0
