@@ -19,9 +19,11 @@ import numpy as np
 from eb_alfred.catalog import COLORS, TYPES
 from eb_alfred.world import World
 
-from eb_scenekit import SceneBuilder, Surface, get_type, set_agent_pose, set_open, set_powered  # (picks GL first)
-from eb_scenekit._mujoco import mujoco
+from eb_scenekit import SceneBuilder, Surface, get_type, set_agent_pose, set_open, set_powered
+from eb_scenekit.gl import import_mujoco
 from eb_scenekit.render import SceneRenderer, free_camera
+
+mujoco = import_mujoco()
 
 __all__ = ["AlfredRenderer", "Frame", "KIT"]
 

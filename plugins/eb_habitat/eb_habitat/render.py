@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from eb_scenekit import SceneBuilder, get_type, set_agent_pose, set_open, surface_position
-from eb_scenekit._mujoco import mujoco
+from eb_scenekit.gl import import_mujoco
 from eb_scenekit.render import SceneRenderer, camera_from_eye
 from eb_habitat._ycb import KIT_TYPES, kit_or_ycb
 from eb_habitat.catalog import COLORS, N_APARTMENTS, RECEPTACLES
@@ -25,6 +25,8 @@ from eb_habitat.world import HAND
 if TYPE_CHECKING:
     from eb_habitat.tasks import TaskSpec
     from eb_habitat.world import World
+
+mujoco = import_mujoco()
 
 __all__ = ["ApartmentRenderer", "LAYOUTS", "Layout"]
 

@@ -14,8 +14,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from eb_manipulation._gl import mujoco
+from eb_scenekit.gl import import_mujoco
+
 from eb_manipulation.robot import ARM_JOINTS, FINGER_JOINTS
+
+mujoco = import_mujoco()  # the GL backend is chosen before MuJoCo is imported
 
 __all__ = ["Arm", "Blocker", "PathResult", "rotvec_between"]
 

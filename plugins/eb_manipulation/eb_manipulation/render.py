@@ -12,8 +12,11 @@ from functools import lru_cache
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
-from eb_manipulation._gl import mujoco
+from eb_scenekit.gl import import_mujoco
+
 from eb_manipulation.scene import ROBOT_BASE
+
+mujoco = import_mujoco()  # the GL backend is chosen before MuJoCo is imported
 
 __all__ = ["BOX_COLOURS", "SceneRenderer", "draw_axes", "draw_boxes", "project"]
 

@@ -14,13 +14,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from eb_manipulation._gl import mujoco
+from eb_scenekit.gl import import_mujoco
+
 from eb_manipulation.actions import bin_to_angle, bin_to_pos, euler_to_matrix
 from eb_manipulation.kinematics import Arm, Blocker
 from eb_manipulation.robot import FINGER_OPEN, HOME_QPOS, REST_QPOS
 from eb_manipulation.scene import CONTAINER, SORTER, SPONGE, TABLE_TOP, build_scene, hole_centres
 from eb_manipulation.shapes import CUBE_HALF, SHAPES
 from eb_manipulation.spec import ObjectSpec, SceneSpec
+
+mujoco = import_mujoco()  # the GL backend is chosen before MuJoCo is imported
 
 __all__ = ["ActionOutcome", "World", "WorldObject"]
 

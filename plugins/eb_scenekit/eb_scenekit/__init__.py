@@ -5,7 +5,7 @@ instance segmentation and 2-D boxes. Import order matters only in one place: any
 through :mod:`eb_scenekit._mujoco`, which picks the GL backend first (see :func:`select_gl_backend`).
 """
 
-from eb_scenekit.gl import RenderBackendError, select_gl_backend
+from eb_scenekit.gl import RenderBackendError, import_mujoco, select_gl_backend
 from eb_scenekit.objects import (
     CATALOGUE,
     COLORS,
@@ -49,6 +49,7 @@ __all__ = [
     "generate_room",
     "get_open",
     "get_type",
+    "import_mujoco",
     "lookat_xyaxes",
     "object_types",
     "save_png",

@@ -1,9 +1,7 @@
 """Import MuJoCo only after an offscreen GL backend has been chosen (``MUJOCO_GL`` is read at import time)."""
 
-from eb_scenekit.gl import select_gl_backend
+from eb_scenekit.gl import import_mujoco
 
-select_gl_backend()
-
-import mujoco  # noqa: E402  (must follow the backend choice)
+mujoco = import_mujoco()
 
 __all__ = ["mujoco"]

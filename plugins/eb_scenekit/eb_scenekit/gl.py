@@ -13,8 +13,9 @@ import ctypes
 import ctypes.util
 import importlib.util
 import os
+from types import ModuleType
 
-__all__ = ["RenderBackendError", "select_gl_backend", "EGL_FIX", "OSMESA_FIX"]
+__all__ = ["RenderBackendError", "select_gl_backend", "import_mujoco", "EGL_FIX", "OSMESA_FIX"]
 
 EGL_FIX = "apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri"
 """The Debian/Ubuntu command that installs a working EGL (Mesa llvmpipe is enough, no GPU needed)."""
@@ -127,3 +128,15 @@ def select_gl_backend() -> str:
         f"No offscreen OpenGL backend for MuJoCo: EGL failed ({egl_reason}), OSMesa failed ({osmesa_reason}). "
         f"Fix: `{EGL_FIX}` (EGL, recommended) or `{OSMESA_FIX}` (OSMesa), or set MUJOCO_GL yourself."
     )
+
+
+def import_mujoco() -> ModuleType:
+    """Choose the backend (:func:`select_gl_backend`), then import MuJoCo and return the module.
+
+    Write ``mujoco = import_mujoco()`` instead of ``import mujoco`` in any module that may be the first of a
+    process to import MuJoCo, so the backend is always chosen before MuJoCo reads ``MUJOCO_GL``.
+    """
+    select_gl_backend()
+    import mujoco
+
+    return mujoco

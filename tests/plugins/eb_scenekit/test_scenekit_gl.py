@@ -61,3 +61,17 @@ def test_catalogue_and_layouts_do_not_import_mujoco() -> None:
                          capture_output=True, text=True, timeout=60)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "False"
+
+
+def test_import_mujoco_chooses_the_backend_first() -> None:
+    code = ("import os, sys; from eb_scenekit.gl import import_mujoco; m = import_mujoco(); "
+            "print(m is sys.modules['mujoco'], os.environ['MUJOCO_GL'])")
+    out = subprocess.run([sys.executable, "-c", code], env=_env_without_gl(), capture_output=True, text=True,
+                         timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split()[0] == "True" and out.stdout.split()[1] in ("egl", "osmesa")
+    code = "import sys\ntry:\n  from eb_scenekit.gl import import_mujoco; import_mujoco()\nexcept Exception as e:\n" \
+           "  print(type(e).__name__, 'mujoco' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], env=_env_without_gl(EB_SCENEKIT_FORCE_NO_GL="1"),
+                         capture_output=True, text=True, timeout=60)
+    assert out.stdout.strip() == "RenderBackendError False", out.stderr
