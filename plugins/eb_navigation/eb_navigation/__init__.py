@@ -3,5 +3,5 @@
 Heavy modules (MuJoCo) are imported only by :mod:`eb_navigation.env` when a run selects the env.
 """
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 __all__ = ["__version__"]

@@ -1,17 +1,17 @@
 """EB-Navigation: walk to a named object in a furnished room with 8 low-level actions.
 
-One MuJoCo model per scene (compiled at reset, cached for the next tasks of the same room); a step
-moves the agent on the free-space lattice, writes the camera pose into the model (no recompile) and
-renders the first-person view once (plus a small segmentation pass for boxes and the text
-description; the overhead view only when ``multi_view`` is on). With ``render: false`` nothing is
-rendered at all: the geometry alone decides collisions and success, which is how the tests run the
-oracle over all 300 tasks in seconds.
+Rooms come from the shared scene kit (:mod:`eb_scenekit`): ``generate_room(kind, seed)`` plus the task's extra
+objects. One MuJoCo model per room (compiled when the room changes, kept for the following tasks of the same
+room, whose distractors are hidden when they do not use them); a step moves the agent on the free-space
+lattice, moves the kit's mocap agent camera (no recompile) and renders the first-person view once with the
+kit's :class:`~eb_scenekit.render.SceneRenderer`, plus a small segmentation pass for boxes and the text
+description (the overhead view only when ``multi_view`` is on). With ``render: false`` nothing is rendered
+and MuJoCo is never imported: the geometry alone decides collisions and success, which is how the tests run
+the oracle over all 300 tasks in seconds.
 """
 
 from __future__ import annotations
 
-import math
-from collections import OrderedDict
 from typing import Any
 
 import numpy as np
@@ -20,6 +20,7 @@ from pydantic import BaseModel, ConfigDict, ValidationError
 from eb_core import Action, DiscreteActionSpace, Env, ObjectInfo, Observation, PromptParts, StepResult, Task
 from eb_navigation.geometry import (
     ACTION_NAMES,
+    FIRST_PERSON_FOVY,
     STEP,
     SUCCESS_DISTANCE,
     TILT_MAX,
@@ -29,13 +30,13 @@ from eb_navigation.geometry import (
     bearing_to,
     distance_to,
 )
-from eb_navigation.instructions import display_name
-from eb_navigation.layout import Layout, generate_layout
-from eb_navigation.mjcf import FIRST_PERSON_FOVY
+from eb_navigation.instructions import colour_word, display_name
 from eb_navigation.prompts import prompt_parts
+from eb_navigation.room import NavObject, NavRoom
 from eb_navigation.tasks import NavTaskSpec, TaskFileError, load_task_file, spec_of
 
-__all__ = ["NavigationEnv", "NavigationParams", "build_world"]
+__all__ = ["NavigationEnv", "NavigationParams", "build_room", "check_target"]
+
 
 FEEDBACK_OK = "The last action succeeded."
 FEEDBACK_BLOCKED = ("The last action failed: moving that way would bump into a wall or a piece of furniture, "
@@ -70,13 +71,10 @@ def _params(params: dict[str, Any]) -> NavigationParams:
         raise ValueError(f"invalid navigation env param {key!r}: {err['msg']}") from None
 
 
-def build_world(spec: NavTaskSpec) -> Layout:
-    """The room of a task: the generated layout plus the task's extra objects, checked against the file."""
-    layout = generate_layout(spec.scene.kind, spec.scene.seed)
-    if spec.extra_objects:
-        layout = layout.with_objects(e.placed() for e in spec.extra_objects)
+def check_target(room: NavRoom, spec: NavTaskSpec) -> NavObject:
+    """The task's target in the rebuilt room; a one-line :class:`TaskFileError` if the room no longer matches."""
     try:
-        target = layout.get(spec.target.id)
+        target = room.get(spec.target.id)
     except KeyError:
         raise TaskFileError(f"task {spec.id!r}: field target.id: no object {spec.target.id!r} in "
                             f"{spec.scene.kind} scene {spec.scene.seed}") from None
@@ -84,7 +82,14 @@ def build_world(spec: NavTaskSpec) -> Layout:
         raise TaskFileError(f"task {spec.id!r}: field target: the room no longer matches the task file (object "
                             f"{target.id} is a {target.type} at {tuple(round(v, 2) for v in target.centre)}); "
                             f"regenerate the file with `eb tasks generate env=navigation`")
-    return layout
+    return target
+
+
+def build_room(spec: NavTaskSpec) -> NavRoom:
+    """The room of a task (the kit's room plus the task's extra objects), checked against the file."""
+    room = NavRoom(spec.scene.kind, spec.scene.seed, [e.spec() for e in spec.extra_objects])
+    check_target(room, spec)
+    return room
 
 
 def _bearing_words(b: float) -> str:
@@ -95,16 +100,20 @@ def _bearing_words(b: float) -> str:
 
 
 class _World:
-    """Everything that belongs to one room (cached across the tasks that share it)."""
+    """One room (kept while consecutive tasks share it) and, when rendering, its compiled scene."""
 
-    def __init__(self, layout: Layout, render: bool, resolution: int) -> None:
-        self.layout = layout
-        self.free = FreeSpace(layout)
+    def __init__(self, room: NavRoom, render: bool, resolution: int) -> None:
+        self.room = room
         self.scene = None
         if render:
-            from eb_navigation.scene import NavScene
+            from eb_navigation.scene import RoomScene
 
-            self.scene = NavScene(layout, resolution)
+            self.scene = RoomScene(room, resolution)
+
+    def close(self) -> None:
+        if self.scene is not None:
+            self.scene.close()
+            self.scene = None
 
 
 class NavigationEnv(Env):
@@ -117,11 +126,13 @@ class NavigationEnv(Env):
         self.resolution = int(resolution)
         self.multi_view = bool(multi_view)
         self._space = DiscreteActionSpace(actions=ACTION_NAMES)
-        self._worlds: OrderedDict[tuple, _World] = OrderedDict()
-        self._renderer = None
         self._world: _World | None = None
-        self._loaded_world: _World | None = None
+        self._world_key: tuple | None = None
+        self._room_extras: dict[tuple[str, int], tuple] | None = None
         self._spec: NavTaskSpec | None = None
+        self._free: FreeSpace | None = None
+        self._present: frozenset[str] = frozenset()
+        self._in_room: list[int] = []
         self._state: AgentState | None = None
         self._target_xy: tuple[float, float] = (0.0, 0.0)
         self._done = False
@@ -140,46 +151,59 @@ class NavigationEnv(Env):
     def prompt_parts(self) -> PromptParts:
         return prompt_parts(self._spec.subset if self._spec else None)
 
+    def _extras_of_scene(self, spec: NavTaskSpec) -> tuple:
+        """The extras to compile into the room of ``spec``: those of the task file's tasks in that room when
+        they all agree (so one model serves every task of the room), else the task's own."""
+        if self._room_extras is None:
+            by_scene: dict[tuple[str, int], set[tuple]] = {}
+            try:
+                for t in load_task_file(self.params.task_file).tasks:
+                    if t.extra_objects:
+                        by_scene.setdefault((t.scene.kind, t.scene.seed), set()).add(t.extra_objects)
+            except TaskFileError:
+                pass
+            self._room_extras = {k: next(iter(v)) for k, v in by_scene.items() if len(v) == 1}
+        own = spec.extra_objects
+        shared = self._room_extras.get((spec.scene.kind, spec.scene.seed), ())
+        return shared if not own or own == shared else own
+
     def reset(self, task: Task, seed: int) -> Observation:
         if self._closed:
             raise RuntimeError("NavigationEnv.reset() after close()")
         spec = spec_of(task)
-        key = (spec.scene.kind, spec.scene.seed, tuple(e.model_dump_json() for e in spec.extra_objects))
-        world = self._worlds.get(key)
-        if world is None:
-            world = _World(build_world(spec), self.params.render, self.resolution)
-            self._worlds[key] = world
-            while len(self._worlds) > 3:
-                self._worlds.popitem(last=False)
-        else:
-            self._worlds.move_to_end(key)
-            build_world(spec)  # still check the target against the file
-        self._world, self._spec = world, spec
+        extras = self._extras_of_scene(spec)
+        key = (spec.scene.kind, spec.scene.seed, extras)
+        if key != self._world_key or self._world is None:
+            if self._world is not None:
+                self._world.close()
+                self._world = None
+            room = NavRoom(spec.scene.kind, spec.scene.seed, [e.spec() for e in extras])
+            self._world = _World(room, self.params.render, self.resolution)
+            self._world_key = key
+        world = self._world
+        target = check_target(world.room, spec)
+        self._spec = spec
+        self._present = frozenset(e.id for e in spec.extra_objects)
+        self._free = world.room.free_space(self._present)
+        self._in_room = world.room.visible_objects(self._present)
+        if world.scene is not None:
+            world.scene.show_extras(self._present)
         state = AgentState.from_pose(spec.start.x, spec.start.y, spec.start.yaw, spec.start.tilt)
-        if not world.free.is_free(state.i, state.j):
+        if not self._free.is_free(state.i, state.j):
             raise TaskFileError(f"task {spec.id!r}: field start: ({spec.start.x}, {spec.start.y}) is inside "
                                 f"furniture or too close to a wall")
         self._state = state
-        target = world.layout.get(spec.target.id)
         self._target_xy = (target.x, target.y)
         self._done = False
-        if world.scene is not None:
-            if self._renderer is None:
-                from eb_navigation.render import SceneRenderer
-
-                self._renderer = SceneRenderer(self.resolution)
-            if self._loaded_world is not world:
-                self._renderer.load(world.scene.model)
-                self._loaded_world = world
         return self._observe()
 
     def step(self, action: Action) -> StepResult:
-        if self._state is None or self._world is None:
+        if self._state is None or self._free is None:
             raise RuntimeError("NavigationEnv.step() before reset()")
         if isinstance(action, bool) or not isinstance(action, (int, np.integer)) or not 0 <= int(action) < 8:
             raise ValueError(f"navigation actions are ids 0..7, got {action!r}")
         a = int(action)
-        new, ok, reason = self._world.free.apply(self._state, a)
+        new, ok, reason = self._free.apply(self._state, a)
         self._state = new
         dist = distance_to(new, self._target_xy)
         success = dist <= SUCCESS_DISTANCE + 1e-9
@@ -198,17 +222,16 @@ class NavigationEnv(Env):
 
     def expert_plan(self) -> list[Action] | None:
         """Shortest action sequence from the current pose into the 1 m circle around the target."""
-        if self._state is None or self._world is None:
+        if self._state is None or self._free is None:
             return None
-        plan = self._world.free.shortest_plan(self._state, self._target_xy)
+        plan = self._free.shortest_plan(self._state, self._target_xy)
         return None if plan is None else list(plan)
 
     def close(self) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
-        self._worlds.clear()
-        self._world = self._loaded_world = None
+        if self._world is not None:
+            self._world.close()
+        self._world = None
+        self._world_key = None
         self._closed = True
 
     # -- observation -----------------------------------------------------------------------------
@@ -222,78 +245,61 @@ class NavigationEnv(Env):
         assert self._world is not None and self._state is not None and self._spec is not None
         world, s = self._world, self._state
         images: dict[str, np.ndarray] = {}
-        pixels: dict[int, int] = {}
         boxes: dict[int, tuple[int, int, int, int]] = {}
-        if world.scene is not None and self._renderer is not None:
+        if world.scene is not None:
             world.scene.set_agent(s)
-            rgb, seg = self._renderer.render(world.scene.data, "first_person", groups=(0, 1), segmentation=True)
-            images["first_person"] = rgb
+            images["first_person"] = world.scene.first_person()
             if self.multi_view:
-                images["overhead"], _ = self._renderer.render(world.scene.data, "overhead", groups=(0, 2))
-            pixels, boxes = self._objects_in(seg, world.scene.geom_object)
+                images["overhead"] = world.scene.overhead()
+            seen = world.scene.objects_in_view(self._in_room)
+            pixels = {k: area for k, (_, area) in seen.items()}
+            boxes = {k: box for k, (box, _) in seen.items()}
         else:
             pixels = self._objects_in_cone()
         return Observation(images=images, primary="first_person" if images else None,
                            text=self._describe(pixels), objects=self._object_infos(pixels, boxes))
 
-    def _objects_in(self, seg: np.ndarray | None, geom_object: np.ndarray
-                    ) -> tuple[dict[int, int], dict[int, tuple[int, int, int, int]]]:
-        if seg is None:
-            return {}, {}
-        obj = np.where(seg >= 0, geom_object[np.clip(seg, 0, None)], -1)
-        counts = np.bincount(obj.ravel() + 1)
-        scale = self.resolution / seg.shape[0]
-        pixels: dict[int, int] = {}
-        boxes: dict[int, tuple[int, int, int, int]] = {}
-        for k in np.nonzero(counts[1:])[0]:
-            n = int(counts[k + 1])
-            if n < 3:
-                continue
-            rows, cols = np.nonzero(obj == k)
-            pixels[int(k)] = n
-            boxes[int(k)] = (int(cols.min() * scale), int(rows.min() * scale),
-                             min(self.resolution - 1, int(math.ceil((cols.max() + 1) * scale)) - 1),
-                             min(self.resolution - 1, int(math.ceil((rows.max() + 1) * scale)) - 1))
-        return pixels, boxes
-
-    def _objects_in_cone(self) -> dict[int, int]:
+    def _objects_in_cone(self) -> dict[int, float]:
         """Without rendering: objects within the horizontal field of view (no occlusion test)."""
         s = self._state
         assert s is not None and self._world is not None
         out = {}
-        for k, o in enumerate(self._world.layout.objects):
+        objects = self._world.room.objects
+        for k in self._in_room:
+            o = objects[k]
             if abs(bearing_to(s, (o.x, o.y))) <= FIRST_PERSON_FOVY / 2 and distance_to(s, (o.x, o.y)) > 0.3:
-                out[k] = 100
+                out[k] = 100.0
         return out
 
-    def _object_infos(self, pixels: dict[int, int], boxes: dict[int, tuple[int, int, int, int]]) -> list[ObjectInfo]:
+    def _object_infos(self, pixels: dict[int, float], boxes: dict[int, tuple[int, int, int, int]]) -> list[ObjectInfo]:
         assert self._world is not None and self._spec is not None
         infos = []
-        objects = self._world.layout.objects
+        objects = self._world.room.objects
         target_id = self._spec.target.id
-        for k, o in enumerate(objects):
+        for k in self._in_room:
+            o = objects[k]
             if k not in pixels and o.id != target_id:
                 continue
-            infos.append(ObjectInfo(name=o.id, type=o.type, box=boxes.get(k),
-                                    position=tuple(round(v, 3) for v in o.centre), label=display_name(o.type),
-                                    is_target=o.id == target_id))
+            infos.append(ObjectInfo(name=o.id, type=o.type, box=boxes.get(k), position=o.centre,
+                                    label=display_name(o.type), is_target=o.id == target_id))
         return infos
 
-    def _describe(self, pixels: dict[int, int]) -> str:
-        assert self._world is not None and self._state is not None
+    def _describe(self, pixels: dict[int, float]) -> str:
+        assert self._world is not None and self._state is not None and self._free is not None
         s = self._state
         seen = []
-        for k in pixels:
-            o = self._world.layout.objects[k]
+        for k, n in pixels.items():
+            o = self._world.room.objects[k]
             d = distance_to(s, (o.x, o.y))
-            seen.append((d, o, bearing_to(s, (o.x, o.y))))
-        seen.sort(key=lambda t: t[0])
+            seen.append((-n, d, o, bearing_to(s, (o.x, o.y))))
+        seen.sort(key=lambda t: t[:2])
         parts = []
-        for d, o, b in seen[:8]:
+        for _, d, o, b in seen[:8]:  # the eight biggest in the image
             dist = max(0.5, round(d * 2) / 2)
-            parts.append(f"a {o.colour} {display_name(o.type)} about {dist:g} m away, {_bearing_words(b)}")
+            parts.append(f"a {colour_word(o.colour)} {display_name(o.type)} about {dist:g} m away, "
+                         f"{_bearing_words(b)}")
         text = "In view: " + ("; ".join(parts) if parts else "nothing but the walls and the floor") + "."
-        free = self._world.free.free_ahead(s)
+        free = self._free.free_ahead(s)
         text += (f" The floor straight ahead is clear for about {free * STEP:g} m." if free
                  else " Something blocks the way straight ahead.")
         if s.tilt:

@@ -2,8 +2,9 @@
 
 The agent is a disc of radius :data:`AGENT_RADIUS` whose centre lives on a lattice of
 :data:`STEP` metres (moves are exactly one step along a heading that is a multiple of 90 degrees, so
-positions never leave the lattice). The environment and the oracle use the same :class:`FreeSpace`,
-so the oracle's plans never collide and its collision feedback matches the env's exactly.
+positions never leave the lattice). Collisions are read from the scene kit's occupancy grid of the room.
+The environment and the oracle use the same :class:`FreeSpace`, so the oracle's plans never collide and its
+collision feedback matches the env's exactly.
 """
 
 from __future__ import annotations
@@ -14,18 +15,18 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from eb_navigation.layout import Layout
-
 __all__ = [
     "ACTION_NAMES",
     "AGENT_RADIUS",
     "EYE_HEIGHT",
+    "FIRST_PERSON_FOVY",
     "HEADING_VECTORS",
     "STEP",
     "SUCCESS_DISTANCE",
     "TILT_MAX",
     "TILT_MIN",
     "TILT_STEP",
+    "GRID_RESOLUTION",
     "AgentState",
     "FreeSpace",
 ]
@@ -36,8 +37,13 @@ AGENT_RADIUS = 0.2
 """Radius of the agent's footprint (collisions with furniture and walls)."""
 EYE_HEIGHT = 1.5
 """Camera height above the floor: a person's eye height."""
+FIRST_PERSON_FOVY = 100.0
+"""Field of view of the square first-person image in degrees, vertical = horizontal (the original benchmark's
+camera has a 100 degree field of view)."""
 SUCCESS_DISTANCE = 1.0
 """The task is solved when the agent's centre is this close (horizontally) to the target's centre."""
+GRID_RESOLUTION = 0.05
+"""Cell size of the scene kit's occupancy grid the collision checks read (metres)."""
 TILT_STEP = 30
 TILT_MIN = -60
 TILT_MAX = 30
@@ -61,7 +67,8 @@ HEADING_VECTORS = ((1, 0), (0, 1), (-1, 0), (0, -1))
 
 @dataclass(frozen=True)
 class AgentState:
-    """Where the agent is: lattice cell ``(i, j)`` (metres = ``STEP * (i, j)``), heading, camera tilt."""
+    """Where the agent is: lattice point ``(i, j)`` (metres = ``STEP * (i, j)`` in the room's frame, whose origin
+    is the room's centre), heading, camera tilt."""
 
     i: int
     j: int
@@ -98,36 +105,68 @@ def _move_delta(heading: int, action: int) -> tuple[int, int]:
 
 
 class FreeSpace:
-    """Which lattice points the agent may stand on, checked at half-step resolution along each move."""
+    """Which lattice points the agent may stand on and which moves between them are clear.
 
-    def __init__(self, layout: Layout, radius: float = AGENT_RADIUS, clearance_walls: float = 0.05) -> None:
-        self.layout = layout
-        h = STEP / 2
-        nx, ny = int(math.floor(layout.width / h + 1e-9)) + 1, int(math.floor(layout.depth / h + 1e-9)) + 1
-        xs = np.arange(nx) * h
-        ys = np.arange(ny) * h
-        X, Y = np.meshgrid(xs, ys, indexing="ij")
-        wall = radius + clearance_walls
-        free = (X >= wall) & (X <= layout.width - wall) & (Y >= wall) & (Y <= layout.depth - wall)
-        for x0, y0, x1, y1 in layout.obstacles():
-            dx = np.maximum(np.maximum(x0 - X, X - x1), 0.0)
-            dy = np.maximum(np.maximum(y0 - Y, Y - y1), 0.0)
-            free &= dx * dx + dy * dy > radius * radius
-        self._half = free
-        self.ni, self.nj = (nx + 1) // 2, (ny + 1) // 2
+    Built from the scene kit's occupancy grid (:meth:`eb_scenekit.rooms.RoomLayout.free_space`: True where a
+    disc of the agent's radius fits on the floor). A lattice point ``(i, j)`` sits at ``(i * STEP, j * STEP)``
+    in the room's frame (the room is centred on the origin); a move is clear when every grid cell under the
+    straight segment between its two lattice points (sampled every ``resolution`` metres) is free.
+    """
 
-    def _half_free(self, a: int, b: int) -> bool:
-        return 0 <= a < self._half.shape[0] and 0 <= b < self._half.shape[1] and bool(self._half[a, b])
+    def __init__(self, grid: np.ndarray, size: tuple[float, float], resolution: float) -> None:
+        self.grid = np.asarray(grid, dtype=bool)
+        self.size = (float(size[0]), float(size[1]))
+        self.resolution = float(resolution)
+        hx, hy = self.size[0] / 2, self.size[1] / 2
+        self.i0, self.j0 = math.ceil(-hx / STEP - 1e-9), math.ceil(-hy / STEP - 1e-9)
+        i1, j1 = math.floor(hx / STEP + 1e-9), math.floor(hy / STEP + 1e-9)
+        self.ni, self.nj = i1 - self.i0 + 1, j1 - self.j0 + 1
+        ii, jj = np.meshgrid(np.arange(self.ni) + self.i0, np.arange(self.nj) + self.j0, indexing="ij")
+        x, y = ii * STEP, jj * STEP
+        self._point = self._free_at(x, y)
+        n = max(2, int(math.ceil(STEP / self.resolution)) + 1)
+        east = np.ones_like(self._point)
+        north = np.ones_like(self._point)
+        for t in np.linspace(0.0, STEP, n):
+            east &= self._free_at(x + t, y)
+            north &= self._free_at(x, y + t)
+        east[-1, :] = False
+        north[:, -1] = False
+        self._east, self._north = east, north
+
+    @classmethod
+    def from_layout(cls, layout, resolution: float = GRID_RESOLUTION, radius: float = AGENT_RADIUS) -> "FreeSpace":
+        """The free space of a scene kit :class:`~eb_scenekit.rooms.RoomLayout` (every object it holds now)."""
+        return cls(layout.free_space(resolution, radius), layout.size, resolution)
+
+    def _free_at(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        gi = np.floor((x + self.size[0] / 2) / self.resolution + 1e-9).astype(int)
+        gj = np.floor((y + self.size[1] / 2) / self.resolution + 1e-9).astype(int)
+        inside = (gi >= 0) & (gi < self.grid.shape[0]) & (gj >= 0) & (gj < self.grid.shape[1])
+        out = np.zeros(np.shape(x), dtype=bool)
+        out[inside] = self.grid[gi[inside], gj[inside]]
+        return out
+
+    def _inside(self, a: int, b: int) -> bool:
+        return 0 <= a < self.ni and 0 <= b < self.nj
 
     def is_free(self, i: int, j: int) -> bool:
-        return self._half_free(2 * i, 2 * j)
+        a, b = i - self.i0, j - self.j0
+        return self._inside(a, b) and bool(self._point[a, b])
 
-    def free_cells(self) -> np.ndarray:
-        """Boolean grid over lattice points ``[i, j]``."""
-        return self._half[::2, ::2].copy()
+    def free_cells(self) -> list[tuple[int, int]]:
+        """Every free lattice point ``(i, j)``."""
+        aa, bb = np.nonzero(self._point)
+        return [(int(a) + self.i0, int(b) + self.j0) for a, b in zip(aa, bb)]
 
     def can_move(self, i: int, j: int, di: int, dj: int) -> bool:
-        return self._half_free(2 * i + di, 2 * j + dj) and self._half_free(2 * (i + di), 2 * (j + dj))
+        """Whether one step from ``(i, j)`` by ``(di, dj)`` (a unit lattice step) is clear."""
+        a, b = i - self.i0, j - self.j0
+        if di < 0 or dj < 0:
+            a, b = a + di, b + dj
+        if not self._inside(a, b):
+            return False
+        return bool(self._east[a, b] if di else self._north[a, b])
 
     def apply(self, s: AgentState, action: int) -> tuple[AgentState, bool, str]:
         """The state after ``action``, whether it succeeded and, if not, why (our wording)."""
@@ -161,9 +200,10 @@ class FreeSpace:
     # -- the oracle ------------------------------------------------------------------------------------
 
     def goal_cells(self, target_xy: tuple[float, float], distance: float = SUCCESS_DISTANCE) -> np.ndarray:
-        ii, jj = np.meshgrid(np.arange(self.ni), np.arange(self.nj), indexing="ij")
+        """Boolean array over lattice points (offset by ``i0, j0``): free and within ``distance`` of the target."""
+        ii, jj = np.meshgrid(np.arange(self.ni) + self.i0, np.arange(self.nj) + self.j0, indexing="ij")
         d2 = (ii * STEP - target_xy[0]) ** 2 + (jj * STEP - target_xy[1]) ** 2
-        return (d2 <= distance * distance + 1e-9) & self.free_cells()
+        return (d2 <= distance * distance + 1e-9) & self._point
 
     def shortest_plan(self, s: AgentState, target_xy: tuple[float, float],
                       distance: float = SUCCESS_DISTANCE) -> list[int] | None:
@@ -175,7 +215,7 @@ class FreeSpace:
         goal = self.goal_cells(target_xy, distance)
         if not goal.any():
             return None
-        if 0 <= s.i < self.ni and 0 <= s.j < self.nj and goal[s.i, s.j]:
+        if self._inside(s.i - self.i0, s.j - self.j0) and goal[s.i - self.i0, s.j - self.j0]:
             return []
         start = (s.i, s.j, s.heading % 4)
         parent: dict[tuple[int, int, int], tuple[tuple[int, int, int], int] | None] = {start: None}
@@ -195,7 +235,7 @@ class FreeSpace:
                 if nxt in parent:
                     continue
                 parent[nxt] = (cur, a)
-                if a <= 3 and goal[nxt[0], nxt[1]]:
+                if a <= 3 and goal[nxt[0] - self.i0, nxt[1] - self.j0]:
                     plan = []
                     node = nxt
                     while parent[node] is not None:

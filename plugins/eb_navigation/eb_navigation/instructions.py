@@ -8,27 +8,58 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
-__all__ = ["DISPLAY", "display_name", "instruction_for"]
+__all__ = ["COLOUR_WORDS", "COMMON_SENSE_TYPES", "DISPLAY", "SHAPES", "colour_word", "display_name", "instruction_for"]
 
-#: How people call each object type.
+#: How people call the scene kit's object types (the rest: the CamelCase name split into lower-case words).
 DISPLAY: dict[str, str] = {
-    "fridge": "fridge", "microwave": "microwave", "stove": "stove", "counter": "kitchen counter",
-    "long_counter": "kitchen counter", "sink_counter": "kitchen sink", "dining_table": "dining table",
-    "chair": "chair", "coffee_table": "coffee table", "sofa": "sofa", "armchair": "armchair",
-    "tv_stand": "TV stand", "tv": "TV", "bookshelf": "bookshelf", "floor_lamp": "floor lamp",
-    "plant": "potted plant", "ball": "ball", "teddy_bear": "teddy bear", "laptop": "laptop", "bed": "bed",
-    "nightstand": "nightstand", "wardrobe": "wardrobe", "desk": "desk", "dresser": "chest of drawers",
-    "toilet": "toilet", "bathtub": "bathtub", "vanity": "bathroom sink", "washing_machine": "washing machine",
-    "trash_can": "trash can", "laundry_basket": "laundry basket", "boxes": "stack of cardboard boxes",
-    "stool": "stool", "towel_rack": "towel rack", "rug": "rug", "small_rug": "rug",
+    "Fridge": "fridge", "Television": "TV", "TVStand": "TV stand", "GarbageCan": "trash can",
+    "HousePlant": "potted plant", "BasketBall": "basketball", "ArmChair": "armchair", "CounterTop": "kitchen counter",
+    "WashingMachine": "washing machine", "Dresser": "chest of drawers", "SideTable": "side table",
+    "CoffeeMachine": "coffee machine", "DeskLamp": "desk lamp", "FloorLamp": "floor lamp", "DiningTable": "dining table",
+    "CoffeeTable": "coffee table", "TeddyBear": "teddy bear", "CellPhone": "phone", "RemoteControl": "remote control",
+    "AlarmClock": "alarm clock", "SoapBottle": "soap bottle", "WineBottle": "wine bottle", "KeyChain": "key chain",
+}
+
+#: How people call the scene kit's colour names.
+COLOUR_WORDS: dict[str, str] = {
+    "dark_red": "dark red", "light_blue": "light blue", "dark_green": "dark green", "light_gray": "light grey",
+    "dark_gray": "dark grey", "gray": "grey", "wood": "wooden", "oak": "light wooden", "walnut": "dark wooden",
+    "steel": "stainless steel", "clear": "see-through",
 }
 
 
 def display_name(type_name: str) -> str:
-    return DISPLAY.get(type_name, type_name.replace("_", " "))
+    """``"GarbageCan"`` -> ``"trash can"``."""
+    if type_name in DISPLAY:
+        return DISPLAY[type_name]
+    return re.sub(r"(?<!^)(?=[A-Z])", " ", type_name).lower()
 
+
+def colour_word(colour: str) -> str:
+    """``"dark_gray"`` -> ``"dark grey"``."""
+    return COLOUR_WORDS.get(colour, colour.replace("_", " "))
+
+
+#: Shape words for the types a visual_appearance task may target (never the type's name).
+SHAPES: dict[str, str] = {
+    "Fridge": "tall upright box with two stacked doors and long handles",
+    "Stove": "square box with a dark glass window in its front door and knobs along the top edge",
+    "Sofa": "long padded seat with a low back and armrests for three people",
+    "ArmChair": "deep padded single seat with thick armrests",
+    "FloorLamp": "thin pole as tall as a person with a shade on top",
+    "HousePlant": "pot full of leafy green stems",
+    "GarbageCan": "knee-high round bin",
+    "WashingMachine": "cube with a round glass porthole in its front",
+    "Bookshelf": "tall open frame of shelves filled with books",
+    "Dresser": "waist-high box with rows of drawers",
+    "Desk": "wide flat table top on legs, with a drawer unit",
+    "Cabinet": "waist-high cupboard with doors",
+    "Sink": "waist-high unit with a basin and a tap on top",
+}
 
 _BASE = (
     "Go to the {name}.",
@@ -43,39 +74,43 @@ _BASE = (
 
 #: What a thing is for, or a property everyone knows, without its name.
 _COMMON_SENSE: dict[str, tuple[str, ...]] = {
-    "fridge": ("the appliance that keeps milk and vegetables cold",
+    "Fridge": ("the appliance that keeps milk and vegetables cold",
                "the place where you would put leftovers so they stay fresh overnight"),
-    "microwave": ("the appliance that warms up a cup of cold coffee in under a minute",
+    "Microwave": ("the appliance that warms up a cup of cold coffee in under a minute",
                   "the small kitchen machine for reheating leftovers quickly"),
-    "stove": ("the thing you would put a pot of pasta water on to boil",
+    "Stove": ("the thing you would put a pot of pasta water on to boil",
               "the appliance with burners for frying an egg"),
-    "sofa": ("the piece of furniture where three people could sit side by side to watch a film",
+    "Sink": ("the place where you would rinse a dirty plate under running water",
+             "where you would fill a glass with water from the tap"),
+    "GarbageCan": ("the container where an empty crisp packet should go",
+                   "the thing you would throw a banana peel into"),
+    "DiningTable": ("the piece of furniture a family sits around to eat dinner",
+                    "where you would set out plates and cutlery for a meal"),
+    "Television": ("the screen you would switch on to watch the evening news",
+                   "the device for watching a football match from the couch"),
+    "Sofa": ("the piece of furniture where three people could sit side by side to watch a film",
              "the long, cushioned seat where a guest could nap in the afternoon"),
-    "armchair": ("a cushioned seat made for exactly one person to relax in",
+    "ArmChair": ("a cushioned seat made for exactly one person to relax in",
                  "the comfortable single seat with places to rest both elbows"),
-    "tv": ("the screen you would switch on to watch the evening news",
-           "the device for watching a football match from the couch"),
-    "floor_lamp": ("the tall standing light you would switch on to read after dark",
-                   "the light fixture that stands on the floor on its own pole"),
-    "plant": ("the living thing in this room that needs water every few days",
-              "the thing here that grows leaves and turns toward the sunlight"),
-    "ball": ("the toy you could bounce, kick or throw to a friend",
-             "the round thing you would take outside for a game in the park"),
-    "teddy_bear": ("the soft toy a small child might hug when going to sleep",
-                   "the cuddly stuffed animal"),
-    "laptop": ("the portable computer someone could use to write an email",
-               "the device you would open to join a video call from home"),
-    "bed": ("the place where you would sleep at night",
-            "the furniture you lie down on with your head on a pillow"),
-    "wardrobe": ("the tall cupboard where coats and shirts hang on hangers",
-                 "the furniture for storing clothes"),
-    "toilet": ("the bathroom fixture you flush",
+    "FloorLamp": ("the tall standing light you would switch on to read after dark",
+                  "the light fixture that stands on the floor on its own pole"),
+    "HousePlant": ("the living thing in this room that needs water every few days",
+                   "the thing here that grows leaves and turns toward the sunlight"),
+    "Bookshelf": ("the place where you would look for a novel to read",
+                  "the tall piece of furniture that holds rows of books"),
+    "Desk": ("the place where someone would sit to do homework or write letters",
+             "the work table where you would put a computer and a notebook"),
+    "Dresser": ("the furniture whose drawers hold folded socks and sweaters",
+                "where you would put away clean, folded clothes"),
+    "Toilet": ("the bathroom fixture you flush",
                "the thing you sit on in the bathroom that has a water tank behind it"),
-    "bathtub": ("the place where you could lie down in warm water for a long soak",
+    "Bathtub": ("the place where you could lie down in warm water for a long soak",
                 "where you would give a small child a bubble bath"),
-    "washing_machine": ("the machine that cleans dirty clothes",
-                        "the appliance you would load with muddy socks and detergent"),
+    "WashingMachine": ("the machine that cleans dirty clothes",
+                       "the appliance you would load with muddy socks and detergent"),
 }
+
+COMMON_SENSE_TYPES = frozenset(_COMMON_SENSE)
 
 _COMMON_SENSE_FRAMES = (
     "Go to {desc}.",
@@ -115,8 +150,6 @@ _VISUAL = (
 def instruction_for(subset: str, target_type: str, colour: str, rng: np.random.Generator,
                     other_type: str | None = None) -> str:
     """Write the instruction for one task from our templates (deterministic given ``rng``)."""
-    from eb_navigation.catalogue import get_type
-
     name = display_name(target_type)
     if subset in ("base", "long_horizon"):
         return str(rng.choice(_BASE)).format(name=name)
@@ -127,8 +160,8 @@ def instruction_for(subset: str, target_type: str, colour: str, rng: np.random.G
         other = display_name(other_type) if other_type else "laundry"
         return str(rng.choice(_COMPLEX)).format(name=name, other=other)
     if subset == "visual_appearance":
-        shape = get_type(target_type).shape_words
+        shape = SHAPES.get(target_type)
         if not shape:
             raise ValueError(f"object type {target_type!r} has no shape description")
-        return str(rng.choice(_VISUAL)).format(colour=colour, shape=shape)
+        return str(rng.choice(_VISUAL)).format(colour=colour_word(colour), shape=shape)
     raise ValueError(f"unknown subset {subset!r}")

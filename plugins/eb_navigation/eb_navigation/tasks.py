@@ -2,13 +2,16 @@
 
 A task file is JSON written by :mod:`eb_navigation.generate`::
 
-    {"format": "eb-navigation-tasks", "version": 1, "layout_version": 1,
+    {"format": "eb-navigation-tasks", "version": 2,
      "generator": {...the parameters it was made with...},
      "tasks": [{"id": "base_000", "subset": "base", "instruction": "...",
                 "scene": {"kind": "kitchen", "seed": 3},
-                "start": {"x": 1.25, "y": 2.5, "yaw": 90, "tilt": 0},
-                "target": {"id": "fridge_1", "type": "fridge", "colour": "white", "position": [x, y, z]},
+                "start": {"x": 1.25, "y": -0.5, "yaw": 90, "tilt": 0},
+                "target": {"id": "Fridge_1", "type": "Fridge", "colour": "white", "position": [x, y, z]},
                 "extra_objects": [...], "oracle_steps": 9}, ...]}
+
+Rooms are the scene kit's ``generate_room(kind, seed)`` (centred on the origin); types and colours are the kit
+catalogue's names.
 
 Loading validates everything and fails with ONE line naming the file, the task and the field.
 """
@@ -23,16 +26,18 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from eb_core import Task
-from eb_navigation.catalogue import CATALOGUE, COLOURS
-from eb_navigation.geometry import STEP
-from eb_navigation.layout import KINDS, LAYOUT_VERSION, Placed
+from eb_scenekit.objects import CATALOGUE
 
-__all__ = ["DEFAULT_TASK_FILE", "SUBSETS", "TASK_FILE_FORMAT", "TaskFileError", "NavTaskSpec", "load_task_file",
-           "spec_of", "task_file_path"]
+from eb_navigation.geometry import STEP
+from eb_navigation.room import KINDS, ExtraSpec
+
+__all__ = ["DEFAULT_TASK_FILE", "SUBSETS", "TASK_FILE_FORMAT", "TASK_FILE_VERSION", "TaskFileError", "NavTaskSpec",
+           "load_task_file", "spec_of", "task_file_path"]
 
 TASK_FILE_FORMAT = "eb-navigation-tasks"
 SUBSETS: tuple[str, ...] = ("base", "common_sense", "complex_instruction", "visual_appearance", "long_horizon")
-DEFAULT_TASK_FILE = Path(__file__).parent / "tasks" / "navigation_v1.json"
+TASK_FILE_VERSION = 2
+DEFAULT_TASK_FILE = Path(__file__).parent / "tasks" / f"navigation_v{TASK_FILE_VERSION}.json"
 
 
 class TaskFileError(ValueError):
@@ -77,49 +82,60 @@ class StartPose(_Strict):
         return v
 
 
+def _check_type_and_colour(type_name: str, colour: str) -> None:
+    if type_name not in CATALOGUE:
+        raise ValueError(f"unknown object type {type_name!r} (not in the scene kit's catalogue)")
+    if colour not in CATALOGUE[type_name].colors:
+        raise ValueError(f"{type_name} has no colour {colour!r}; available: {', '.join(CATALOGUE[type_name].colors)}")
+
+
 class TargetRef(_Strict):
     id: str = Field(min_length=1)
+    """Instance name in the room, e.g. ``Fridge_1``."""
     type: str
+    """Scene kit type, e.g. ``Fridge``."""
     colour: str
     position: tuple[float, float, float]
+    """Centre of the object (metres, room frame)."""
 
     @field_validator("type")
     @classmethod
     def _known_type(cls, v: str) -> str:
         if v not in CATALOGUE:
-            raise ValueError(f"unknown object type {v!r}")
+            raise ValueError(f"unknown object type {v!r} (not in the scene kit's catalogue)")
         return v
 
-    @field_validator("colour")
-    @classmethod
-    def _known_colour(cls, v: str) -> str:
-        if v not in COLOURS:
-            raise ValueError(f"unknown colour {v!r}")
-        return v
+    @model_validator(mode="after")
+    def _colour(self) -> "TargetRef":
+        _check_type_and_colour(self.type, self.colour)
+        return self
 
 
 class ExtraObject(_Strict):
-    """An object added to the generated room for this task (visual-appearance distractors)."""
+    """An object added to the generated room for this task (visual-appearance distractors), on the floor."""
 
-    id: str = Field(min_length=1)
+    id: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_]+$")
     type: str
     colour: str
     x: float
     y: float
-    z: float = 0.0
-    yaw: int = Field(default=0, ge=0, le=3)
-    on: str | None = None
-    variant: int = 0
+    yaw: float = 0.0
+    """Degrees; the object's front faces its local +x (the kit's convention)."""
 
     @field_validator("type")
     @classmethod
     def _known_type(cls, v: str) -> str:
         if v not in CATALOGUE:
-            raise ValueError(f"unknown object type {v!r}")
+            raise ValueError(f"unknown object type {v!r} (not in the scene kit's catalogue)")
         return v
 
-    def placed(self) -> Placed:
-        return Placed(**self.model_dump())
+    @model_validator(mode="after")
+    def _colour(self) -> "ExtraObject":
+        _check_type_and_colour(self.type, self.colour)
+        return self
+
+    def spec(self) -> ExtraSpec:
+        return ExtraSpec(self.id, self.type, self.colour, self.x, self.y, self.yaw)
 
 
 class NavTaskSpec(_Strict):
@@ -143,7 +159,6 @@ class NavTaskSpec(_Strict):
 class TaskFile(_Strict):
     format: Literal["eb-navigation-tasks"]
     version: int = Field(ge=1)
-    layout_version: int
     generator: dict[str, Any]
     tasks: tuple[NavTaskSpec, ...]
 
@@ -195,14 +210,14 @@ def _load_cached(path_str: str, mtime: float) -> TaskFile:
         raise TaskFileError(f"{path}: not valid JSON: {exc.msg} at line {exc.lineno} column {exc.colno}") from None
     if not isinstance(raw, dict):
         raise TaskFileError(f"{path}: field (top level): must be a JSON object")
+    if isinstance(raw.get("version"), int) and raw["version"] != TASK_FILE_VERSION:
+        raise TaskFileError(f"{path}: field version: the file is version {raw['version']} but this eb-navigation "
+                            f"reads version {TASK_FILE_VERSION} (rooms from the scene kit); regenerate it with "
+                            f"`eb tasks generate env=navigation`")
     try:
         tf = TaskFile.model_validate(raw)
     except ValidationError as exc:
         raise TaskFileError(_one_line(path, raw, exc)) from None
-    if tf.layout_version != LAYOUT_VERSION:
-        raise TaskFileError(f"{path}: field layout_version: the file was made for room layout version "
-                            f"{tf.layout_version} but this eb-navigation builds version {LAYOUT_VERSION}; "
-                            f"regenerate it with `eb tasks generate env=navigation`")
     return tf
 
 

@@ -1,6 +1,7 @@
 """Contact sheets of first-person start views: ``python -m eb_navigation.views OUT.png [task ids...]``.
 
-Used to check by eye that a person can name the target in every view (docs/img/navigation_views.png).
+Used to check by eye that a person can name the target in every view (docs/img/navigation_views.png) and to
+show the subsets side by side (docs/img/navigation_subsets.png: ``python -m eb_navigation.views --subsets OUT``).
 """
 
 from __future__ import annotations
@@ -52,14 +53,14 @@ def contact_sheet(task_ids: list[str] | None = None, out: str | Path = "navigati
 
 
 def subsets_sheet(numbers: tuple[int, ...] = (1, 6, 9), out: str | Path = "navigation_subsets.png",
-                  cell: int = 360) -> Path:
+                  cell: int = 360, task_file: str | None = None) -> Path:
     """Rows of one room each: base, visual_appearance and long_horizon start views, then the overhead view."""
     from PIL import Image, ImageDraw, ImageFont
 
     from eb_navigation.env import NavigationEnv
 
-    tasks = {t.id: t for t in NavigationEnv.load_tasks()}
-    env = NavigationEnv(resolution=500, multi_view=True)
+    tasks = {t.id: t for t in NavigationEnv.load_tasks(task_file=task_file)}
+    env = NavigationEnv(resolution=500, multi_view=True, task_file=task_file)
     font = ImageFont.load_default(size=14)
     label_h = 40
     rows = []
@@ -91,4 +92,7 @@ def subsets_sheet(numbers: tuple[int, ...] = (1, 6, 9), out: str | Path = "navig
 
 if __name__ == "__main__":  # pragma: no cover
     args = sys.argv[1:]
-    print(contact_sheet(args[1:] or None, args[0] if args else "navigation_views.png"))
+    if args[:1] == ["--subsets"]:
+        print(subsets_sheet(out=args[1] if len(args) > 1 else "navigation_subsets.png"))
+    else:
+        print(contact_sheet(args[1:] or None, args[0] if args else "navigation_views.png"))

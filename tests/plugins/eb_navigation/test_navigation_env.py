@@ -73,6 +73,41 @@ def test_visual_appearance_shows_distractors(env: NavigationEnv, tasks) -> None:
     assert len(same_type) >= 2 and sum(o.is_target for o in same_type) == 1
 
 
+def test_one_model_per_room_with_the_distractors_hidden_when_unused(env: NavigationEnv, tasks) -> None:
+    env.reset(tasks["base_000"], 0)
+    model = env._world.scene.model  # noqa: SLF001 - white-box: one compiled model serves the whole room
+    extras = {e["id"] for e in tasks["visual_appearance_000"].metadata["extra_objects"]}
+    for tid in ("common_sense_000", "visual_appearance_000", "long_horizon_000"):
+        obs = env.reset(tasks[tid], 0)
+        assert env._world.scene.model is model  # noqa: SLF001
+        names = {o.name for o in obs.objects}
+        if tid.startswith("visual"):
+            assert names & extras
+        else:
+            assert not names & extras
+    env.reset(tasks["base_001"], 0)
+    assert env._world.scene.model is not model  # noqa: SLF001 - a new room is compiled
+
+
+def test_boxes_agree_with_the_kits_segmentation(env: NavigationEnv, tasks) -> None:
+    """The cheap projected boxes (ray-tested for occlusion) match an exact segmentation pass of the target."""
+    for n in range(4):
+        task = tasks[f"base_{n:03d}"]
+        obs = env.reset(task, 0)
+        (target,) = [o for o in obs.objects if o.is_target]
+        scene = env._world.scene  # noqa: SLF001
+        mask = scene.object_map() == scene.room.index[target.name]
+        rows, cols = np.nonzero(mask)
+        scale = 160 / mask.shape[0]
+        seg_box = (cols.min() * scale, rows.min() * scale, (cols.max() + 1) * scale, (rows.max() + 1) * scale)
+        x0, y0, x1, y1 = target.box
+        ix = max(0.0, min(x1, seg_box[2]) - max(x0, seg_box[0]))
+        iy = max(0.0, min(y1, seg_box[3]) - max(y0, seg_box[1]))
+        inter = ix * iy
+        union = (x1 - x0) * (y1 - y0) + (seg_box[2] - seg_box[0]) * (seg_box[3] - seg_box[1]) - inter
+        assert inter / union > 0.5, (task.id, target.box, seg_box)
+
+
 def test_collision_feedback_and_no_movement(env: NavigationEnv, tasks) -> None:
     env.reset(tasks["base_001"], 0)
     for _ in range(40):  # walk backward until something is hit

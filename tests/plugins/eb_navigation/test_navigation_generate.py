@@ -24,7 +24,7 @@ def small_file(tmp_path_factory) -> Path:
 def test_generated_file_records_parameters_and_validates(small_file: Path) -> None:
     tf = load_task_file(small_file)
     assert tf.generator["seed"] == 7 and tf.generator["scenes"] == 2
-    assert [t.subset for t in tf.tasks] == [s for s in SUBSETS for _ in range(2)]
+    assert [t.subset for t in tf.tasks] == list(SUBSETS) * 2  # room by room
     assert {t.scene.kind for t in tf.tasks} == {"kitchen", "living_room"}
 
 

@@ -1,4 +1,4 @@
-"""The oracle solves all 300 shipped tasks within 20 steps; a seeded random agent almost never does."""
+"""The oracle solves all 300 shipped tasks within 15 steps; a seeded random agent almost never does."""
 
 from __future__ import annotations
 
@@ -35,7 +35,7 @@ def test_oracle_solves_all_300_shipped_tasks_geometry_only() -> None:
         assert n == task.metadata["oracle_steps"], task.id
     env.close()
     assert not failures, f"oracle failed: {failures}"
-    assert max(steps) <= 20
+    assert max(steps) <= 15
 
 
 def test_oracle_replans_from_the_current_state() -> None:
