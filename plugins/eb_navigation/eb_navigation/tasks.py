@@ -89,14 +89,12 @@ def _check_type_and_colour(type_name: str, colour: str) -> None:
         raise ValueError(f"{type_name} has no colour {colour!r}; available: {', '.join(CATALOGUE[type_name].colors)}")
 
 
-class TargetRef(_Strict):
-    id: str = Field(min_length=1)
-    """Instance name in the room, e.g. ``Fridge_1``."""
+class _KitObject(_Strict):
+    """A scene-kit object type with one of its colours (both checked against the kit's catalogue)."""
+
     type: str
     """Scene kit type, e.g. ``Fridge``."""
     colour: str
-    position: tuple[float, float, float]
-    """Centre of the object (metres, room frame)."""
 
     @field_validator("type")
     @classmethod
@@ -106,33 +104,26 @@ class TargetRef(_Strict):
         return v
 
     @model_validator(mode="after")
-    def _colour(self) -> "TargetRef":
+    def _colour(self) -> "_KitObject":
         _check_type_and_colour(self.type, self.colour)
         return self
 
 
-class ExtraObject(_Strict):
+class TargetRef(_KitObject):
+    id: str = Field(min_length=1)
+    """Instance name in the room, e.g. ``Fridge_1``."""
+    position: tuple[float, float, float]
+    """Centre of the object (metres, room frame)."""
+
+
+class ExtraObject(_KitObject):
     """An object added to the generated room for this task (visual-appearance distractors), on the floor."""
 
     id: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_]+$")
-    type: str
-    colour: str
     x: float
     y: float
     yaw: float = 0.0
     """Degrees; the object's front faces its local +x (the kit's convention)."""
-
-    @field_validator("type")
-    @classmethod
-    def _known_type(cls, v: str) -> str:
-        if v not in CATALOGUE:
-            raise ValueError(f"unknown object type {v!r} (not in the scene kit's catalogue)")
-        return v
-
-    @model_validator(mode="after")
-    def _colour(self) -> "ExtraObject":
-        _check_type_and_colour(self.type, self.colour)
-        return self
 
     def spec(self) -> ExtraSpec:
         return ExtraSpec(self.id, self.type, self.colour, self.x, self.y, self.yaw)
