@@ -21,11 +21,14 @@ def print_summary(summary: dict[str, Any], run_dir: str) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    console = Console(stderr=False)
+    console = Console(stderr=False, width=max(100, Console().width))
     o = summary["overall"]
     t = Table(title=f"{summary['env']} / {summary['model']} / ablation {summary['ablation']}")
     for col in ("subset", "episodes", "success %", "subgoal %", "planner steps", "env steps"):
-        t.add_column(col, justify="right" if col != "subset" else "left")
+        if col == "subset":
+            t.add_column(col, justify="left", no_wrap=True, min_width=max(6, *(len(n) for n in summary["subsets"])))
+        else:
+            t.add_column(col, justify="right")
     for name, s in summary["subsets"].items():
         t.add_row(name, f"{s['episodes']:.0f}", _pct(s.get("success_rate")), _pct(s.get("subgoal_success")),
                   f"{s.get('avg_planner_steps', 0):.1f}", f"{s.get('avg_env_steps', 0):.1f}")
