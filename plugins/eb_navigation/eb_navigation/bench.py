@@ -22,6 +22,7 @@ __all__ = ["step_times"]
 
 
 def step_times(n: int = 50, resolution: int = 500) -> dict[str, Any]:
+    from eb_scenekit.bench import median_step_vs_render
     from eb_scenekit.scene import CEILING_GROUP
 
     from eb_navigation.env import NavigationEnv
@@ -41,29 +42,16 @@ def step_times(n: int = 50, resolution: int = 500) -> dict[str, Any]:
             previous = room
         env.reset(tasks[0], 0)
         cycle = (5, 0, 4, 4, 0, 5, 6, 7, 7, 6, 1, 3, 2)
-        steps = []
-        for k in range(n):
-            t0 = time.perf_counter()
-            env.step(cycle[k % len(cycle)])
-            steps.append(time.perf_counter() - t0)
-        scene = env._world.scene  # noqa: SLF001 - the benchmark looks inside on purpose
-        renderer = mujoco.Renderer(scene.model, resolution, resolution)
+        actions = iter(cycle * (n // len(cycle) + 1))
         option = mujoco.MjvOption()
         option.geomgroup[CEILING_GROUP] = 1  # the same geoms a step draws (the ceiling is in view)
-        try:
-            raw = []
-            renderer.update_scene(scene.data, camera=AGENT_CAMERA, scene_option=option)
-            renderer.render()  # warm-up
-            for _ in range(n):
-                t0 = time.perf_counter()
-                renderer.update_scene(scene.data, camera=AGENT_CAMERA, scene_option=option)
-                renderer.render()
-                raw.append(time.perf_counter() - t0)
-        finally:
-            renderer.close()
+        scene = env._world.scene  # noqa: SLF001 - the benchmark looks inside on purpose
+        # Each raw render follows the step it is compared with: same viewpoint, same machine load.
+        timing = median_step_vs_render(lambda: env.step(next(actions)), lambda: (scene.model, scene.data),
+                                       AGENT_CAMERA, n, resolution, scene_option=option)
     finally:
         env.close()
-    step_s, raw_s = statistics.median(steps), statistics.median(raw)
+    step_s, raw_s = timing["step_s"], timing["raw_render_s"]
     return {"env": "navigation", "resolution": resolution, "n": n, "step_s": step_s, "raw_render_s": raw_s,
             "ratio": step_s / raw_s, "reset_s": statistics.median(resets),
             "reset_same_room_s": statistics.median(same) if same else None}

@@ -33,7 +33,8 @@ def median_seconds(fn: Callable[[T], object], args: Iterable[T]) -> float:
 
 
 def median_step_vs_render(step: Callable[[], object], scene: Callable[[], tuple[Any, Any]], camera: str, n: int,
-                          resolution: int = 500, before: Callable[[], object] | None = None) -> dict[str, float]:
+                          resolution: int = 500, before: Callable[[], object] | None = None,
+                          scene_option: Any = None) -> dict[str, float]:
     """Time ``n`` steps, each followed by one plain render of the scene it left, and compare the medians.
 
     Args:
@@ -44,6 +45,7 @@ def median_step_vs_render(step: Callable[[], object], scene: Callable[[], tuple[
         n: number of steps.
         resolution: square size of the raw render, the environment's resolution.
         before: untimed preparation before each step (pick the next action, reset when a task is done).
+        scene_option: an ``MjvOption`` for the raw render, so it draws the same geom groups as the step.
 
     Returns:
         ``{"n", "step_s", "raw_render_s", "ratio"}``: median seconds of a step, median seconds of a raw
@@ -67,10 +69,10 @@ def median_step_vs_render(step: Callable[[], object], scene: Callable[[], tuple[
                 if renderer is not None:
                     renderer.close()
                 model, renderer = m, mujoco.Renderer(m, resolution, resolution)
-                renderer.update_scene(d, camera=camera)
+                renderer.update_scene(d, camera=camera, scene_option=scene_option)
                 renderer.render()
             t0 = time.perf_counter()
-            renderer.update_scene(d, camera=camera)
+            renderer.update_scene(d, camera=camera, scene_option=scene_option)
             renderer.render()
             raws.append(time.perf_counter() - t0)
     finally:
