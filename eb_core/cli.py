@@ -182,14 +182,16 @@ def _split_hydra_args(args: list[str]) -> tuple[list[str], bool]:
     return overrides, info_only
 
 
-_SECRET_WORDS = ("api_key", "apikey", "secret", "password", "token=", "access_key")
+_SECRET_LEAVES = {"api_key", "apikey", "key", "secret", "password", "token", "access_key", "secret_key",
+                  "auth_token", "access_token", "bearer"}
 
 
 def _refuse_secrets(overrides: list[str]) -> None:
     """API keys on the command line would be saved in config.yaml and .hydra/: refuse before composing."""
     for ov in overrides:
         key = ov.split("=", 1)[0].lower().lstrip("+~")
-        if any(w.rstrip("=") in key for w in _SECRET_WORDS) and not key.endswith("_env"):
+        leaf = key.rsplit(".", 1)[-1]
+        if leaf in _SECRET_LEAVES or leaf.endswith(("_api_key", "_secret", "_password", "_access_token")):
             raise CliError(f"refusing '{key}=...': keys and secrets never go on the command line or in config "
                            f"files (they would be saved with the run). Export the key in an environment variable "
                            f"and name it with model.api_key_env=VAR_NAME")
