@@ -6,7 +6,6 @@ Bad input ends with one line on stderr that says what was wrong, what is allowed
 from __future__ import annotations
 
 import difflib
-import os
 import sys
 from collections.abc import Sequence
 from typing import Any

@@ -14,9 +14,7 @@ import multiprocessing as mp
 import os
 import sys
 import time
-import traceback
 from collections.abc import Iterable, Sequence
-from pathlib import Path
 from typing import Any
 
 from eb_core.config import ConfigError, RunConfig
@@ -437,6 +435,3 @@ def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pend
                 w.proc.join(2)
     return stopped
 
-
-def format_traceback() -> str:
-    return traceback.format_exc()

@@ -6,7 +6,6 @@ import sys
 import types
 from pathlib import Path
 
-import pluggy
 import pytest
 
 import fixture_plugin

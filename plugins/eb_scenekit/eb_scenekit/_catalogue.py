@@ -10,8 +10,8 @@ import math
 import numpy as np
 
 from eb_scenekit.objects import (
-    _BLACK, _BROWN, _CHROME, _CREAM, _DARK, _DARK_GLASS, _GLASS, _GRAY, _LEAF, _SCREEN, _STEEL, _STONE,
-    _WALNUT, _WARM_LIGHT, _WHITE, _WOOD, RGB, Parts, Surface, _register, _shade,
+    _BLACK, _CHROME, _CREAM, _DARK, _DARK_GLASS, _GLASS, _GRAY, _LEAF, _SCREEN, _STEEL, _STONE,
+    _WALNUT, _WHITE, _WOOD, RGB, Parts, Surface, _register, _shade,
 )
 
 S = Surface

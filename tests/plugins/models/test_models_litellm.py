@@ -10,7 +10,6 @@ import os
 import socket
 import sys
 import time
-from pathlib import Path
 
 import pytest
 from conftest import KEY_ENV, PLANTED_KEY
