@@ -79,17 +79,18 @@ def test_table4_presets_are_complete(monkeypatch, tmp_path):
 
 
 def test_hydra_finds_the_presets_and_overrides_work(tmp_path):
-    from hydra import compose, initialize_config_module
+    from hydra import compose
     from omegaconf import OmegaConf
 
-    with initialize_config_module(config_module="eb_conf", version_base=None):
+    from eb_core.cli import _hydra_context  # the eb CLI's own context: every installed plugin's options
+
+    with _hydra_context():
         for name in ("gpt-4o", "internvl3-8b", "oracle"):
-            cfg = compose("config", overrides=[f"model={name}", "hydra.searchpath=[pkg://eb_models.conf]", "~env"])
+            cfg = compose("config", overrides=[f"model={name}"])
             assert cfg.model.name == name
         cfg = compose("config", overrides=["model=openai-compatible", "model.model_id=openai/my-model",
                                            "model.api_base=http://10.0.0.5:9000/v1", "model.max_concurrency=4",
-                                           "model.cache_dir=" + str(tmp_path), "hydra.searchpath=[pkg://eb_models.conf]",
-                                           "~env"])
+                                           "model.cache_dir=" + str(tmp_path)])
         model = ModelConfig.model_validate(OmegaConf.to_container(cfg.model, resolve=True))
     from eb_models.litellm_backend import LiteLLMBackend
 
