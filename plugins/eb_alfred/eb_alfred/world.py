@@ -355,6 +355,13 @@ class World:
         seen = ", ".join(f"the {c}" for c in inside) if inside else "nothing"
         return True, f"You opened the {name}. Inside you see {seen}."
 
+    def _set_temperature(self, container: str, hot: bool) -> list[str]:
+        """Make everything inside ``container`` hot (microwave) or cold (fridge); return what changed."""
+        inside = self.descendants(container)
+        for c in inside:
+            self.objects[c].is_hot, self.objects[c].is_cold = hot, not hot
+        return inside
+
     def _do_close(self, name: str) -> tuple[bool, str]:
         bad = self._check_reach(name)
         if bad:
@@ -364,13 +371,8 @@ class World:
             return False, f"Failed: the {name} is already closed."
         o.is_open = False
         note = ""
-        if o.type == "Fridge":
-            chilled = self.descendants(name)
-            for c in chilled:
-                self.objects[c].is_cold = True
-                self.objects[c].is_hot = False
-            if chilled:
-                note = " The fridge chills what is inside."
+        if o.type == "Fridge" and self._set_temperature(name, hot=False):
+            note = " The fridge chills what is inside."
         return True, f"You closed the {name}.{note}"
 
     def _do_toggle_on(self, name: str) -> tuple[bool, str]:
@@ -385,11 +387,7 @@ class World:
         o.is_on = True
         note = ""
         if o.type == "Microwave":
-            warmed = self.descendants(name)
-            for c in warmed:
-                self.objects[c].is_hot = True
-                self.objects[c].is_cold = False
-            if warmed:
+            if self._set_temperature(name, hot=True):
                 note = " It heats what is inside."
         elif o.type == "Faucet":
             washed = self._wash_under(name)
