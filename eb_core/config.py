@@ -38,6 +38,13 @@ class EnvConfig(_Strict):
     """Image side in pixels (the paper's ablation uses 300, 500, 700)."""
     multi_view: bool = False
     """Render the extra view (navigation: overhead; manipulation: wrist) and send it to the model."""
+    output_error_uses_step: bool = True
+    """An unparsable answer uses one step of the budget (Navigation, Manipulation); False: it counts as an
+    invalid output only (ALFRED, Habitat, as the original)."""
+    chat_history_window: int | None = None
+    """Messages kept under ``chat_history`` (the original: 5 for Navigation); None = the whole episode."""
+    subset_aliases: dict[str, str] = Field(default_factory=dict)
+    """Other names accepted for subsets (``spatial`` -> ``spatial_awareness``), in ``subset=`` and reports."""
     params: dict[str, Any] = Field(default_factory=dict)
     """Env-specific constructor arguments, validated by the env itself."""
 

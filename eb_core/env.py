@@ -27,6 +27,7 @@ __all__ = [
     "PlanItemError",
     "PromptParts",
     "StepResult",
+    "VisualExample",
     "Task",
     "VectorActionSpace",
 ]
@@ -241,6 +242,19 @@ class VectorActionSpace(BaseModel):
 ActionSpace = Union[DiscreteActionSpace, VectorActionSpace]
 
 
+class VisualExample(BaseModel):
+    """One visual in-context example (``ablation=visual_icl``): text with images, rendered from the world.
+
+    ``text`` is the example's walk-through; ``images`` are PNG bytes shown in order, each where the text has
+    the marker ``<image>`` (images without a marker follow the text). Plugins ship the PNGs inside their package.
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    text: str
+    images: tuple[bytes, ...] = ()
+
+
 class PromptParts(BaseModel):
     """The world-specific text the planner assembles into a prompt (our wording, the paper's structure)."""
 
@@ -256,6 +270,18 @@ class PromptParts(BaseModel):
     """In-context examples, most useful first; the planner shows the first ``n_shot``."""
     output_notes: str = ""
     """Extra notes on the answer format for this world (e.g. how to write a 7-D action)."""
+    examples_language_only: tuple[str, ...] | None = None
+    """Examples used instead of ``examples`` under ``language_only`` (the original switches sets; None = same)."""
+    visual_examples: tuple[VisualExample, ...] = ()
+    """Examples with images for ``ablation=visual_icl`` (the paper's visual in-context learning)."""
+    first_step_guidance: str = ""
+    """A line shown only on the first planner call (navigation: aim for about 1-2 actions)."""
+    later_step_guidance: str = ""
+    """A line shown on every later planner call (navigation: aim for about 5-6 actions)."""
+    text_before_images: bool = False
+    """Put the prompt text before the image(s) in the user message (manipulation, as the original)."""
+    view_descriptions: dict[str, str] = Field(default_factory=dict)
+    """What each image key shows, said in the prompt when it is sent (e.g. the overhead view under multi_view)."""
 
 
 class Env(ABC):
@@ -290,9 +316,18 @@ class Env(ABC):
     def prompt_parts(self) -> PromptParts:
         """Role, action rules, guidelines and examples for the current episode's subset."""
 
+    #: Why the last :meth:`expert_plan` returned None (e.g. "the only Apple was sliced before it was rinsed").
+    expert_reason: str | None = None
+
     def expert_plan(self) -> list[Action] | None:
-        """A plan from the current state that solves the task, for the ``oracle`` model; None if unknown."""
+        """A plan from the CURRENT state (whatever actions led there) that reaches the goal, shortest or close
+        to it; None when the goal can no longer be reached or no expert exists, with :attr:`expert_reason` set."""
         return None
+
+    @classmethod
+    def audit_probes(cls) -> list[Any]:
+        """World-specific shortcut probes for ``eb audit`` (:class:`eb_core.audit.AuditProbe` objects)."""
+        return []
 
     def close(self) -> None:
         """Release simulator resources. Called once; must be safe to call again."""
