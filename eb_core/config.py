@@ -106,6 +106,9 @@ class RunnerConfig(_Strict):
     """Plain progress lines instead of the live display."""
     episode_timeout_s: float | None = None
     """Kill a worker whose episode runs longer than this (recorded as an error episode)."""
+    expert_labels: bool = False
+    """Record in every step what the world's expert would do from the state the agent was in
+    (``expert_action`` in steps.jsonl), for error analysis and expert relabelling."""
     start_method: Literal["fork", "spawn", "forkserver"] = "fork" if sys.platform == "linux" else "spawn"
     """How worker processes start. ``fork`` (Linux default) inherits the already imported model SDK and
     simulator modules, so a worker is ready at once; ``spawn`` starts each from scratch."""
