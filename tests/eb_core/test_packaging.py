@@ -1,6 +1,7 @@
 """Packaging: the Hydra config ships inside the core's wheel, and a third-party plugin installs by pip."""
 
 import os
+import site
 import subprocess
 import sys
 import venv
@@ -27,12 +28,31 @@ def test_wheel_ships_conf_and_the_hydra_searchpath_plugin(tmp_path):
     assert "eb = eb_core.cli:main" in text and "pytest11" in text
 
 
+def _running_site_dirs() -> list[str]:
+    """The site-packages of the interpreter running the tests (a user's venv, or the base interpreter)."""
+    dirs = [p for p in site.getsitepackages() if os.path.isdir(p)]
+    user = site.getusersitepackages()
+    if site.ENABLE_USER_SITE and os.path.isdir(user):
+        dirs.append(user)
+    return dirs
+
+
 @pytest.fixture(scope="module")
 def plugin_venv(tmp_path_factory):
-    """A venv that sees this machine's packages, with the example plugin really pip-installed into it."""
+    """A fresh venv layered on the packages of the interpreter running the tests, with the example plugin
+    really pip-installed into it.
+
+    ``system_site_packages=True`` would expose the *base* interpreter's packages, not those of the venv the
+    tests run in; instead a ``.pth`` file adds the running interpreter's site directories (processing their
+    own ``.pth`` files, so editable installs of this project resolve) behind the new venv's own.
+    """
     d = tmp_path_factory.mktemp("venv")
-    venv.EnvBuilder(system_site_packages=True, with_pip=False).create(d)
+    venv.EnvBuilder(system_site_packages=False, with_pip=False).create(d)
     py = d / "bin" / "python"
+    own = subprocess.run([str(py), "-c", "import site; print(site.getsitepackages()[0])"],
+                         capture_output=True, text=True, check=True).stdout.strip()
+    lines = [f"import site; site.addsitedir({p!r})" for p in _running_site_dirs()]
+    (Path(own) / "zz_eb_parent_env.pth").write_text("\n".join(lines) + "\n")
     r = subprocess.run([str(py), "-m", "pip", "install", "--no-deps", "--no-build-isolation", "-q",
                         str(ROOT / "examples" / "eb-example-plugin")], capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
