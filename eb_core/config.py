@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 __all__ = ["AblationConfig", "EnvConfig", "ModelConfig", "PlannerConfig", "RunConfig", "RunnerConfig", "ConfigError",
            "validate_config"]
@@ -75,16 +75,26 @@ class PlannerConfig(_Strict):
     """Show the environment's feedback text in the action history."""
     chat_history: bool = False
     """Send earlier turns as chat messages (the paper found this can hurt; off by default)."""
-    history_window: int = Field(default=5, ge=1)
-    """How many earlier turns to keep when ``chat_history`` is on."""
+    history_window: int | None = Field(default=None, ge=1)
+    """Messages kept under ``chat_history`` (the current one included); null = ``env.chat_history_window``."""
     multi_step_images: int = Field(default=1, ge=1)
-    """Send the last k frames instead of only the current one."""
+    """Send the frames after the last k environment steps instead of only the current one."""
     language_only: bool = False
-    """Send no image; the observation's text description stands in for it."""
+    """The paper's blind baseline: no image and no scene text (``Observation.extra_prompt`` is still shown)."""
+    text_state: bool = False
+    """Our upper-bound ablation: no image, the env's symbolic ``Observation.text`` instead (perfect perception)."""
+    visual_icl: bool = False
+    """The paper's visual in-context learning: the world's examples with their images, no text examples."""
     json_schema: Literal["auto", "always", "never"] = "auto"
     """Ask for schema-constrained output: auto = when the backend supports it."""
     max_plan_length: int = Field(default=20, ge=1)
     """Plans longer than this are cut (the guidelines tell the model so)."""
+
+    @model_validator(mode="after")
+    def _one_observation_mode(self) -> "PlannerConfig":
+        if self.language_only and self.text_state:
+            raise ValueError("language_only (blind) and text_state (scene text) exclude each other; set one of them")
+        return self
 
 
 class AblationConfig(_Strict):
@@ -100,6 +110,9 @@ class AugmenterConfig(BaseModel):
 class RunnerConfig(_Strict):
     workers: int = Field(default=1, ge=1, le=256)
     """Episodes run in parallel worker processes, each owning its env and model backend."""
+    repeats: int = Field(default=1, ge=1, le=100)
+    """Play every task this many times (seeds from the run seed, task id and repeat; repeat 0 keeps the
+    single-run seed). Intervals then also reflect within-task noise; see docs/statistics.md."""
     save_images: bool = True
     """Write the image the model saw at every planner step as PNG."""
     quiet: bool = False

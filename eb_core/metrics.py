@@ -1,15 +1,22 @@
 """The paper's metrics. Each metric maps a list of episode records to named numbers.
 
 Metrics are computed over measured episodes (status ``ok``); ``errors`` also counts the others.
+:func:`compute_summary` adds a 95 % interval to every success and subgoal rate (``<metric>_ci``), computed
+over tasks (and their repeats) by :mod:`eb_core.stats`.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
+from eb_core import stats
 from eb_core.records import EpisodeRecord
 
-__all__ = ["compute_summary", "errors", "steps", "subgoal_success", "success_rate", "usage"]
+__all__ = ["INTERVAL_METRICS", "compute_summary", "errors", "outcomes", "paper_progress", "steps",
+           "subgoal_success", "success_rate", "usage"]
+
+#: Per-episode scores that get an interval in every summary block: name -> (score of a record, binary?).
+INTERVAL_METRICS: dict[str, tuple[Callable[[EpisodeRecord], float], bool]] = {}
 
 Metric = Callable[[Sequence[EpisodeRecord]], dict[str, float]]
 
@@ -27,9 +34,34 @@ def success_rate(eps: Sequence[EpisodeRecord]) -> dict[str, float]:
     return {"success_rate": _mean([1.0 if e.success else 0.0 for e in ok])}
 
 
+def paper_progress(e: EpisodeRecord) -> float:
+    """The subgoal score the original evaluators record: an episode that ends on an empty plan or at the
+    invalid-action cap keeps a progress of 0 (their loop breaks before reading the env's progress)."""
+    if e.success:
+        return 1.0
+    return 0.0 if e.end_reason in ("empty_plan", "invalid_cap") else e.progress
+
+
 def subgoal_success(eps: Sequence[EpisodeRecord]) -> dict[str, float]:
+    """Our subgoal rate (the progress an episode reached) and the paper-compatible one beside it."""
     ok = _ok(eps)
-    return {"subgoal_success": _mean([e.progress for e in ok])}
+    return {"subgoal_success": _mean([e.progress for e in ok]),
+            "subgoal_success_paper": _mean([paper_progress(e) for e in ok])}
+
+
+INTERVAL_METRICS.update({
+    "success_rate": (lambda e: 1.0 if e.success else 0.0, True),
+    "subgoal_success": (lambda e: e.progress, False),
+    "subgoal_success_paper": (paper_progress, False),
+})
+
+
+def outcomes(eps: Sequence[EpisodeRecord], score: Callable[[EpisodeRecord], float]) -> dict[str, dict[int, float]]:
+    """``{task_id: {repeat: score}}`` of the measured episodes, tasks in first-seen order."""
+    out: dict[str, dict[int, float]] = {}
+    for e in _ok(eps):
+        out.setdefault(e.task_id, {})[e.repeat] = score(e)
+    return out
 
 
 def steps(eps: Sequence[EpisodeRecord]) -> dict[str, float]:
@@ -66,16 +98,21 @@ def compute_summary(eps: Sequence[EpisodeRecord], metrics: dict[str, Metric],
                     subsets: Sequence[str] | None = None) -> dict[str, object]:
     """``{"overall": {...}, "subsets": {name: {...}}}`` with ``episodes`` counts in each block."""
 
-    def block(group: Sequence[EpisodeRecord]) -> dict[str, float]:
-        out: dict[str, float] = {"episodes": float(len(_ok(group)))}
+    def block(group: Sequence[EpisodeRecord]) -> dict[str, object]:
+        out: dict[str, object] = {"episodes": float(len(_ok(group)))}
         for fn in metrics.values():
             out.update(fn(group))
+        for name, (score, binary) in INTERVAL_METRICS.items():
+            if name in out:
+                _, m = stats.outcome_matrix(outcomes(group, score))
+                out[f"{name}_ci"] = stats.rate_interval(m, binary)
         return out
 
     names = list(subsets) if subsets else sorted({e.subset for e in eps})
     per = {name: block([e for e in eps if e.subset == name]) for name in names}
     overall = block(eps)
     # The paper's "average" is the mean of per-subset success rates.
-    measured = [v["success_rate"] for v in per.values() if v["episodes"] > 0 and "success_rate" in v]
+    measured = [float(v["success_rate"]) for v in per.values()  # type: ignore[arg-type]
+                if v["episodes"] and "success_rate" in v]
     overall["avg_subset_success_rate"] = _mean(measured)
     return {"overall": overall, "subsets": per}

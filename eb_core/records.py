@@ -6,11 +6,14 @@ Layout of a run directory::
     plugins.json       loaded plugins and their versions
     episodes.jsonl     one line per finished episode (the source of truth for resume)
     episodes/<id>/     steps.jsonl (prompt, raw output, parsed plan, actions, feedback) and step PNGs
+                       (repeat k > 0 of a task: ``episodes/<id>_repeat<k>/``)
+    run.lock           held (flock) by the process running in this directory; holds its pid
     summary.json       the paper's metrics per subset and overall
 """
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 import shutil
@@ -20,7 +23,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict
 
-__all__ = ["EpisodeRecord", "RunFiles", "atomic_write_text"]
+__all__ = ["EpisodeRecord", "RunDirLocked", "RunFiles", "RunLock", "atomic_write_text", "episode_dir_name"]
 
 EndReason = Literal[
     "success", "done", "max_steps", "invalid_cap", "empty_plan", "error", "budget",
@@ -52,7 +55,19 @@ class EpisodeRecord(BaseModel):
     model_latency_s: float = 0.0
     wall_time_s: float = 0.0
     seed: int = 0
+    repeat: int = 0
+    """Which repeat of the task this is (``runner.repeats``); 0 for the first and for single-repeat runs."""
     error: str | None = None
+
+    @property
+    def key(self) -> tuple[str, int]:
+        """The episode's identity in a run: task and repeat."""
+        return (self.task_id, self.repeat)
+
+
+def episode_dir_name(task_id: str, repeat: int = 0) -> str:
+    """Directory of an episode's step files under ``episodes/``: the task id, plus ``_repeat<k>`` for k > 0."""
+    return task_id if repeat == 0 else f"{task_id}_repeat{repeat}"
 
 
 def atomic_write_text(path: Path, text: str) -> None:
@@ -117,17 +132,21 @@ class RunFiles:
 
     # -- per-episode step files ---------------------------------------------------------------
 
-    def staging_dir(self, task_id: str) -> Path:
+    def staging_dir(self, task_id: str, repeat: int = 0) -> Path:
         """Where a running episode writes its steps; moved into place only when it finishes."""
-        d = self.episodes_dir / f".{task_id}.partial"
+        d = self.episodes_dir / f".{episode_dir_name(task_id, repeat)}.partial"
         if d.exists():
             shutil.rmtree(d)
         d.mkdir(parents=True)
         return d
 
-    def finalize_episode_dir(self, task_id: str) -> Path:
-        staging = self.episodes_dir / f".{task_id}.partial"
-        final = self.episodes_dir / task_id
+    def episode_dir(self, task_id: str, repeat: int = 0) -> Path:
+        return self.episodes_dir / episode_dir_name(task_id, repeat)
+
+    def finalize_episode_dir(self, task_id: str, repeat: int = 0) -> Path:
+        name = episode_dir_name(task_id, repeat)
+        staging = self.episodes_dir / f".{name}.partial"
+        final = self.episodes_dir / name
         if final.exists():
             shutil.rmtree(final)
         if staging.exists():
@@ -135,7 +154,8 @@ class RunFiles:
         return final
 
     def clean_partial(self, finished: set[str]) -> None:
-        """Remove leftovers of unfinished episodes (they are redone)."""
+        """Remove leftovers of unfinished episodes (they are redone). ``finished`` holds directory names
+        (:func:`episode_dir_name`)."""
         if not self.episodes_dir.exists():
             return
         for d in self.episodes_dir.iterdir():
@@ -144,5 +164,71 @@ class RunFiles:
             elif d.is_dir() and d.name not in finished:
                 shutil.rmtree(d, ignore_errors=True)
 
+    def append_line(self, name: str, line: str) -> None:
+        """Append one line to a small log in the run directory (one write + fsync)."""
+        fd = os.open(self.root / name, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
+        try:
+            os.write(fd, (line.rstrip("\n") + "\n").encode("utf-8"))
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+
     def write_json(self, name: str, data: Any) -> None:
         atomic_write_text(self.root / name, json.dumps(data, indent=2, sort_keys=False, default=str) + "\n")
+
+
+class RunDirLocked(RuntimeError):
+    """Another process holds the run directory's lock; the message names the directory and its pid."""
+
+
+class RunLock:
+    """An exclusive ``flock`` on ``<run_dir>/run.lock``, which holds the owner's pid.
+
+    The kernel drops the lock when the holder's last descriptor closes, so a ``kill -9``'d run never
+    blocks the next one. Forked workers must call :meth:`forget_in_child` so they do not keep it alive.
+    """
+
+    name = "run.lock"
+
+    def __init__(self, run_dir: str | os.PathLike[str]) -> None:
+        self.path = Path(run_dir) / self.name
+        self.fd: int | None = None
+
+    def acquire(self) -> "RunLock":
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            try:
+                holder = os.pread(fd, 64, 0).decode("ascii", "replace").strip() or "unknown"
+            finally:
+                os.close(fd)
+            raise RunDirLocked(
+                f"{self.path.parent} is in use by another eb run (pid {holder}); wait for it to finish, or start "
+                f"a separate run with experiment=NAME or hydra.run.dir=DIR") from None
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode("ascii"), 0)
+        self.fd = fd
+        return self
+
+    def release(self) -> None:
+        if self.fd is not None:
+            try:
+                os.ftruncate(self.fd, 0)
+                fcntl.flock(self.fd, fcntl.LOCK_UN)
+            finally:
+                os.close(self.fd)
+                self.fd = None
+
+    def forget_in_child(self) -> None:
+        """In a forked child: close the inherited descriptor (the parent keeps the lock)."""
+        if self.fd is not None:
+            os.close(self.fd)
+            self.fd = None
+
+    def __enter__(self) -> "RunLock":
+        return self.acquire()
+
+    def __exit__(self, *exc: object) -> None:
+        self.release()

@@ -1,8 +1,10 @@
-"""The runner: task selection, resume, parallel workers, progress, summary.
+"""The runner: task selection, repeats, resume, parallel workers, progress, summary.
 
 Crash safety: an episode is appended to ``episodes.jsonl`` (one ``os.write`` + fsync, by the main
 process only) after its step files were moved into place; re-running the same command skips finished
-episodes, redoes unfinished and ``error`` ones, and never writes an episode twice.
+episodes, redoes unfinished and ``error`` ones, and never writes an episode twice. An episode is one
+(task, repeat) pair; ``runner.repeats=N`` plays every task N times with seeds derived from the run seed,
+the task id and the repeat. One process at a time owns a run directory (an ``flock`` on ``run.lock``).
 """
 
 from __future__ import annotations
@@ -22,9 +24,9 @@ from eb_core.env import Env, Task
 from eb_core.episode import BudgetGuard, run_episode
 from eb_core.events import EpisodeEndEvent, RunEndEvent, RunStartEvent
 from eb_core.metrics import compute_summary
-from eb_core.model import ModelBackend, ModelBudgetExceeded, ModelFatalError
+from eb_core.model import ModelBackend, ModelBudgetExceeded, ModelFatalError, Usage
 from eb_core.plugins import Registry, get_plugin_manager, plugin_versions
-from eb_core.records import EpisodeRecord, RunFiles
+from eb_core.records import EpisodeRecord, RunDirLocked, RunFiles, RunLock, episode_dir_name
 
 __all__ = ["RunError", "Components", "episode_seed", "run", "select_tasks"]
 
@@ -40,9 +42,15 @@ def _one_line(exc: BaseException) -> str:
     return "; ".join(ln.strip() for ln in str(exc).splitlines() if ln.strip())[:600]
 
 
-def episode_seed(run_seed: int, task_id: str) -> int:
-    """Every episode is seeded from the run seed and its task id (independent of order and workers)."""
-    digest = hashlib.sha256(f"{run_seed}:{task_id}".encode()).digest()
+#: The run directory's lock while this process runs; forked workers close their copy of it.
+_HELD_LOCK: RunLock | None = None
+
+
+def episode_seed(run_seed: int, task_id: str, repeat: int = 0) -> int:
+    """Every episode is seeded from the run seed, its task id and its repeat (independent of order and
+    workers). Repeat 0 keeps the seed of single-repeat runs, so their results stay valid."""
+    key = f"{run_seed}:{task_id}" if repeat == 0 else f"{run_seed}:{task_id}:{repeat}"
+    digest = hashlib.sha256(key.encode()).digest()
     return int.from_bytes(digest[:4], "little")
 
 
@@ -100,11 +108,15 @@ def select_tasks(tasks: Sequence[Task], cfg: RunConfig) -> list[Task]:
         return [by_id[t] for t in cfg.tasks]
     selected = list(tasks)
     if cfg.subset is not None:
+        aliases = cfg.env.subset_aliases
         wanted = [cfg.subset] if isinstance(cfg.subset, str) else list(cfg.subset)
+        wanted = [aliases.get(s, s) for s in wanted]
         known = list(dict.fromkeys(t.subset for t in tasks))
         bad = [s for s in wanted if s not in known]
         if bad:
-            raise ConfigError(f"unknown subset {bad[0]!r} for env {cfg.env.name!r}; available: {', '.join(known)}")
+            also = f" (or the aliases {', '.join(sorted(aliases))})" if aliases else ""
+            raise ConfigError(f"unknown subset {bad[0]!r} for env {cfg.env.name!r}; available: {', '.join(known)}"
+                              f"{also}")
         selected = [t for t in selected if t.subset in wanted]
     if cfg.limit is not None:
         selected = selected[: cfg.limit]
@@ -138,6 +150,8 @@ def _worker_main(cfg_dict: dict[str, Any], run_dir: str, plugin_modules: list[st
 
     Each worker has a private pipe, so a worker that dies mid-message can only break its own channel.
     """
+    if _HELD_LOCK is not None:  # forked: the parent alone holds the run directory's lock
+        _HELD_LOCK.forget_in_child()
     cfg = RunConfig.model_validate(cfg_dict)
     registry = _build_registry(plugin_modules)
     comps = Components(cfg, registry)
@@ -150,11 +164,13 @@ def _worker_main(cfg_dict: dict[str, Any], run_dir: str, plugin_modules: list[st
             item = conn.recv()
             if item is None:
                 break
-            task = Task.model_validate_json(item)
+            job = json.loads(item)
+            task, repeat = Task.model_validate(job["task"]), int(job["repeat"])
             try:
                 record = run_episode(
-                    env=env, task=task, seed=episode_seed(cfg.seed, task.id), planner=comps.make_planner(backend),
-                    backend=backend, env_config=cfg.env, step_dir=files.staging_dir(task.id),
+                    env=env, task=task, seed=episode_seed(cfg.seed, task.id, repeat),
+                    planner=comps.make_planner(backend),
+                    backend=backend, env_config=cfg.env, step_dir=files.staging_dir(task.id, repeat),
                     save_images=cfg.runner.save_images, augmenters=comps.augmenters, budget=budget,
                     hook=registry.pm.hook, run_dir=run_dir,
                 )
@@ -164,7 +180,7 @@ def _worker_main(cfg_dict: dict[str, Any], run_dir: str, plugin_modules: list[st
             except ModelBudgetExceeded as exc:
                 conn.send(("budget", str(exc)))
                 break
-            conn.send(("done", record.model_dump_json()))
+            conn.send(("done", record.model_copy(update={"repeat": repeat}).model_dump_json()))
     except (EOFError, KeyboardInterrupt):
         pass
     finally:
@@ -221,14 +237,34 @@ class _Progress:
 
 # -- the run -----------------------------------------------------------------------------------------
 
+Job = tuple[Task, int]
+"""One episode to play: a task and its repeat."""
+
 
 def run(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, Any] | None = None,
         plugins: Iterable[Any] = (), registry: Registry | None = None) -> dict[str, Any]:
     """Run (or resume) every selected episode of ``cfg`` into ``run_dir`` and return the summary.
 
     ``plugins`` are extra plugin modules registered directly (tests); they must be importable by name
-    so worker processes can register them too.
+    so worker processes can register them too. Raises :class:`RunError` at once when another process
+    is running in ``run_dir``.
     """
+    global _HELD_LOCK
+    lock = RunLock(run_dir)
+    try:
+        lock.acquire()
+    except RunDirLocked as exc:
+        raise RunError(str(exc)) from None
+    _HELD_LOCK = lock
+    try:
+        return _run_locked(cfg, run_dir, cfg_dict=cfg_dict, plugins=plugins, registry=registry)
+    finally:
+        _HELD_LOCK = None
+        lock.release()
+
+
+def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, Any] | None,
+                plugins: Iterable[Any], registry: Registry | None) -> dict[str, Any]:
     plugins = list(plugins)
     plugin_modules = [p.__name__ for p in plugins]
     registry = registry or Registry(get_plugin_manager(plugins=plugins))
@@ -242,6 +278,7 @@ def run(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, 
     except Exception as exc:  # a malformed task file: the plugin's message names file, task and field
         raise RunError(f"cannot load the tasks of env {cfg.env.name!r}: {exc}") from None
     selected = select_tasks(all_tasks, cfg)
+    repeats = cfg.runner.repeats
 
     # Resume bookkeeping: refuse to mix results of different configs in one directory.
     fp_path = files.root / "fingerprint.json"
@@ -265,9 +302,10 @@ def run(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, 
     kept = [r for r in previous if r.status == "ok"]
     if len(kept) != len(previous):
         files.rewrite_episodes(kept)  # error episodes are redone
-    finished = {r.task_id for r in kept}
-    files.clean_partial(finished)
-    pending = [t for t in selected if t.id not in finished]
+    finished = {r.key for r in kept}
+    files.clean_partial({episode_dir_name(*k) for k in finished})
+    # Repeat-major order: a run stopped early (budget) has whole passes over the tasks first.
+    pending: list[Job] = [(t, r) for r in range(repeats) for t in selected if (t.id, r) not in finished]
 
     hook = registry.pm.hook
     hook.eb_on_run_start(event=RunStartEvent(run_dir=str(files.root), env=cfg.env.name, model=cfg.model.name,
@@ -276,38 +314,50 @@ def run(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, 
     progress = _Progress(len(pending), cfg.runner.quiet, f"{cfg.env.name} / {cfg.model.name}")
     try:
         if pending:
-            def preflight() -> None:
+            def preflight() -> float:
+                """The one cheap call before the first episode; returns its cost (logged in preflight.jsonl)."""
                 backend = comps.make_backend()
                 try:
-                    backend.preflight()
+                    usage = backend.preflight()
                 except ModelFatalError as exc:
                     raise RunError(str(exc)) from None
                 finally:
                     backend.close()
+                if isinstance(usage, Usage):
+                    files.append_line("preflight.jsonl", json.dumps(usage.model_dump()))
+                    return usage.cost_usd
+                return 0.0
 
             if cfg.runner.workers <= 1:
-                preflight()
-                stopped = _run_inline(cfg, comps, files, pending, progress, hook)
+                stopped = _run_inline(cfg, comps, files, pending, progress, hook, preflight)
             else:  # workers start up while the preflight call is in flight
                 stopped = _run_workers(cfg, cfg_dict, files, pending, progress, hook, plugin_modules, preflight)
     finally:
         progress.close()
 
     all_records = files.load_episodes()
-    files.clean_partial({r.task_id for r in all_records})  # staging dirs of episodes cut short by a stop
-    records = [r for r in all_records if r.task_id in {t.id for t in selected}]
+    files.clean_partial({episode_dir_name(*r.key) for r in all_records})  # staging dirs of stopped episodes
+    wanted = {(t.id, r) for t in selected for r in range(repeats)}
+    records = [r for r in all_records if r.key in wanted]
+    done_keys = {r.key for r in records}
     metric_fns = {name: spec.load() for name, spec in registry.metrics.items()}
     subsets = list(dict.fromkeys(t.subset for t in selected))
+    pre = _preflight_usage(files)
+    body = compute_summary(records, metric_fns, subsets)
     summary: dict[str, Any] = {
         "env": cfg.env.name,
         "model": cfg.model.name,
         "ablation": cfg.ablation.name,
         "experiment": cfg.experiment,
         "n_selected": len(selected),
+        "repeats": repeats,
+        "n_episodes": len(wanted),
         "n_finished": sum(1 for r in records if r.status == "ok"),
-        "complete": stopped is None and all(t.id in {r.task_id for r in records} for t in selected),
+        "complete": stopped is None and wanted <= done_keys,
         "stopped_early": stopped,
-        **compute_summary(records, metric_fns, subsets),
+        **body,
+        "preflight": pre,
+        "total_cost_usd": round(float(body["overall"].get("cost_usd", 0.0)) + pre["cost_usd"], 6),
         "plugins": plugin_versions(registry.pm),
     }
     files.write_json("summary.json", summary)
@@ -315,24 +365,44 @@ def run(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, 
     return summary
 
 
+def _preflight_usage(files: RunFiles) -> dict[str, Any]:
+    """The preflight calls of every invocation in this directory, added up."""
+    total = Usage()
+    path = files.root / "preflight.jsonl"
+    if path.exists():
+        for line in path.read_text(encoding="utf-8").splitlines():
+            try:
+                total = total + Usage.model_validate_json(line)
+            except ValueError:
+                continue  # a torn last line
+    return {"calls": total.calls, "prompt_tokens": total.prompt_tokens,
+            "completion_tokens": total.completion_tokens, "cost_usd": round(total.cost_usd, 6)}
+
+
 def _finish(files: RunFiles, rec: EpisodeRecord, progress: _Progress, hook: Any) -> None:
-    files.finalize_episode_dir(rec.task_id)
+    files.finalize_episode_dir(rec.task_id, rec.repeat)
     files.append_episode(rec)
     progress.update(rec)
     hook.eb_on_episode_end(event=EpisodeEndEvent(run_dir=str(files.root), record=rec.model_dump()))
 
 
-def _run_inline(cfg: RunConfig, comps: Components, files: RunFiles, pending: list[Task], progress: _Progress,
-                hook: Any) -> str | None:
+def _run_inline(cfg: RunConfig, comps: Components, files: RunFiles, pending: list[Job], progress: _Progress,
+                hook: Any, preflight: Any = None) -> str | None:
+    budget = BudgetGuard(cfg.model.max_cost_usd)
+    if preflight is not None:
+        try:
+            budget.add(preflight())
+        except ModelBudgetExceeded as exc:
+            return f"budget: {exc}"
     env = comps.make_env()
     backend = comps.make_backend()
-    budget = BudgetGuard(cfg.model.max_cost_usd)
     try:
-        for task in pending:
+        for task, repeat in pending:
             try:
                 rec = run_episode(
-                    env=env, task=task, seed=episode_seed(cfg.seed, task.id), planner=comps.make_planner(backend),
-                    backend=backend, env_config=cfg.env, step_dir=files.staging_dir(task.id),
+                    env=env, task=task, seed=episode_seed(cfg.seed, task.id, repeat),
+                    planner=comps.make_planner(backend),
+                    backend=backend, env_config=cfg.env, step_dir=files.staging_dir(task.id, repeat),
                     save_images=cfg.runner.save_images, augmenters=comps.augmenters, budget=budget, hook=hook,
                     run_dir=str(files.root),
                 )
@@ -340,21 +410,21 @@ def _run_inline(cfg: RunConfig, comps: Components, files: RunFiles, pending: lis
                 raise RunError(str(exc)) from None
             except ModelBudgetExceeded as exc:
                 return f"budget: {exc}"
-            _finish(files, rec, progress, hook)
+            _finish(files, rec.model_copy(update={"repeat": repeat}), progress, hook)
     finally:
         env.close()
         backend.close()
     return None
 
 
-def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pending: list[Task],
+def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pending: list[Job],
                  progress: _Progress, hook: Any, plugin_modules: list[str],
                  preflight: Any = None) -> str | None:
     from multiprocessing.connection import wait
 
     ctx = mp.get_context(cfg.runner.start_method)
     shared_cost = ctx.Value("d", 0.0)
-    queue_: list[Task] = list(pending)
+    queue_: list[Job] = list(pending)
     timeout = cfg.runner.episode_timeout_s
 
     class Worker:
@@ -364,31 +434,37 @@ def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pend
                                     args=(cfg_dict, str(files.root), plugin_modules, child, shared_cost))
             self.proc.start()
             child.close()
-            self.task: Task | None = None
+            self.job: Job | None = None
             self.started = 0.0
 
-        def give(self, task: Task) -> None:
-            self.task, self.started = task, time.monotonic()
-            self.conn.send(task.model_dump_json())
+        def give(self, job: Job) -> None:
+            self.job, self.started = job, time.monotonic()
+            self.conn.send(json.dumps({"task": job[0].model_dump(mode="json"), "repeat": job[1]}))
 
     def lost(w: Worker, why: str) -> None:
-        if w.task is not None:
-            t = w.task
+        if w.job is not None:
+            t, repeat = w.job
             _finish(files, EpisodeRecord(task_id=t.id, subset=t.subset, instruction=t.instruction, status="error",
-                                         end_reason="error", error=why, seed=episode_seed(cfg.seed, t.id)),
+                                         end_reason="error", error=why, seed=episode_seed(cfg.seed, t.id, repeat),
+                                         repeat=repeat),
                     progress, hook)
-            w.task = None
+            w.job = None
 
     workers = [Worker() for _ in range(min(cfg.runner.workers, len(pending)))]
     stopped: str | None = None
     try:
         if preflight is not None:
-            preflight()
+            cost = preflight()
+            budget = BudgetGuard(cfg.model.max_cost_usd, shared_cost)
+            try:
+                budget.add(cost)
+            except ModelBudgetExceeded as exc:
+                stopped = f"budget: {exc}"
         while stopped is None:
             for w in workers:
-                if w.task is None and queue_:
+                if w.job is None and queue_:
                     w.give(queue_.pop(0))
-            busy = [w for w in workers if w.task is not None]
+            busy = [w for w in workers if w.job is not None]
             if not busy:
                 break
             ready = wait([w.conn for w in busy] + [w.proc.sentinel for w in busy], timeout=0.5)
@@ -402,12 +478,12 @@ def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pend
                 if msg is not None:
                     kind, payload = msg
                     if kind == "done":
-                        w.task = None
+                        w.job = None
                         _finish(files, EpisodeRecord.model_validate_json(payload), progress, hook)
                     elif kind == "fatal":
                         raise RunError(payload)
                     elif kind == "budget":
-                        w.task = None
+                        w.job = None
                         stopped = f"budget: {payload}"
                     continue
                 hung = timeout is not None and time.monotonic() - w.started > timeout
@@ -434,4 +510,3 @@ def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pend
                 w.proc.kill()
                 w.proc.join(2)
     return stopped
-

@@ -1,0 +1,244 @@
+"""Uncertainty for benchmark scores: intervals, between-repeat spread and paired comparisons (numpy only).
+
+A run is a matrix of outcomes, one row per task and one column per repeat (``runner.repeats``). The
+quantity we estimate is the mean over the task population of a task's expected score, so the unit that is
+resampled is the *task*: a cluster bootstrap draws tasks with replacement and keeps each drawn task's
+repeats together. ``docs/statistics.md`` explains the choices:
+
+* success rate, one repeat: the Wilson score interval (binomial outcomes, close to exact coverage);
+* everything else (subgoal rates, success with repeats): percentile cluster bootstrap over tasks;
+* paired comparison of two runs on the same tasks: McNemar's exact test with one repeat each,
+  otherwise a paired bootstrap over tasks; the interval of the difference is a paired bootstrap.
+
+Every bootstrap uses a fixed seed, so the same files always give the same numbers.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "BOOTSTRAP_SAMPLES",
+    "BOOTSTRAP_SEED",
+    "LEVEL",
+    "bootstrap_weights",
+    "cluster_bootstrap_interval",
+    "describe_interval",
+    "mcnemar_exact",
+    "min_detectable_difference",
+    "outcome_matrix",
+    "paired_comparison",
+    "rate_interval",
+    "repeat_sd",
+    "wilson_interval",
+]
+
+LEVEL = 0.95
+"""Confidence level of every interval."""
+BOOTSTRAP_SAMPLES = 2000
+"""Bootstrap resamples per interval."""
+BOOTSTRAP_SEED = 20250
+"""Fixed RNG seed: the same episodes always give the same intervals."""
+_Z = 1.959963984540054  # standard normal quantile for a two-sided 95 % interval
+
+
+def _z(level: float) -> float:
+    if abs(level - 0.95) < 1e-12:
+        return _Z
+    # Acklam-free route: invert erf with Newton steps (only used for other levels).
+    target = (1 + level) / 2
+    x = 0.0
+    for _ in range(60):
+        cdf = 0.5 * (1 + math.erf(x / math.sqrt(2)))
+        x -= (cdf - target) / (math.exp(-x * x / 2) / math.sqrt(2 * math.pi))
+    return x
+
+
+def wilson_interval(successes: Any, n: Any, level: float = LEVEL) -> tuple[np.ndarray, np.ndarray]:
+    """Wilson score interval for ``successes`` out of ``n`` (arrays broadcast; ``n == 0`` gives 0..1)."""
+    k = np.asarray(successes, dtype=float)
+    n_ = np.asarray(n, dtype=float)
+    z = _z(level)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        p = np.where(n_ > 0, k / np.where(n_ > 0, n_, 1), 0.0)
+        denom = 1 + z * z / np.where(n_ > 0, n_, 1)
+        centre = (p + z * z / (2 * np.where(n_ > 0, n_, 1))) / denom
+        half = z * np.sqrt(p * (1 - p) / np.where(n_ > 0, n_, 1) + z * z / (4 * np.where(n_ > 0, n_, 1) ** 2)) / denom
+    lo = np.where(n_ > 0, np.clip(centre - half, 0.0, 1.0), 0.0)
+    hi = np.where(n_ > 0, np.clip(centre + half, 0.0, 1.0), 1.0)
+    return lo, hi
+
+
+def bootstrap_weights(n_tasks: int, n_boot: int = BOOTSTRAP_SAMPLES, seed: int = BOOTSTRAP_SEED) -> np.ndarray:
+    """``(n_boot, n_tasks)`` resampling weights: how often each task is drawn, divided by ``n_tasks``.
+
+    A bootstrap mean is then one matrix product, and many runs (or many simulated runs) share the draws.
+    """
+    rng = np.random.default_rng(seed)
+    counts = rng.multinomial(n_tasks, np.full(n_tasks, 1.0 / n_tasks), size=n_boot)
+    return counts / float(n_tasks)
+
+
+def cluster_bootstrap_interval(task_means: Any, level: float = LEVEL, n_boot: int = BOOTSTRAP_SAMPLES,
+                               seed: int = BOOTSTRAP_SEED) -> tuple[np.ndarray, np.ndarray]:
+    """Percentile interval of the mean of per-task scores, resampling tasks.
+
+    ``task_means`` is ``(n_tasks,)`` or ``(batch, n_tasks)``; each task's value is the mean of its repeats
+    (so repeats travel with their task). Returns ``(lo, hi)`` shaped like the batch.
+    """
+    x = np.asarray(task_means, dtype=float)
+    n = x.shape[-1]
+    if n == 0:
+        return np.zeros(x.shape[:-1]), np.ones(x.shape[:-1])
+    w = bootstrap_weights(n, n_boot, seed)
+    boot = x @ w.T  # (..., n_boot)
+    alpha = (1 - level) / 2
+    lo, hi = np.quantile(boot, [alpha, 1 - alpha], axis=-1)
+    return lo, hi
+
+
+def outcome_matrix(values: dict[str, dict[int, float]]) -> tuple[list[str], np.ndarray]:
+    """Task ids and a ``(tasks, repeats)`` matrix from ``{task_id: {repeat: value}}`` (missing = NaN)."""
+    ids = list(values)
+    n_rep = max((max(r) + 1 for r in values.values() if r), default=0)
+    m = np.full((len(ids), max(1, n_rep)), np.nan)
+    for i, tid in enumerate(ids):
+        for r, v in values[tid].items():
+            m[i, r] = v
+    return ids, m
+
+
+def _task_means(m: np.ndarray) -> np.ndarray:
+    m = np.asarray(m, dtype=float)
+    if m.ndim == 1:
+        m = m[:, None]
+    keep = ~np.all(np.isnan(m), axis=1)
+    return np.nanmean(m[keep], axis=1) if keep.any() else np.zeros(0)
+
+
+def repeat_sd(m: Any) -> float | None:
+    """Standard deviation (n-1) between the per-repeat means of a ``(tasks, repeats)`` matrix.
+
+    Only repeats that every task has are used; ``None`` with fewer than two such repeats.
+    """
+    m = np.asarray(m, dtype=float)
+    if m.ndim != 2 or m.shape[0] == 0:
+        return None
+    full = [j for j in range(m.shape[1]) if not np.isnan(m[:, j]).any()]
+    if len(full) < 2:
+        return None
+    return float(np.std(m[:, full].mean(axis=0), ddof=1))
+
+
+def rate_interval(m: Any, binary: bool, level: float = LEVEL) -> dict[str, Any]:
+    """Point estimate and interval of a score from its ``(tasks, repeats)`` outcome matrix.
+
+    Returns ``{"mean", "ci_low", "ci_high", "ci_method", "tasks", "repeats", "repeat_sd"}``. Binary
+    outcomes with one repeat per task use Wilson; the rest use the cluster bootstrap over tasks. A
+    bootstrap has no spread when every task scored the same 0 or 1; the interval then falls back to
+    Wilson over tasks, which still says how far a 60/60 is from certain.
+    """
+    m = np.asarray(m, dtype=float)
+    if m.ndim == 1:
+        m = m[:, None]
+    means = _task_means(m)
+    n = int(means.size)
+    reps = int(np.max(np.sum(~np.isnan(m), axis=1))) if m.size else 0
+    out: dict[str, Any] = {"mean": float(means.mean()) if n else 0.0, "tasks": n, "repeats": reps,
+                           "repeat_sd": repeat_sd(m)}
+    if n == 0:
+        out.update(ci_low=None, ci_high=None, ci_method=None)
+        return out
+    degenerate = bool(np.all(means == means[0]))
+    if (binary and reps <= 1) or (degenerate and means[0] in (0.0, 1.0)):
+        lo, hi = wilson_interval(float(means.sum()), n, level)
+        method = "wilson"
+    else:
+        lo, hi = cluster_bootstrap_interval(means, level)
+        method = "cluster-bootstrap"
+    out.update(ci_low=float(lo), ci_high=float(hi), ci_method=method)
+    return out
+
+
+def mcnemar_exact(a: Any, b: Any) -> float:
+    """Two-sided exact McNemar p-value for paired binary outcomes ``a`` and ``b`` (one per task)."""
+    a_ = np.asarray(a, dtype=bool)
+    b_ = np.asarray(b, dtype=bool)
+    only_a = int(np.sum(a_ & ~b_))
+    only_b = int(np.sum(~a_ & b_))
+    n = only_a + only_b
+    if n == 0:
+        return 1.0
+    tail = sum(math.comb(n, k) for k in range(min(only_a, only_b) + 1))
+    return min(1.0, 2 * tail / 2 ** n)
+
+
+def paired_comparison(a: Any, b: Any, binary: bool = True, level: float = LEVEL) -> dict[str, Any]:
+    """Compare run B with run A on the same tasks (rows aligned; columns are repeats, NaN = missing).
+
+    ``diff`` is B minus A. The interval is a paired bootstrap over tasks; the test is McNemar's exact test
+    when both runs have one repeat of a binary score, else the paired bootstrap's two-sided p-value.
+    """
+    a_m = np.asarray(a, dtype=float)
+    b_m = np.asarray(b, dtype=float)
+    a_m = a_m[:, None] if a_m.ndim == 1 else a_m
+    b_m = b_m[:, None] if b_m.ndim == 1 else b_m
+    if a_m.shape[0] != b_m.shape[0]:
+        raise ValueError("paired runs must have the same tasks, in the same order")
+    keep = ~(np.all(np.isnan(a_m), axis=1) | np.all(np.isnan(b_m), axis=1))
+    a_m, b_m = a_m[keep], b_m[keep]
+    n = int(a_m.shape[0])
+    out: dict[str, Any] = {"tasks": n}
+    if n == 0:
+        out.update(a=None, b=None, diff=None, ci_low=None, ci_high=None, p_value=None, test=None,
+                   significant=False)
+        return out
+    ma, mb = np.nanmean(a_m, axis=1), np.nanmean(b_m, axis=1)
+    d = mb - ma
+    w = bootstrap_weights(n)
+    boot = w @ d
+    alpha = (1 - level) / 2
+    lo, hi = np.quantile(boot, [alpha, 1 - alpha])
+    reps_a = int(np.max(np.sum(~np.isnan(a_m), axis=1)))
+    reps_b = int(np.max(np.sum(~np.isnan(b_m), axis=1)))
+    if binary and reps_a == 1 and reps_b == 1:
+        p = mcnemar_exact(ma > 0.5, mb > 0.5)
+        test = "mcnemar-exact"
+    else:
+        if np.all(d == 0):
+            p = 1.0
+        else:
+            p = float(min(1.0, 2 * min(np.mean(boot <= 0), np.mean(boot >= 0))))
+        test = "paired-bootstrap"
+    out.update(a=float(ma.mean()), b=float(mb.mean()), diff=float(d.mean()), ci_low=float(lo), ci_high=float(hi),
+               p_value=float(p), test=test, significant=bool(p < 1 - level))
+    return out
+
+
+def min_detectable_difference(n_tasks: int, variance_per_task: float, level: float = LEVEL,
+                              power: float = 0.8) -> float:
+    """Smallest true difference a two-sided test at ``level`` finds with probability ``power``.
+
+    ``variance_per_task`` is the variance of one task's contribution to the difference (e.g. ``2p(1-p)``
+    for two independent success rates, the discordance rate for two models on the same tasks).
+    """
+    z_a = _z(level)
+    z_b = _z(2 * power - 1)
+    return (z_a + z_b) * math.sqrt(variance_per_task / n_tasks)
+
+
+def describe_interval(block: dict[str, Any], key: str) -> str:
+    """``"45.0 [39.5, 50.6]"`` (percent) for ``block[key]`` and its ``key + "_ci"`` entry."""
+    value = block.get(key)
+    ci = block.get(f"{key}_ci") or {}
+    if value is None:
+        return "-"
+    text = f"{100 * value:.1f}"
+    if ci.get("ci_low") is not None:
+        text += f" [{100 * ci['ci_low']:.1f}, {100 * ci['ci_high']:.1f}]"
+    return text
+
