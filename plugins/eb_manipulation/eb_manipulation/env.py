@@ -109,11 +109,26 @@ class ManipulationEnv(Env):
         return prompt_parts(family)
 
     def expert_plan(self) -> list[Action] | None:
-        if self._world is None or self._scene is None:
-            return None
-        from eb_manipulation.oracle import expert_plan, state_of_world
+        """The scripted expert's plan from the current state (arm pose, gripper, held object, object poses).
 
-        return [tuple(a) for a in expert_plan(self._scene, state_of_world(self._world))]
+        None, with :attr:`expert_reason` set, when the goal can no longer be reached (e.g. an object the goal
+        needs fell off the table); an empty plan when the goal already holds.
+        """
+        self.expert_reason = None
+        if self._world is None or self._scene is None:
+            self.expert_reason = "no episode is running (call reset() first)"
+            return None
+        from eb_manipulation.oracle import NoPlan, expert_plan, state_of_world
+
+        if self._world.evaluate()[0]:
+            self.expert_reason = "the goal already holds"
+            return []
+        try:
+            plan = expert_plan(self._scene, state_of_world(self._world))
+        except NoPlan as exc:
+            self.expert_reason = exc.reason.format(obj=self._label(exc.obj) if exc.obj else "")
+            return None
+        return [tuple(a) for a in plan]
 
     def close(self) -> None:
         self._release()
