@@ -20,6 +20,7 @@ commands:
   report RUN_DIR [...]       paper-style table of runs [--format rich|markdown|csv] [--out FILE]
   show RUN_DIR               write RUN_DIR/index.html: every episode, step, image, answer and feedback
   tasks generate env=NAME [key=value ...]   write a task file with the env's generator
+  audit env=NAME [task_file=PATH] [--quick] [--probe NAME]   shortcut probes of a task set; exit 1 on a failure
 """
 
 GROUPS = ("env", "model", "planner", "ablation")
@@ -51,12 +52,16 @@ def main(argv: Sequence[str] | None = None) -> int:
             return cmd_tasks(rest)
         if cmd == "show":
             return cmd_show(rest)
+        if cmd == "audit":
+            from eb_core.audit import cmd_audit
+
+            return cmd_audit(rest)
     except CliError as exc:
         return _fail(str(exc))
     except KeyboardInterrupt:
         return _fail("interrupted; finished episodes are saved, re-run the same command to resume", 130)
-    hint = difflib.get_close_matches(cmd, ["run", "list", "report", "show", "tasks"], n=1)
-    return _fail(f"unknown command {cmd!r}; commands: run, list, report, show, tasks"
+    hint = difflib.get_close_matches(cmd, ["run", "list", "report", "show", "tasks", "audit"], n=1)
+    return _fail(f"unknown command {cmd!r}; commands: run, list, report, show, tasks, audit"
                  + (f" (did you mean {hint[0]!r}?)" if hint else ""))
 
 
