@@ -766,17 +766,17 @@ def _status(res: ProbeResult) -> str:
 
 
 def _text_table(headers: list[str], rows: list[list[str]], widths: dict[int, int] | None = None) -> list[str]:
+    """A plain-text table; a cell longer than its column's limit in ``widths`` wraps onto more lines."""
+    import textwrap
+
     widths = widths or {}
-    cells = [[str(c) for c in r] for r in rows]
-    for r in cells:
-        for i, c in enumerate(r):
-            lim = widths.get(i)
-            if lim and len(c) > lim:
-                r[i] = c[: lim - 3] + "..."
-    w = [max([len(h)] + [len(r[i]) for r in cells]) for i, h in enumerate(headers)]
-    line = "  ".join(h.ljust(w[i]) for i, h in enumerate(headers)).rstrip()
-    out = [line, "  ".join("-" * x for x in w)]
-    out += ["  ".join(c.ljust(w[i]) for i, c in enumerate(r)).rstrip() for r in cells]
+    wrapped = [[textwrap.wrap(str(c), widths[i], break_on_hyphens=False) or [""] if i in widths else [str(c)]
+                for i, c in enumerate(r)] for r in rows]
+    w = [max([len(h)] + [len(ln) for r in wrapped for ln in r[i]]) for i, h in enumerate(headers)]
+    out = ["  ".join(h.ljust(w[i]) for i, h in enumerate(headers)).rstrip(), "  ".join("-" * x for x in w)]
+    for r in wrapped:
+        for k in range(max(len(c) for c in r)):
+            out.append("  ".join((c[k] if k < len(c) else "").ljust(w[i]) for i, c in enumerate(r)).rstrip())
     return out
 
 
@@ -791,7 +791,7 @@ def format_audit(env_name: str, results: list[tuple[AuditProbe, ProbeResult]], n
         rows.append([res.name, probe.description, res.value, res.threshold, _status(res), shown])
     lines = [f"eb audit: {env_name}, {n_tasks} tasks", ""]
     lines += _text_table(["probe", "guards against", "measured", "threshold", "status", "failing tasks"], rows,
-                         widths={1: 48, 2: 90, 3: 44, 5: 70})
+                         widths={1: 36, 2: 56, 3: 34, 5: 44})
     for probe, res in results:
         if res.rows:
             keys = list(dict.fromkeys(k for r in res.rows for k in r))

@@ -12,12 +12,12 @@ from typing import Any
 
 from pydantic import Field, model_validator
 
-from eb_core.env import Action, DiscreteActionSpace
+from eb_core.env import Action, ActionSpace, DiscreteActionSpace
 from eb_core.model import EpisodeContext, ModelBackend, ModelFatalError, ModelRequest, ModelResponse, Usage
-from eb_models._answer import planner_answer
+from eb_models._answer import MAX_PLAN, planner_answer
 from eb_models._settings import BackendSettings, validate_settings
 
-__all__ = ["OracleBackend", "RandomBackend", "RandomSettings"]
+__all__ = ["OracleBackend", "OracleSettings", "RandomBackend", "RandomSettings", "random_action"]
 
 
 class _OfflineBackend(ModelBackend):
@@ -44,26 +44,72 @@ class _OfflineBackend(ModelBackend):
         self.ctx = None
 
 
+def random_action(space: ActionSpace, rng: random.Random) -> Action:
+    """One uniformly random valid action: an id of a discrete space, or one integer per vector dimension."""
+    if isinstance(space, DiscreteActionSpace):
+        return rng.randrange(len(space))
+    return tuple(rng.randint(lo, hi) for lo, hi in zip(space.low, space.high))
+
+
+class OracleSettings(BackendSettings):
+    plan_length: int = Field(default=20, ge=1, le=MAX_PLAN)
+    """Actions of the expert plan sent per answer: 20 = open loop (the whole plan, as before), 1 = closed loop
+    (the first action, then the expert is asked again from the new state)."""
+    noise: float = Field(default=0.0, ge=0.0, le=1.0)
+    """Probability that each planned action is replaced by a uniformly random valid action (seeded per episode
+    and task, like ``random``): 0 = the exact expert, 1 = random actions only."""
+
+
 class OracleBackend(_OfflineBackend):
-    """Answers every request with ``env.expert_plan()`` from the current state (the first 20 actions)."""
+    """Answers with ``env.expert_plan()`` from the current state, cut to ``plan_length`` actions, each action
+    replaced by a random valid one with probability ``noise``. The noisy expert is the yardstick between
+    ``random`` (noise 1) and a perfect agent (noise 0): ``eb audit`` plots success against the noise level."""
 
     backend_name = "oracle"
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__()
-        self.settings = validate_settings(BackendSettings, "oracle", kwargs)
+        self.settings = validate_settings(OracleSettings, "oracle", kwargs)
+        self.coin = random.Random(0)
+        self.draws = random.Random(0)
+
+    def start_episode(self, ctx: EpisodeContext) -> None:
+        super().start_episode(ctx)
+        # Two streams: whether a step is noisy, and which random action it gets (same seeds, same episode).
+        self.coin = random.Random(f"eb-oracle-noise:{ctx.seed}:{ctx.task.id}")
+        self.draws = random.Random(f"eb-oracle-action:{ctx.seed}:{ctx.task.id}")
 
     def complete(self, request: ModelRequest) -> ModelResponse:
         t0 = time.perf_counter()
-        ctx = self._context()
-        space = ctx.env.action_space()
-        plan = ctx.env.expert_plan()
-        if plan is None:
+        env = self._context().env
+        space = env.action_space()
+        n, noise = self.settings.plan_length, self.settings.noise
+        if noise >= 1.0:  # the expert is never followed: do not ask it
+            plan = [random_action(space, self.draws) for _ in range(n)]
+            text = planner_answer(space, plan, seen="(oracle, noise 1: the image is ignored)",
+                                  reasoning=f"{len(plan)} uniformly random valid actions (noise=1).")
+            return self._response(text, t0, "oracle")
+        expert = env.expert_plan()
+        if expert is None:
+            why = env.expert_reason or "the environment gives no reason"
             text = planner_answer(space, [], seen="(oracle)",
-                                  reasoning="The environment offers no expert plan from this state.")
-        else:
-            text = planner_answer(space, plan, seen="(oracle: the simulator state is known exactly)",
-                                  reasoning=f"Following the expert plan from the current state ({len(plan)} actions).")
+                                  reasoning=f"The expert has no plan from this state: {why}.")
+            return self._response(text, t0, "oracle")
+        plan: list[Action] = []
+        replaced = 0
+        for action in list(expert)[:n]:
+            u = self.coin.random()
+            other = random_action(space, self.draws) if noise > 0 else action
+            if u < noise:
+                plan.append(other)
+                replaced += 1
+            else:
+                plan.append(action)
+        what = "the first action of the expert plan" if n == 1 and plan else \
+            f"{len(plan)} of the expert plan's {len(expert)} actions"
+        noisy = f"; {replaced} replaced by random actions (noise={noise:g})" if noise > 0 else ""
+        text = planner_answer(space, plan, seen="(oracle: the simulator state is known exactly)",
+                              reasoning=f"Following the expert from the current state: {what}{noisy}.")
         return self._response(text, t0, "oracle")
 
 
@@ -99,11 +145,9 @@ class RandomBackend(_OfflineBackend):
         space = self._context().env.action_space()
         if n is None:
             n = self.rng.randint(self.settings.min_plan, self.settings.max_plan)
-        if isinstance(space, DiscreteActionSpace):
-            if len(space) == 0:
-                return []
-            return [self.rng.randrange(len(space)) for _ in range(n)]
-        return [tuple(self.rng.randint(lo, hi) for lo, hi in zip(space.low, space.high)) for _ in range(n)]
+        if isinstance(space, DiscreteActionSpace) and len(space) == 0:
+            return []
+        return [random_action(space, self.rng) for _ in range(n)]
 
     def complete(self, request: ModelRequest) -> ModelResponse:
         t0 = time.perf_counter()
