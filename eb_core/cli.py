@@ -17,7 +17,8 @@ commands:
                              e.g. eb run env=navigation model=oracle limit=10
   list                       installed envs (subsets, task counts), models, planners, augmenters,
                              metrics and ablations, each with its plugin
-  report RUN_DIR [...]       paper-style table of runs [--format rich|markdown|csv] [--out FILE]
+  report RUN_DIR [...]       paper-style table of runs with 95% intervals [--format rich|markdown|csv]
+                             [--out FILE]; `report A B --paired`: is B's difference to A real?
   show RUN_DIR               write RUN_DIR/index.html: every episode, step, image, answer and feedback
   tasks generate env=NAME [key=value ...]   write a task file with the env's generator
   audit env=NAME [task_file=PATH] [--quick] [--probe NAME]   shortcut probes of a task set; exit 1 on a failure
@@ -334,12 +335,14 @@ def _load_option(repo: Any, group: str, name: str) -> dict[str, Any]:
 
 
 def cmd_report(args: list[str]) -> int:
-    from eb_core.report import render_report
+    from eb_core.report import render_paired, render_report
 
-    fmt, out, dirs = "rich", None, []
+    fmt, out, dirs, paired = "rich", None, [], False
     it = iter(args)
     for a in it:
-        if a == "--format":
+        if a == "--paired":
+            paired = True
+        elif a == "--format":
             fmt = next(it, "")
         elif a.startswith("--format="):
             fmt = a.split("=", 1)[1]
@@ -348,14 +351,18 @@ def cmd_report(args: list[str]) -> int:
         elif a.startswith("--out="):
             out = a.split("=", 1)[1]
         elif a.startswith("-"):
-            raise CliError(f"unknown option {a!r} for report; options: --format rich|markdown|csv, --out FILE")
+            raise CliError(f"unknown option {a!r} for report; options: --format rich|markdown|csv, --out FILE, "
+                           f"--paired")
         else:
             dirs.append(a)
     if fmt not in ("rich", "markdown", "csv"):
         raise CliError(f"unknown --format {fmt!r}; use rich, markdown or csv")
     if not dirs:
         raise CliError("report needs at least one run directory, e.g. eb report runs/navigation/oracle/none/default")
-    render_report(dirs, fmt, out)
+    if paired:
+        render_paired(dirs, fmt, out)
+    else:
+        render_report(dirs, fmt, out)
     return 0
 
 

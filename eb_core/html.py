@@ -1,8 +1,10 @@
 """A static HTML viewer for a run directory (``eb show RUN_DIR``): error analysis without reading JSON by hand.
 
-``index.html`` lists every episode (success, end reason, steps, errors) with per-subset numbers;
-``episodes/<id>/index.html`` shows each planner step: the image the model saw, the prompt, the raw answer,
-the parsed plan and every executed action with the world's feedback. All model and env text is escaped.
+``index.html`` lists every episode (success, end reason, steps, errors) with per-subset numbers and their
+95 % intervals, recomputed from ``episodes.jsonl`` (so a run stopped before its end is shown too, marked
+incomplete); ``episodes/<id>/index.html`` shows each planner step: what the model was sent (which image,
+which views and frames, or no image at all), the prompt, the raw answer, the parsed plan and every
+executed action with the world's feedback. All model and env text is escaped.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from eb_core.records import RunFiles, atomic_write_text
+from eb_core.records import RunFiles, atomic_write_text, episode_dir_name
 
 __all__ = ["write_html"]
 
@@ -26,6 +28,11 @@ th{background:#eef1f4} td.num{text-align:right} .ok{color:#0a7a2f;font-weight:60
 .step img{width:300px;height:auto;border:1px solid #ccd;flex:none} .step .body{flex:1;min-width:0}
 pre{white-space:pre-wrap;word-break:break-word;background:#f3f5f7;padding:8px;border-radius:4px;font-size:12px;max-height:360px;overflow:auto}
 details summary{cursor:pointer;color:#0b57d0;font-size:13px} .bar{display:inline-block;height:10px;background:#3b82f6;border-radius:2px}
+.ci{position:relative;display:inline-block;width:160px;height:10px;background:#eef1f4;border-radius:2px}
+.ci .span{position:absolute;top:3px;height:4px;background:#93b4f5} .ci .pt{position:absolute;top:0;width:2px;height:10px;background:#1d4ed8}
+.warn{background:#fff4e5;border:1px solid #f3c77b;border-radius:6px;padding:8px 12px}
+.sent{font-size:12px;color:#3d4651;margin:0 0 4px} .notsent img{opacity:.45;border:2px dashed #b42318}
+.notsent .tag{color:#b42318;font-size:12px;font-weight:600}
 """
 
 
@@ -45,9 +52,37 @@ def _status(rec: dict[str, Any]) -> str:
     return "<span class=ok>success</span>" if rec["success"] else "<span class=fail>fail</span>"
 
 
-def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path) -> str:
+def _what_was_sent(step: dict[str, Any], conf: dict[str, Any]) -> tuple[bool, str]:
+    """Whether the model received images at this step, and one line saying what it received.
+
+    A step that lists ``sent_images`` (the names of the images in the request) is taken at its word;
+    older step files are read with the run's config (``planner.language_only``/``text_state``, the
+    number of frames, ``env.multi_view``).
+    """
+    planner = conf.get("planner") or {}
+    env = conf.get("env") or {}
+    if "sent_images" in step:
+        names = list(step.get("sent_images") or [])
+        if not names:
+            return False, "The model was sent no image at this step (text only)."
+        return True, f"The model was sent {len(names)} image(s): {', '.join(names)}."
+    if planner.get("language_only") or planner.get("text_state"):
+        mode = "language_only" if planner.get("language_only") else "text_state"
+        return False, f"planner.{mode}: the model was sent no image, only the prompt's text."
+    parts = ["the image below"]
+    frames = int(planner.get("multi_step_images") or 1)
+    if frames > 1:
+        parts = [f"the current frame and up to {frames - 1} earlier one(s) (the images of the previous steps)"]
+    if env.get("multi_view"):
+        parts.append("the extra view(s) shown under it")
+    return True, "The model was sent " + " and ".join(parts) + "."
+
+
+def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path, conf: dict[str, Any] | None = None) -> str:
+    conf = conf or {}
+    repeat = f" · repeat {rec['repeat']}" if rec.get("repeat") else ""
     parts = [f"<p><a href='../../index.html'>&larr; {_e(run_title)}</a></p>",
-             f"<h1>{_e(rec['task_id'])} <span class=muted>({_e(rec['subset'])})</span> {_status(rec)}</h1>",
+             f"<h1>{_e(rec['task_id'])} <span class=muted>({_e(rec['subset'])}{repeat})</span> {_status(rec)}</h1>",
              f"<p><b>Instruction:</b> {_e(rec['instruction'])}</p>",
              f"<p class=muted>end: {_e(rec['end_reason'])} · env steps {rec['env_steps']} · planner steps "
              f"{rec['planner_steps']} · invalid actions {rec['invalid_actions']} · output errors {rec['output_errors']}"
@@ -63,11 +98,20 @@ def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path) -> str:
             except ValueError:
                 continue
     for s in steps:
-        img = f"<img src='{_e(s['image'])}' alt='what the model saw at step {s['planner_step']}'>" if s.get("image") else ""
+        sent, what = _what_was_sent(s, conf)
+        seen = "what the model saw" if sent else "the scene (not sent to the model)"
+        img = (f"<img src='{_e(s['image'])}' alt='{seen} at step {s['planner_step']}'>" if s.get("image") else "")
         for extra in s.get("extra_images", []):
             img += f"<img src='{_e(extra)}' alt='extra view {_e(extra)}'>"
-        if img:
-            img = f"<div style='display:flex;flex-direction:column;gap:6px'>{img}</div>"
+        if img and sent:
+            img = (f"<div style='display:flex;flex-direction:column;gap:6px'><p class=sent>{_e(what)}</p>"
+                   f"{img}</div>")
+        elif img:
+            img = (f"<div class=notsent style='display:flex;flex-direction:column;gap:6px'>"
+                   f"<p class=tag>NOT SENT TO THE MODEL</p><p class=sent>{_e(what)} The picture is for you.</p>"
+                   f"{img}</div>")
+        else:
+            img = f"<div style='width:300px;flex:none'><p class=sent>{_e(what)}</p></div>"
         actions = "".join(
             f"<tr><td class=num>{a['env_step']}</td><td>{_e(a['action_name'])}</td>"
             f"<td>{'<span class=ok>ok</span>' if a['success'] else '<span class=fail>failed</span>'}</td>"
@@ -91,39 +135,83 @@ def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path) -> str:
     return _page(f"{rec['task_id']} — {run_title}", "\n".join(parts))
 
 
+def _ci_cell(block: dict[str, Any], key: str) -> str:
+    """``45.0 [39.5, 50.6]`` and a small bar: the interval in light blue, the estimate as a tick."""
+    value = block.get(key)
+    ci = block.get(f"{key}_ci") or {}
+    if value is None:
+        return "<td class=num>-</td><td></td>"
+    lo, hi = ci.get("ci_low"), ci.get("ci_high")
+    if lo is None:
+        return f"<td class=num>{100 * value:.1f}</td><td></td>"
+    bar = (f"<span class=ci title='95% interval {100 * lo:.1f} to {100 * hi:.1f}'>"
+           f"<span class=span style='left:{160 * lo:.0f}px;width:{max(1.0, 160 * (hi - lo)):.0f}px'></span>"
+           f"<span class=pt style='left:{min(158.0, 160 * value):.0f}px'></span></span>")
+    return f"<td class=num>{100 * value:.1f} <span class=muted>[{100 * lo:.1f}, {100 * hi:.1f}]</span></td><td>{bar}</td>"
+
+
 def write_html(run_dir: str | Path) -> Path:
     """Write the viewer into ``run_dir`` and return the path of ``index.html``."""
+    from eb_core.report import _run_config, load_run
+
     root = Path(run_dir)
     files = RunFiles(root)
-    records = [r.model_dump() for r in files.load_episodes()]
-    summary = json.loads((root / "summary.json").read_text()) if (root / "summary.json").exists() else {}
-    title = f"{summary.get('env', '?')} / {summary.get('model', '?')} / {summary.get('ablation', '?')}"
+    run = load_run(root)  # recomputed from episodes.jsonl: also right for a run stopped before its end
+    conf = _run_config(root)
+    meta = json.loads((root / "summary.json").read_text()) if (root / "summary.json").exists() else {}
+    records = [r.model_dump() for r in run["records"]]
+    repeats = int(run.get("repeats") or 1)
+    title = f"{run['env']} / {run['model']} / {run['ablation']}"
     rows = []
     for rec in records:
-        ep_dir = files.episodes_dir / rec["task_id"]
+        name = episode_dir_name(rec["task_id"], rec.get("repeat", 0))
+        ep_dir = files.episodes_dir / name
+        label = rec["task_id"] + (f" (repeat {rec['repeat']})" if rec.get("repeat") else "")
         if ep_dir.is_dir():
-            atomic_write_text(ep_dir / "index.html", _episode_page(title, rec, ep_dir))
-            link = f"<a href='episodes/{_e(rec['task_id'])}/index.html'>{_e(rec['task_id'])}</a>"
+            atomic_write_text(ep_dir / "index.html", _episode_page(title, rec, ep_dir, conf))
+            link = f"<a href='episodes/{_e(name)}/index.html'>{_e(label)}</a>"
         else:
-            link = _e(rec["task_id"])
+            link = _e(label)
         rows.append(
             f"<tr><td>{link}</td><td>{_e(rec['subset'])}</td><td>{_status(rec)}</td><td>{_e(rec['end_reason'])}</td>"
             f"<td class=num>{rec['env_steps']}</td><td class=num>{rec['planner_steps']}</td>"
             f"<td class=num>{rec['invalid_actions']}</td><td class=num>{rec['output_errors']}</td>"
             f"<td class=num>{100 * rec['progress']:.0f}%</td><td>{_e(rec['instruction'])}</td></tr>")
+    overall = run["overall"]
     subset_rows = []
-    for name, s in summary.get("subsets", {}).items():
-        rate = s.get("success_rate", 0.0)
-        subset_rows.append(
-            f"<tr><td>{_e(name)}</td><td class=num>{s.get('episodes', 0):.0f}</td><td class=num>{100 * rate:.1f}</td>"
-            f"<td><span class=bar style='width:{int(160 * rate)}px'></span></td>"
-            f"<td class=num>{100 * s.get('subgoal_success', 0):.1f}</td></tr>")
-    overall = summary.get("overall", {})
-    body = (f"<h1>{_e(title)}</h1><p class=muted>{_e(root)} · {len(records)} episodes · success rate "
-            f"{100 * overall.get('success_rate', 0):.1f}% · output-error rate "
-            f"{100 * overall.get('output_error_rate', 0):.1f}% · cost ${overall.get('cost_usd', 0):.4f}</p>"
-            "<h2>Subsets</h2><table><tr><th>subset</th><th>episodes</th><th>success %</th><th></th>"
-            f"<th>subgoal %</th></tr>{''.join(subset_rows)}</table>"
+    for name, s in [*run["subsets"].items(), ("all", overall)]:
+        label = "<b>all</b>" if name == "all" else _e(name)
+        subset_rows.append(f"<tr><td>{label}</td><td class=num>{s.get('episodes', 0):.0f}</td>"
+                           f"{_ci_cell(s, 'success_rate')}{_ci_cell(s, 'subgoal_success')}"
+                           f"<td class=num>{100 * s.get('subgoal_success_paper', 0):.1f}</td></tr>")
+    measured = int(overall.get("episodes", 0))
+    banner = ""
+    if not meta:
+        banner = (f"<p class=warn><b>Incomplete run:</b> there is no summary.json, so the run was stopped before "
+                  f"its end. Everything below is computed from the {len(records)} episode(s) recorded in "
+                  f"episodes.jsonl; re-run the same command to finish it.</p>")
+    elif not meta.get("complete", True):
+        total = meta.get("n_episodes", meta.get("n_selected", "?"))
+        why = f" ({_e(meta['stopped_early'])})" if meta.get("stopped_early") else ""
+        banner = (f"<p class=warn><b>Incomplete run:</b> {meta.get('n_finished', measured)} of {total} episodes "
+                  f"finished{why}. The numbers cover the finished episodes only; re-run the same command to "
+                  f"resume.</p>")
+    rate = (f"success rate {100 * overall['success_rate']:.1f}%" if measured and "success_rate" in overall
+            else "no measured episode yet")
+    ci = overall.get("success_rate_ci") or {}
+    if measured and ci.get("ci_low") is not None:
+        rate += f" (95% CI {100 * ci['ci_low']:.1f}–{100 * ci['ci_high']:.1f})"
+    method = ci.get("ci_method") or "-"
+    reps = f" · {repeats} repeats per task" if repeats > 1 else ""
+    body = (f"<h1>{_e(title)}</h1>{banner}<p class=muted>{_e(root)} · {len(records)} episodes{reps} · {rate} · "
+            f"output-error rate {100 * overall.get('output_error_rate', 0):.1f}% · cost "
+            f"${meta.get('total_cost_usd', overall.get('cost_usd', 0)):.4f}</p>"
+            "<h2>Subsets</h2><table><tr><th>subset</th><th>episodes</th><th>success % [95% CI]</th><th></th>"
+            "<th>subgoal % [95% CI]</th><th></th><th>subgoal % (original's rule)</th></tr>"
+            f"{''.join(subset_rows)}</table>"
+            f"<p class=muted>Intervals: 95 % over tasks ({_e(method)}"
+            + (", each task's repeats kept together" if repeats > 1 else "")
+            + "); see docs/statistics.md.</p>"
             "<h2>Episodes</h2><table><tr><th>task</th><th>subset</th><th>result</th><th>end</th><th>env steps</th>"
             "<th>planner steps</th><th>invalid</th><th>output errors</th><th>progress</th><th>instruction</th></tr>"
             f"{''.join(rows)}</table>")
