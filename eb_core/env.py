@@ -141,8 +141,8 @@ class DiscreteActionSpace(BaseModel):
         return {
             "type": "object",
             "properties": {
-                "action_id": {"type": "integer"},
-                "action_name": {"type": "string"},
+                "action_id": {"type": "integer", "description": "The id of the action in the action list."},
+                "action_name": {"type": "string", "description": "The action's name, exactly as in the list."},
             },
             "required": ["action_id", "action_name"],
             "additionalProperties": False,
@@ -157,6 +157,8 @@ class DiscreteActionSpace(BaseModel):
 
     def parse_plan_item(self, item: Any) -> int:
         """Turn one model plan item into an action id, or raise :class:`PlanItemError`."""
+        if isinstance(item, (list, tuple)) and len(item) == 2 and isinstance(item[1], str):
+            item = item[0]  # the original's visual-ICL format: [id, name]
         if isinstance(item, dict):
             raw = item.get("action_id", item.get("id"))
             if raw is None and isinstance(item.get("action_name"), str):
@@ -201,7 +203,9 @@ class VectorActionSpace(BaseModel):
         n = len(self.names)
         return {
             "type": "object",
-            "properties": {"action": {"type": "array", "items": {"type": "integer"}, "minItems": n, "maxItems": n}},
+            "properties": {"action": {"type": "array", "items": {"type": "integer"}, "minItems": n, "maxItems": n,
+                                      "description": f"One {n}-dimensional action: [" + ", ".join(self.names)
+                                      + "], integers within the bounds of the action format."}},
             "required": ["action"],
             "additionalProperties": False,
         }
@@ -213,6 +217,8 @@ class VectorActionSpace(BaseModel):
         return {"action": [int(v) for v in action]}  # type: ignore[union-attr]
 
     def parse_plan_item(self, item: Any) -> tuple[int, ...]:
+        if isinstance(item, (list, tuple)) and len(item) == 1 and isinstance(item[0], dict):
+            item = item[0]  # [{"action": [...]}], accepted by the original manipulation planner
         if isinstance(item, dict):
             item = item.get("action", item.get("action_id"))
         if isinstance(item, str):
@@ -282,6 +288,9 @@ class PromptParts(BaseModel):
     """Put the prompt text before the image(s) in the user message (manipulation, as the original)."""
     view_descriptions: dict[str, str] = Field(default_factory=dict)
     """What each image key shows, said in the prompt when it is sent (e.g. the overhead view under multi_view)."""
+    field_descriptions: dict[str, str] = Field(default_factory=dict)
+    """The world's own wording for answer fields (``visual_state_description``...), in the prompt and the schema
+    (the original's manipulation guide asks for each boxed object's colour, shape and coordinates)."""
 
 
 class Env(ABC):

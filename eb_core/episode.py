@@ -6,9 +6,13 @@ Rules (from the paper, with our documented deviation on output errors):
 * Stop at the first failed action and re-plan (``env.replan_on_failure``; manipulation runs the whole plan).
 * An empty plan ends the episode (``env.empty_plan_ends``); elsewhere it counts as an output error.
 * A plan item that is not a valid action cuts the plan there; if nothing is left it is an invalid action.
-* An unusable answer is an output error: it counts as an invalid action, uses one step of the budget
-  (the original executed a random action instead) and the next prompt says why it was rejected.
+* An unusable answer is an output error: it counts as an invalid action and the next prompt says why it was
+  rejected. Where ``env.output_error_uses_step`` (Navigation, Manipulation) it also uses one step of the
+  budget (the original executed a random action instead); elsewhere (ALFRED, Habitat) it uses none, as the
+  original, and the invalid cap bounds the episode (``env.max_steps`` output errors when there is no cap).
 * End at ``env.max_steps`` or at ``env.max_invalid_actions`` invalid actions.
+* ``expert_labels``: before each executed action, the world's expert plan from that state is asked for and its
+  first action logged as ``expert_action`` (None and ``expert_reason`` when the expert has none).
 """
 
 from __future__ import annotations
@@ -60,6 +64,24 @@ def _jsonable(obj: Any) -> Any:
     return obj
 
 
+def _expert_label(env: Env, space: Any) -> dict[str, Any]:
+    """The first action of the world's expert plan from the current state, for ``expert_labels``."""
+    try:
+        plan = env.expert_plan()
+    except Exception as exc:  # an expert bug must not end the agent's episode
+        return {"expert_action": None, "expert_reason": f"the expert raised {type(exc).__name__}: {exc}"}
+    if not plan:
+        reason = getattr(env, "expert_reason", None) or (
+            "the expert has no plan from this state" if plan is None else "the expert plan is empty")
+        return {"expert_action": None, "expert_reason": reason}
+    first = plan[0]
+    try:
+        name = space.name_of(first)
+    except Exception:
+        name = None
+    return {"expert_action": _jsonable(first), "expert_action_name": name}
+
+
 def run_episode(
     *,
     env: Env,
@@ -74,6 +96,7 @@ def run_episode(
     budget: BudgetGuard | None = None,
     hook: Any = None,
     run_dir: str = "",
+    expert_labels: bool = False,
 ) -> EpisodeRecord:
     """Play ``task`` to the end and return its record. Model transient errors and env exceptions give
     ``status="error"``; :class:`ModelFatalError` and :class:`ModelBudgetExceeded` propagate."""
@@ -91,21 +114,38 @@ def run_episode(
         hook.eb_on_episode_start(event=EpisodeStartEvent(
             run_dir=run_dir, task_id=task.id, subset=task.subset, instruction=task.instruction, seed=seed))
 
+    uses_step = env_config.output_error_uses_step
+    # Output errors that use no step are bounded by the invalid cap, or by max_steps of them without one.
+    invalid_cap = env_config.max_invalid_actions
+    if invalid_cap is None and not uses_step:
+        invalid_cap = env_config.max_steps
+
     def budget_left() -> int:
-        return env_config.max_steps - env_steps - output_errors
+        return env_config.max_steps - env_steps - (output_errors if uses_step else 0)
+
+    def augment(o: Observation) -> Observation:
+        for aug in augmenters:
+            o = aug(o)
+        return o
+
+    def output_error(reason: str, count_invalid: bool = True) -> None:
+        nonlocal output_errors, invalid
+        output_errors += 1
+        if count_invalid or not uses_step:
+            invalid += 1
+        planner.record_output_error(reason)
 
     try:
-        obs = env.reset(task, seed)
+        obs = augment(env.reset(task, seed))
         space = env.action_space()
         planner.reset(task, env.prompt_parts(), space)
+        planner.observe(obs)
         backend.start_episode(EpisodeContext(env=env, task=task, seed=seed, run_dir=run_dir or None))
         done = False
         while not done and budget_left() > 0:
-            if env_config.max_invalid_actions is not None and invalid >= env_config.max_invalid_actions:
+            if invalid_cap is not None and invalid >= invalid_cap:
                 end_reason = "invalid_cap"
                 break
-            for aug in augmenters:
-                obs = aug(obs)
             planner.set_action_space(env.action_space())
             request = planner.build_request(obs, seed=seed)
             planner_steps += 1
@@ -140,26 +180,28 @@ def run_episode(
             step_rec["actions"] = actions_log
 
             if parsed.error is not None:
-                output_errors += 1
-                invalid += 1
-                planner.record_output_error(parsed.error)
+                output_error(parsed.error)
             elif not parsed.actions and parsed.truncated_at is None:
                 empty_plan = True
                 if env_config.empty_plan_ends:
                     end_reason = "empty_plan"
                     done = True
                 else:
-                    output_errors += 1
-                    planner.record_output_error("the plan was empty but the task is not finished")
+                    # navigation's original executed a random action: a step, not an invalid action
+                    output_error("the plan was empty but the task is not finished", count_invalid=False)
             elif not parsed.actions:
                 invalid += 1
                 planner.record_output_error(parsed.plan_error or "the first plan item was invalid")
             else:
                 space = env.action_space()
                 for action in parsed.actions[: max(0, budget_left())]:
+                    label: dict[str, Any] = {}
+                    if expert_labels:
+                        label = _expert_label(env, space)
                     result = env.step(action)
                     env_steps += 1
-                    obs = result.observation
+                    obs = augment(result.observation)
+                    planner.observe(obs)
                     progress = max(0.0, min(1.0, result.progress))
                     success = result.task_success
                     name = space.name_of(action)
@@ -167,7 +209,7 @@ def run_episode(
                                           result.action_success, result.feedback)
                     actions_log.append({"env_step": env_steps, "action": _jsonable(action), "action_name": name,
                                         "success": result.action_success, "feedback": result.feedback,
-                                        "progress": progress})
+                                        "progress": progress, **label})
                     if hook is not None:
                         hook.eb_on_step_end(event=StepEndEvent(
                             run_dir=run_dir, task_id=task.id, env_step=env_steps, planner_step=planner_steps,
@@ -181,8 +223,7 @@ def run_episode(
                         break
                     if not result.action_success and env_config.replan_on_failure:
                         break
-                    if (env_config.max_invalid_actions is not None
-                            and invalid >= env_config.max_invalid_actions):
+                    if invalid_cap is not None and invalid >= invalid_cap:
                         break
                     if budget_left() <= 0:
                         break
@@ -191,8 +232,7 @@ def run_episode(
             if steps_file is not None:
                 steps_file.write(json.dumps(step_rec, default=str) + "\n")
                 steps_file.flush()
-        if not done and end_reason == "max_steps" and env_config.max_invalid_actions is not None \
-                and invalid >= env_config.max_invalid_actions:
+        if not done and end_reason == "max_steps" and invalid_cap is not None and invalid >= invalid_cap:
             end_reason = "invalid_cap"
         status = "ok"
         error = None

@@ -7,8 +7,10 @@ error (counted, fed back to the model, never an exception out of the episode loo
 
 from __future__ import annotations
 
+import ast
 import json
 import re
+import warnings
 from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field
@@ -47,14 +49,14 @@ class ParseResult(BaseModel):
     truncated_at: int | None = None
 
 
-def _candidates(text: str) -> list[str]:
-    out = [m.group(1) for m in _FENCE.finditer(text)]
-    start = text.find("{")
-    if start != -1:
-        # The longest balanced object starting at the first brace, ignoring braces inside strings.
-        depth, in_str, esc = 0, False, False
-        for i in range(start, len(text)):
-            ch = text[i]
+def _balanced_objects(text: str, limit: int = 8) -> list[str]:
+    """Top-level balanced ``{...}`` spans in order (braces inside strings ignored), at most ``limit``."""
+    out: list[str] = []
+    i = text.find("{")
+    while i != -1 and len(out) < limit:
+        depth, in_str, esc, end = 0, False, False, -1
+        for j in range(i, len(text)):
+            ch = text[j]
             if in_str:
                 if esc:
                     esc = False
@@ -69,13 +71,32 @@ def _candidates(text: str) -> list[str]:
             elif ch == "}":
                 depth -= 1
                 if depth == 0:
-                    out.append(text[start : i + 1])
+                    end = j
                     break
+        if end == -1:
+            break
+        out.append(text[i : end + 1])
+        i = text.find("{", end + 1)
+    return out
+
+
+def _candidates(text: str) -> list[str]:
+    out = [m.group(1) for m in _FENCE.finditer(text)]
+    start = text.find("{")
+    if start != -1:
+        out += _balanced_objects(text)
         end = text.rfind("}")
         if end > start:
             out.append(text[start : end + 1])
     out.append(text)
     return out
+
+
+def _quote_fixup(chunk: str) -> str:
+    """The original's repair for Claude / InternVL / Qwen answers: single quotes to double quotes (but not in
+    English possessives such as "agent's "), code fences dropped."""
+    fixed = chunk.replace("```json", "").replace("```", "").replace("'", '"')
+    return fixed.replace('"s ', "'s ")
 
 
 def _loads_lenient(chunk: str) -> Any:
@@ -94,21 +115,59 @@ def _loads_lenient(chunk: str) -> Any:
             return json.loads(fixed.replace("'", '"'))
         except ValueError:
             pass
+    if "'" in fixed:
+        try:
+            return json.loads(_TRAILING_COMMA.sub(r"\1", _quote_fixup(fixed)))
+        except ValueError:
+            pass
+        if len(fixed) < 20000 and fixed[:1] in "{[":
+            try:  # a Python literal (single-quoted strings with apostrophes inside, True/None)
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")  # invalid escapes in model prose
+                    value = ast.literal_eval(fixed)
+            except (ValueError, SyntaxError, TypeError, MemoryError, RecursionError):
+                pass
+            else:
+                if isinstance(value, (dict, list)):
+                    return value
     raise ValueError("not JSON")
 
 
 def extract_json_object(text: str) -> dict[str, Any] | None:
-    """The first JSON object found in ``text`` (fenced, bare or embedded in prose), or None."""
+    """The JSON object in ``text`` (fenced, bare or embedded in prose), or None.
+
+    When several objects appear (an example echoed before the answer, a schema, a draft), the first one that
+    holds ``executable_plan`` wins; else the first object found.
+    """
     if not isinstance(text, str):
         return None
+    first: dict[str, Any] | None = None
     for chunk in _candidates(text):
         try:
             value = _loads_lenient(chunk)
         except (ValueError, RecursionError):
             continue
         if isinstance(value, dict):
-            return value
-    return None
+            if "executable_plan" in value:
+                return value
+            if first is None:
+                first = value
+    return first
+
+
+def _flatten_plan(plan: list[Any]) -> list[Any]:
+    """Unwrap nested plan lists: an item that is a list of actions (lists or objects) becomes those actions.
+
+    ``[[{"action_id": 1}, {"action_id": 2}]]`` and ``[[[3, "a"], [3, "b"]]]`` give two items each; a vector
+    action ``[1, 2, 3]`` or an ``[id, name]`` pair stays one item.
+    """
+    out: list[Any] = []
+    for item in plan:
+        if isinstance(item, list) and item and all(isinstance(x, (list, dict)) for x in item):
+            out += _flatten_plan(item)
+        else:
+            out.append(item)
+    return out
 
 
 def parse_planner_output(text: str, space: ActionSpace, max_plan_length: int = 20) -> ParseResult:
@@ -136,6 +195,7 @@ def parse_planner_output(text: str, space: ActionSpace, max_plan_length: int = 2
         plan = [plan]
     if not isinstance(plan, list):
         return ParseResult(error=f"executable_plan must be a list, got {type(plan).__name__}")
+    plan = _flatten_plan(plan)
     fields = {k: obj.get(k) for k in ("visual_state_description", "reasoning_and_reflection", "language_plan")}
     output = PlannerOutput(
         **{k: v if isinstance(v, str) else ("" if v is None else json.dumps(v)) for k, v in fields.items()},

@@ -1,9 +1,25 @@
 """The paper's unified agent pipeline: one configurable VLM planner for every world.
 
-Each planner call sends (images first, then text): the env's role and action rules, the numbered
-action list, ``n_shot`` in-context examples, guidelines, the instruction, the history of executed
-actions with the world's feedback, and the answer format. The model answers JSON with
-``visual_state_description``, ``reasoning_and_reflection``, ``language_plan`` and ``executable_plan``.
+Each planner call sends one user message: the env's role and action rules, the numbered action list,
+``n_shot`` in-context examples, guidelines, the instruction, the history of executed actions with the world's
+feedback, a reflection request and the answer format, with the image(s) before the text (or after it where
+the world says so, as the original manipulation planner did). The model answers JSON with
+``visual_state_description`` (not without an image), ``reasoning_and_reflection``, ``language_plan`` and
+``executable_plan``, in that order (the original's generation guide).
+
+The ablations follow the original code (``docs/design.md`` has the table "original protocol -> ours"):
+
+* ``language_only``: no image and no scene text (the blind baseline); ``Observation.extra_prompt`` stays.
+  ``text_state`` is our separate upper bound: no image, the env's symbolic ``Observation.text`` instead.
+* ``multi_step_images``: the frames after the last k environment steps (the episode hands every step's
+  observation to :meth:`VLMPlanner.observe`), oldest first.
+* ``chat_history``: earlier turns stay as chat messages with their images; later user turns are short
+  (instruction, action history, reflection request, format); the window is ``env.chat_history_window``
+  messages. When the window has dropped the last full turn, the next user turn is a full one again, so the
+  model always has the role and the action list in view.
+* ``multi_view``: extra views are sent and the prompt says what each image is (``PromptParts.view_descriptions``).
+* ``visual_icl``: the text prompt, then the world's examples with their images, then a line introducing the
+  current observation and its image.
 
 Deviation from the original, on purpose: after an unusable answer the original sent the identical
 prompt again (local models then looped to the invalid-action cap). We add a line to the history that
@@ -13,26 +29,45 @@ says the previous answer could not be used and why.
 from __future__ import annotations
 
 import io
+import json
 from collections import deque
 from typing import Any
 
 import numpy as np
 from PIL import Image
 
-from eb_core.config import EnvConfig, PlannerConfig
+from eb_core.config import ConfigError, EnvConfig, PlannerConfig
 from eb_core.env import ActionSpace, Observation, PromptParts, Task, VectorActionSpace
-from eb_core.model import ImagePart, Message, ModelRequest, TextPart
+from eb_core.model import ImagePart, Message, ModelFatalError, ModelRequest, TextPart
 from eb_core.parsing import ParseResult, parse_planner_output
 
-__all__ = ["VLMPlanner", "encode_png", "response_schema"]
+__all__ = ["PlannerConfigError", "VLMPlanner", "answer_fields", "encode_png", "field_descriptions",
+           "response_schema"]
+
+FIELDS = ("visual_state_description", "reasoning_and_reflection", "language_plan", "executable_plan")
 
 _FIELD_HELP = {
-    "visual_state_description": "what the image shows right now that matters for the task",
-    "reasoning_and_reflection": "your reasoning about the task, what the history and feedback tell you, "
-    "and what went wrong before if anything did",
-    "language_plan": "the next steps in plain words",
-    "executable_plan": "the actions to execute now, in order",
+    "visual_state_description": "Describe what the current image shows that matters for the task.",
+    "reasoning_and_reflection": "Sum up the actions so far and the feedback the world gave; if the last action "
+    "or plan failed or did not finish the task, say why; then reason about what to do next.",
+    "language_plan": "The plan in plain words: one numbered step per action, each starting with the step number "
+    "and the action's name.",
+    "executable_plan": "The actions to execute now, in order, each with its action id and name. Never an empty "
+    "list while the task is unfinished.",
 }
+_VECTOR_PLAN_HELP = ("The actions to execute now, in order, each a list of integers in the action format. Never "
+                     "an empty list while the task is unfinished.")
+
+#: The worlds whose plugins ship visual in-context examples (the original had them for these two).
+VISUAL_ICL_WORLDS = ("navigation", "manipulation")
+
+
+class PlannerConfigError(ConfigError, ModelFatalError):
+    """An ablation the selected world cannot run (e.g. ``visual_icl`` without visual examples).
+
+    Raised when the first episode starts; it is a :class:`ModelFatalError` too, so the runner stops the run
+    with this one line instead of recording an error episode per task.
+    """
 
 
 def encode_png(image: np.ndarray) -> bytes:
@@ -43,11 +78,35 @@ def encode_png(image: np.ndarray) -> bytes:
     return buf.getvalue()
 
 
-def response_schema(space: ActionSpace, language_only: bool) -> dict[str, Any]:
-    """JSON schema of a planner answer for ``space`` (sent where the backend supports it)."""
-    fields = [f for f in _FIELD_HELP if not (language_only and f == "visual_state_description")]
-    props: dict[str, Any] = {f: {"type": "string"} for f in fields if f != "executable_plan"}
-    props["executable_plan"] = {"type": "array", "items": space.plan_item_schema()}
+def answer_fields(with_image: bool) -> list[str]:
+    """The answer's fields in the original's order (no visual description without an image)."""
+    return [f for f in FIELDS if with_image or f != "visual_state_description"]
+
+
+def field_descriptions(space: ActionSpace, parts: PromptParts | None = None) -> dict[str, str]:
+    """What each answer field must hold: ours, with the world's own wording where it gives one."""
+    out = dict(_FIELD_HELP)
+    if isinstance(space, VectorActionSpace):
+        out["executable_plan"] = _VECTOR_PLAN_HELP
+    if parts is not None:
+        out.update({k: v for k, v in parts.field_descriptions.items() if k in out})
+    return out
+
+
+def response_schema(space: ActionSpace, language_only: bool, parts: PromptParts | None = None,
+                    max_plan_length: int | None = None) -> dict[str, Any]:
+    """JSON schema of a planner answer for ``space`` (sent where the backend supports it).
+
+    Every field carries a ``description`` (the original's generation guide); ``language_only`` (no image)
+    drops ``visual_state_description``.
+    """
+    fields = answer_fields(not language_only)
+    help_ = field_descriptions(space, parts)
+    props: dict[str, Any] = {f: {"type": "string", "description": help_[f]} for f in fields if f != "executable_plan"}
+    plan_help = help_["executable_plan"]
+    if max_plan_length is not None:
+        plan_help += f" At most {max_plan_length} actions."
+    props["executable_plan"] = {"type": "array", "description": plan_help, "items": space.plan_item_schema()}
     return {
         "name": "embodied_plan",
         "schema": {"type": "object", "properties": props, "required": fields, "additionalProperties": False},
@@ -64,24 +123,46 @@ class VLMPlanner:
         n = config.n_shot if config.n_shot is not None else env_config.default_n_shot
         self.n_shot = n
         self.use_schema = config.json_schema == "always" or (config.json_schema == "auto" and supports_json_schema)
-        self.language_only = config.language_only or not supports_images
+        self.text_state = config.text_state
+        # A model that takes no images runs blind unless the text-state ablation gives it the scene text.
+        self.language_only = config.language_only or (not supports_images and not config.text_state)
+        self.sends_images = not (self.language_only or self.text_state)
+        self.visual_icl = config.visual_icl
+        self.history_window = (config.history_window if config.history_window is not None
+                               else env_config.chat_history_window)
         self.task: Task | None = None
         self.parts: PromptParts | None = None
         self.space: ActionSpace | None = None
         self.history: list[str] = []
-        self.turns: deque[tuple[str, str]] = deque(maxlen=config.history_window)
+        self.turns: list[tuple[Message, bool]] = []
+        """Earlier chat messages (``chat_history``) with, for user turns, whether it was a full prompt."""
         self.frames: deque[np.ndarray] = deque(maxlen=config.multi_step_images)
-        self._pending_user_text = ""
+        """Primary images after reset and after each environment step (for ``multi_step_images``)."""
+        self.calls = 0
+        self._pending: Message | None = None
+        self._pending_full = True
         self.last_primary_png: bytes | None = None
         """PNG of the current primary image from the last request (the runner saves it instead of re-encoding)."""
 
     # -- episode state ------------------------------------------------------------------------
 
-    def reset(self, task: Task, parts: PromptParts, space: ActionSpace) -> None:
+    def reset(self, task: Task, parts: PromptParts, space: ActionSpace, obs: Observation | None = None) -> None:
+        if self.visual_icl and not parts.visual_examples:
+            raise PlannerConfigError(
+                f"ablation visual_icl needs visual in-context examples, and env {self.env_config.name!r} ships "
+                f"none; worlds with visual examples: {', '.join(VISUAL_ICL_WORLDS)} (env=...), or pick another ablation")
         self.task, self.parts, self.space = task, parts, space
         self.history.clear()
         self.turns.clear()
         self.frames.clear()
+        self.calls = 0
+        if obs is not None:
+            self.observe(obs)
+
+    def observe(self, obs: Observation) -> None:
+        """The observation after reset or after one environment step (the frames multi_step_images sends)."""
+        if obs.primary_image is not None:
+            self.frames.append(obs.primary_image)
 
     def set_action_space(self, space: ActionSpace) -> None:
         self.space = space
@@ -102,25 +183,37 @@ class VLMPlanner:
         self.history.append(f"Note: {reason}.")
 
     def record_answer(self, raw_text: str) -> None:
-        if self.config.chat_history:
-            self.turns.append((self._pending_user_text, raw_text))
+        if self.config.chat_history and self._pending is not None:
+            self.turns.append((self._pending, self._pending_full))
+            self.turns.append((Message(role="assistant", content=(TextPart(text=raw_text),)), False))
+        self._pending = None
 
     # -- prompt -------------------------------------------------------------------------------
 
+    def _examples(self) -> list[str]:
+        assert self.parts is not None
+        if self.visual_icl:
+            return []
+        pool = self.parts.examples
+        if not self.sends_images and self.parts.examples_language_only is not None:
+            pool = self.parts.examples_language_only
+        return list(pool[: self.n_shot])
+
     def _format_section(self) -> str:
         assert self.space is not None
-        fields = [f for f in _FIELD_HELP if not (self.language_only and f == "visual_state_description")]
+        fields = answer_fields(self.sends_images)
+        help_ = field_descriptions(self.space, self.parts)
         if self.use_schema:
-            text = "Answer with one JSON object following the schema you were given (fields: " + ", ".join(fields) + ")."
+            lines = ["Answer with one JSON object following the schema you were given, with these fields in order:"]
         else:
-            import json
-
-            lines = ["Answer with exactly one JSON object and nothing else. Its fields:"]
-            for f in fields:
-                lines.append(f'- "{f}": {_FIELD_HELP[f]}')
+            lines = ["Answer with exactly one JSON object and nothing else (no code fences), with these fields "
+                     "in order:"]
+        for i, f in enumerate(fields):
+            lines.append(f'{i + 1}. "{f}": {help_[f]}')
+        if not self.use_schema:
             example_item = json.dumps(self.space.plan_item_example())
             lines.append(f"Each item of executable_plan looks like {example_item}.")
-            text = "\n".join(lines)
+        text = "\n".join(lines)
         if self.parts and self.parts.output_notes:
             text += "\n" + self.parts.output_notes
         return text
@@ -133,63 +226,156 @@ class VLMPlanner:
             lines.append("Use only action ids that appear in the action list, with their exact names.")
         return lines
 
-    def prompt_text(self, obs: Observation) -> str:
+    def _image_names(self, obs: Observation) -> list[tuple[str, str]]:
+        """(key, description) of every current-observation image sent, in order."""
+        if not self.sends_images or obs.primary_image is None:
+            return []
+        assert self.parts is not None
+        desc = self.parts.view_descriptions
+        out: list[tuple[str, str]] = []
+        k = len(self.frames) if (self.config.multi_step_images > 1 and not self.visual_icl) else 1
+        if k > 1:
+            for i in range(k):
+                when = "now" if i == k - 1 else f"{k - 1 - i} step{'s' if k - 1 - i > 1 else ''} ago"
+                out.append((f"frame-{i}", f"{desc.get(obs.primary or '', 'your view')} ({when})"))
+        else:
+            out.append((obs.primary or "image", desc.get(obs.primary or "", "")))
+        if self.env_config.multi_view:
+            for name in obs.images:
+                if name != obs.primary:
+                    out.append((name, desc.get(name, f"the {name.replace('_', ' ')} view")))
+        return out
+
+    def _images_section(self, obs: Observation) -> str | None:
+        names = self._image_names(obs)
+        if not names:
+            return None
+        if len(names) == 1:
+            return f"## The image\nImage: {names[0][1]}." if names[0][1] else None
+        lines = [f"## The images\nYou get {len(names)} images, in this order:"]
+        lines += [f"Image {i + 1}: {d}." for i, (_, d) in enumerate(names)]
+        if self.config.multi_step_images > 1 and not self.visual_icl and len(self.frames) > 1:
+            lines.append(f"The first {len(self.frames)} are your view after each of your last environment steps, "
+                         f"oldest first; the last of them is the current view.")
+        return "\n".join(lines)
+
+    def _step_guidance(self) -> str:
+        assert self.parts is not None
+        return self.parts.first_step_guidance if self.calls == 0 else self.parts.later_step_guidance
+
+    def prompt_text(self, obs: Observation, full: bool = True) -> str:
+        """The text of the current user turn (``full=False``: the short chat-history turn)."""
         assert self.task is not None and self.parts is not None and self.space is not None
         p = self.parts
-        sections = [p.role.strip()]
-        if p.action_rules:
-            sections.append("## How the actions work\n" + p.action_rules.strip())
-        sections.append("## Action list\n" + self.space.describe())
-        examples = list(p.examples[: self.n_shot])
-        if examples:
-            sections.append("## Examples\n" + "\n\n".join(f"Example {i + 1}:\n{e.strip()}" for i, e in enumerate(examples)))
-        sections.append("## Guidelines\n" + "\n".join(f"{i + 1}. {g}" for i, g in enumerate(self._guidelines())))
+        sections: list[str] = []
+        if full:
+            sections.append(p.role.strip())
+            if p.action_rules:
+                sections.append("## How the actions work\n" + p.action_rules.strip())
+            sections.append("## Action list\n" + self.space.describe())
+            examples = self._examples()
+            if examples:
+                sections.append("## Examples\n" + "\n\n".join(f"Example {i + 1}:\n{e.strip()}"
+                                                              for i, e in enumerate(examples)))
+            sections.append("## Guidelines\n" + "\n".join(f"{i + 1}. {g}" for i, g in enumerate(self._guidelines())))
         task = f"## Your task\nInstruction: {self.task.instruction}"
         if obs.extra_prompt:
             task += "\n" + obs.extra_prompt.strip()
         sections.append(task)
-        if self.language_only:
+        if self.text_state:
             sections.append("## What you perceive\n" + (obs.text or "(no description available)"))
-        elif self.config.multi_step_images > 1 and len(self.frames) > 1:
-            sections.append(f"The images show your last {len(self.frames)} views, oldest first; the last one is now.")
+        images = self._images_section(obs)
+        if images:
+            sections.append(images)
         if self.history:
             sections.append("## What you have done so far\n" + "\n".join(self.history))
+            look = "the current image and " if self.sends_images else ""
+            sections.append("## Reflect and re-plan\nLook at " + look + "the history above: say what the "
+                            + ("feedback tells you and " if self.config.feedback else "")
+                            + "why the last plan did not finish the task, then plan from the current state.")
         else:
             sections.append("## What you have done so far\nNothing yet: this is the first step.")
+        guidance = self._step_guidance()
+        if guidance:
+            sections.append("## This step\n" + guidance.strip())
         sections.append("## Answer format\n" + self._format_section())
         return "\n\n".join(sections)
 
-    def build_request(self, obs: Observation, seed: int | None = None) -> ModelRequest:
-        text = self.prompt_text(obs)
-        self._pending_user_text = text
-        content: list[Any] = []
+    def _current_images(self, obs: Observation) -> list[ImagePart]:
         self.last_primary_png = None
-        if not self.language_only:
-            primary = obs.primary_image
-            if primary is not None:
-                self.last_primary_png = encode_png(primary)
-                self.frames.append(primary)
-                if self.config.multi_step_images > 1:
-                    for i, frame in enumerate(self.frames):
-                        png = self.last_primary_png if i == len(self.frames) - 1 else encode_png(frame)
-                        content.append(ImagePart(png=png, name=f"frame-{i}"))
-                else:
-                    content.append(ImagePart(png=self.last_primary_png, name=obs.primary or "image"))
-            if self.env_config.multi_view:
-                for name, img in obs.images.items():
-                    if name != obs.primary:
-                        content.append(ImagePart(png=encode_png(img), name=name))
-        content.append(TextPart(text=text))
-        messages: list[Message] = []
-        if self.config.chat_history:
-            for user_text, answer in self.turns:
-                messages.append(Message(role="user", content=(TextPart(text=user_text),)))
-                messages.append(Message(role="assistant", content=(TextPart(text=answer),)))
-        messages.append(Message(role="user", content=tuple(content)))
+        if not self.sends_images:
+            return []
+        primary = obs.primary_image
+        if primary is None:
+            return []
+        self.last_primary_png = encode_png(primary)
+        parts: list[ImagePart] = []
+        if self.config.multi_step_images > 1 and not self.visual_icl:
+            frames = list(self.frames) or [primary]
+            for i, frame in enumerate(frames):
+                # The newest frame is the current observation (after augmenters).
+                png = self.last_primary_png if i == len(frames) - 1 else encode_png(frame)
+                parts.append(ImagePart(png=png, name=f"frame-{i}"))
+        else:
+            parts.append(ImagePart(png=self.last_primary_png, name=obs.primary or "image"))
+        if self.env_config.multi_view:
+            for name, img in obs.images.items():
+                if name != obs.primary:
+                    parts.append(ImagePart(png=encode_png(img), name=name))
+        return parts
+
+    def _visual_examples(self) -> list[TextPart | ImagePart]:
+        assert self.parts is not None
+        out: list[TextPart | ImagePart] = [TextPart(text="## Examples with images")]
+        for i, ex in enumerate(self.parts.visual_examples):
+            pieces = ex.text.split("<image>")
+            images = list(ex.images) if self.sends_images else []
+            content: list[TextPart | ImagePart] = []
+            for j, piece in enumerate(pieces):
+                text = (f"Example {i + 1}:\n" if j == 0 else "") + piece.strip()
+                if text.strip():
+                    content.append(TextPart(text=text))
+                if j < len(pieces) - 1 and images:
+                    content.append(ImagePart(png=images.pop(0), name=f"example-{i + 1}"))
+            content += [ImagePart(png=png, name=f"example-{i + 1}") for png in images]
+            out += content
+        return out
+
+    def _window(self) -> list[tuple[Message, bool]]:
+        """Earlier turns that fit in the window together with the current user message."""
+        turns = list(self.turns)
+        if self.history_window is not None:
+            turns = turns[-(self.history_window - 1):] if self.history_window > 1 else []
+        while turns and turns[0][0].role != "user":
+            turns.pop(0)
+        return turns
+
+    def build_request(self, obs: Observation, seed: int | None = None) -> ModelRequest:
+        earlier = self._window() if self.config.chat_history else []
+        full = not any(is_full for _, is_full in earlier)
+        text = self.prompt_text(obs, full=full)
+        images = self._current_images(obs)
+        content: list[Any] = []
+        if self.visual_icl:
+            content.append(TextPart(text=text))
+            content += self._visual_examples()
+            if images:
+                content.append(TextPart(text="Below is your current observation. Plan for it, learning from the "
+                                             "strategy and the examples above, and answer only with the JSON "
+                                             "object."))
+                content += images
+        elif self.parts is not None and self.parts.text_before_images:
+            content = [TextPart(text=text), *images]
+        else:
+            content = [*images, TextPart(text=text)]
+        current = Message(role="user", content=tuple(content))
+        self._pending, self._pending_full = current, full
+        self.calls += 1
         assert self.space is not None
         return ModelRequest(
-            messages=tuple(messages),
-            response_schema=response_schema(self.space, self.language_only) if self.use_schema else None,
+            messages=tuple([m for m, _ in earlier] + [current]),
+            response_schema=(response_schema(self.space, not self.sends_images, self.parts,
+                                             self.config.max_plan_length) if self.use_schema else None),
             seed=seed,
         )
 

@@ -95,8 +95,16 @@ def test_env_exception_gives_an_error_episode_not_a_crash():
     assert rec.status == "error" and "the corridor exploded" in rec.error and not rec.success
 
 
-def test_language_only_sends_no_image_and_the_text_state():
+def test_language_only_sends_no_image_and_no_scene_text():
     rec, backend = play([plan(1, 1)], planner__language_only=True)
+    parts = backend.requests[0].messages[-1].content
+    assert not any(isinstance(p, ImagePart) for p in parts)
+    assert "You are at cell 0" not in backend.requests[0].messages[-1].text
+    assert "visual_state_description" not in backend.requests[0].messages[-1].text
+
+
+def test_text_state_sends_no_image_and_the_text_state():
+    rec, backend = play([plan(1, 1)], planner__text_state=True)
     parts = backend.requests[0].messages[-1].content
     assert not any(isinstance(p, ImagePart) for p in parts)
     assert "You are at cell 0" in backend.requests[0].messages[-1].text
@@ -116,7 +124,7 @@ def test_multi_step_images_and_multi_view():
 
 
 def test_chat_history_sends_earlier_turns():
-    rec, backend = play([plan(0), plan(1), plan(1, 1)], planner__chat_history=True, planner__history_window=1)
+    rec, backend = play([plan(0), plan(1), plan(1, 1)], planner__chat_history=True, planner__history_window=3)
     roles = [m.role for m in backend.requests[2].messages]
     assert roles == ["user", "assistant", "user"]
 
