@@ -172,7 +172,7 @@ def _worker_main(cfg_dict: dict[str, Any], run_dir: str, plugin_modules: list[st
                     planner=comps.make_planner(backend),
                     backend=backend, env_config=cfg.env, step_dir=files.staging_dir(task.id, repeat),
                     save_images=cfg.runner.save_images, augmenters=comps.augmenters, budget=budget,
-                    hook=registry.pm.hook, run_dir=run_dir,
+                    hook=registry.pm.hook, run_dir=run_dir, expert_labels=cfg.runner.expert_labels,
                 )
             except ModelFatalError as exc:
                 conn.send(("fatal", str(exc)))
@@ -404,7 +404,7 @@ def _run_inline(cfg: RunConfig, comps: Components, files: RunFiles, pending: lis
                     planner=comps.make_planner(backend),
                     backend=backend, env_config=cfg.env, step_dir=files.staging_dir(task.id, repeat),
                     save_images=cfg.runner.save_images, augmenters=comps.augmenters, budget=budget, hook=hook,
-                    run_dir=str(files.root),
+                    run_dir=str(files.root), expert_labels=cfg.runner.expert_labels,
                 )
             except ModelFatalError as exc:
                 raise RunError(str(exc)) from None
