@@ -77,8 +77,9 @@ class LiteLLMSettings(BackendSettings):
     """Whether the model takes images; language-only models get the observation's text instead."""
     supports_json_schema: bool = False
     """Send the planner's JSON schema as ``response_format`` (else the prompt carries a textual format)."""
-    json_schema_strict: bool | None = None
-    """OpenAI ``strict`` flag for the schema; null = on when the schema fits strict mode's rules."""
+    json_schema_strict: bool | None = False
+    """OpenAI ``strict`` flag for the schema: false as the original (which sent none); null = on when the
+    schema fits strict mode's rules."""
     max_tokens: int = Field(default=2048, ge=1)
     """Output limit requested per call (the planner asks for 2048; the smaller of the two is sent)."""
     temperature: float | None = Field(default=None, ge=0)
@@ -126,7 +127,7 @@ def _import_litellm() -> Any:
     except ModuleNotFoundError as exc:
         from eb_core.specs import MissingDependencyError
 
-        raise MissingDependencyError("the litellm backend needs litellm: pip install 'litellm==1.106.2'") from exc
+        raise MissingDependencyError("the litellm backend needs litellm: pip install 'litellm==1.110.2'") from exc
     litellm.suppress_debug_info = True
     litellm.set_verbose = False
     litellm.telemetry = False

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from eb_core import ModelBackendSpec, hookimpl
 
-LITELLM_INSTALL = "pip install 'litellm==1.106.2'"
+LITELLM_INSTALL = "pip install 'litellm==1.110.2'"
 
 
 @hookimpl

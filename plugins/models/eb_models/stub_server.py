@@ -57,6 +57,7 @@ class RecordedRequest:
     method: str
     path: str
     headers: dict[str, str]
+    """Header names in Title-Case whatever case the client sent (HTTP names are case-insensitive)."""
     body: Any
     """The parsed JSON body (None if it was not JSON)."""
     received_at: float
@@ -160,7 +161,7 @@ class _Handler(BaseHTTPRequestHandler):
 
     def do_GET(self) -> None:
         stub = self.server.stub
-        stub._record(RecordedRequest("GET", self.path, dict(self.headers), None, time.time()))
+        stub._record(RecordedRequest("GET", self.path, {k.title(): v for k, v in self.headers.items()}, None, time.time()))
         if self.path.rstrip("/").endswith("/models"):
             self._send(200, json.dumps({"object": "list", "data": [{"id": "stub", "object": "model"}]}).encode())
         else:
@@ -174,7 +175,7 @@ class _Handler(BaseHTTPRequestHandler):
             body: Any = json.loads(raw)
         except ValueError:
             body = None
-        stub._record(RecordedRequest("POST", self.path, dict(self.headers), body, time.time()))
+        stub._record(RecordedRequest("POST", self.path, {k.title(): v for k, v in self.headers.items()}, body, time.time()))
         if not self.path.rstrip("/").endswith("/chat/completions"):
             self._send(404, b'{"error": {"message": "unknown path"}}')
             return
