@@ -68,8 +68,8 @@ def wilson_interval(successes: Any, n: Any, level: float = LEVEL) -> tuple[np.nd
         denom = 1 + z * z / np.where(n_ > 0, n_, 1)
         centre = (p + z * z / (2 * np.where(n_ > 0, n_, 1))) / denom
         half = z * np.sqrt(p * (1 - p) / np.where(n_ > 0, n_, 1) + z * z / (4 * np.where(n_ > 0, n_, 1) ** 2)) / denom
-    lo = np.where(n_ > 0, np.clip(centre - half, 0.0, 1.0), 0.0)
-    hi = np.where(n_ > 0, np.clip(centre + half, 0.0, 1.0), 1.0)
+    lo = np.where((n_ > 0) & (k > 0), np.clip(centre - half, 0.0, 1.0), 0.0)  # exact ends at 0/n and n/n
+    hi = np.where((n_ > 0) & (k < n_), np.clip(centre + half, 0.0, 1.0), 1.0)
     return lo, hi
 
 
