@@ -3,8 +3,9 @@
 The global part (the same ids in every scene, so in-context examples stay valid) has one ``find`` per type,
 one ``pick up`` per pickupable type, the single ``put down`` and ``drop``, ``open``/``close`` per openable,
 ``turn on``/``turn off`` per toggleable and ``slice`` per sliceable type. Each additional instance of a type in
-the scene (``Cabinet_2``, ``Apple_3``) appends the same kinds of actions with its suffix, so the list's length
-depends on the scene.
+the scene (``Cabinet_2``, ``Apple_3``) appends only ``find`` (and ``open``/``close`` for openables), as in the
+original: picking up, switching and slicing use the un-suffixed name, which acts on the nearest instance
+(:meth:`eb_alfred.world.World.resolve`). The list's length depends on the scene.
 """
 
 from __future__ import annotations
@@ -12,11 +13,11 @@ from __future__ import annotations
 from eb_alfred.catalog import TYPES
 from eb_alfred.world import VERBS, World, instance_index
 
-__all__ = ["GLOBAL_ACTIONS", "scene_actions", "actions_for"]
+__all__ = ["GLOBAL_ACTIONS", "scene_actions", "actions_for", "extra_actions_for"]
 
 
 def actions_for(name: str, type_name: str) -> list[str]:
-    """The actions that name one instance (or the type's first instance when ``name`` has no suffix)."""
+    """Every action kind that applies to a type, written with ``name`` (used for the global list)."""
     t = TYPES[type_name]
     out = [VERBS["find"].format(name)]
     if t.pickupable:
@@ -27,6 +28,14 @@ def actions_for(name: str, type_name: str) -> list[str]:
         out += [VERBS["toggle_on"].format(name), VERBS["toggle_off"].format(name)]
     if t.sliceable:
         out.append(VERBS["slice"].format(name))
+    return out
+
+
+def extra_actions_for(name: str, type_name: str) -> list[str]:
+    """The actions an additional instance (``Cabinet_2``) adds: find, and open/close if it opens."""
+    out = [VERBS["find"].format(name)]
+    if TYPES[type_name].openable:
+        out += [VERBS["open"].format(name), VERBS["close"].format(name)]
     return out
 
 
@@ -52,5 +61,5 @@ def scene_actions(world: World) -> tuple[str, ...]:
     keyed = sorted((instance_index(n), n) for n in world.objects)
     for (base, idx), name in keyed:
         if idx >= 2:
-            extra += actions_for(name, world.objects[name].type)
+            extra += extra_actions_for(name, world.objects[name].type)
     return GLOBAL_ACTIONS + tuple(extra)

@@ -18,6 +18,7 @@ from eb_alfred.actions import scene_actions
 from eb_alfred.describe import describe
 from eb_alfred.goals import conditions, evaluate
 from eb_alfred.oracle import expert_plan as _expert_plan
+from eb_alfred.oracle import why_unreachable
 from eb_alfred.prompts import prompt_parts as _prompt_parts
 from eb_alfred.tasks import load_all
 from eb_alfred.world import World
@@ -82,6 +83,7 @@ class AlfredEnv(Env):
         self._world = World.from_scene(task.metadata["scene"])
         self._goal = task.metadata["goal"]
         self._space = DiscreteActionSpace(actions=scene_actions(self._world))
+        self.expert_reason = None
         if self.params.render:
             if self._renderer is None:
                 from eb_alfred.render import AlfredRenderer
@@ -120,10 +122,14 @@ class AlfredEnv(Env):
         return _prompt_parts(subset)
 
     def expert_plan(self) -> list[int] | None:
+        """The shortest plan the expert finds from the current state (a function of the state only); None with
+        :attr:`expert_reason` set when the goal can no longer be reached."""
         world, space = self._require()
         plan = _expert_plan(world, self._goal)  # type: ignore[arg-type]
         if plan is None:
+            self.expert_reason = why_unreachable(world, self._goal)  # type: ignore[arg-type]
             return None
+        self.expert_reason = None
         return [space.actions.index(a) for a in plan]
 
     def close(self) -> None:

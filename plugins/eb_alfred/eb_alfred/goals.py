@@ -5,8 +5,11 @@ A goal names objects by a *reference*: ``{"type": "Apple"}`` (any apple) or ``{"
 into a short list of :class:`Condition` s; the task succeeds when all hold at once, and its progress is
 the fraction that holds (the paper's subgoal success).
 
-Condition counts: pick & place 1, pick two & place 2, examine in light 2, heat / cool / clean & place 3,
-stack & place 3 (one more when the object must also be sliced).
+Condition counts follow the original's ``goal_conditions_met`` (``env/tasks.py``): pick & place 1, pick two &
+place 2, examine in light 2, heat / cool / clean & place 3, stack & place 3; a sliced variant adds one
+(``isSliced``), or two for pick two (two slices). As in the original, a sliced goal is about slices: only sliced
+instances count for the other conditions. An unsliced goal is about a whole object: an instance that has been
+sliced no longer counts (so slicing the only apple makes "put a washed apple in the fridge" unreachable).
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ from typing import Any
 
 from eb_alfred.world import World
 
-__all__ = ["Condition", "GOAL_KINDS", "conditions", "matches", "candidates", "evaluate", "PROPERTY_OF_KIND"]
+__all__ = ["Condition", "GOAL_KINDS", "conditions", "matches", "candidates", "usable", "evaluate", "PROPERTY_OF_KIND"]
 
 GOAL_KINDS = (
     "pick_and_place",
@@ -72,26 +75,43 @@ def _inside(world: World, name: str, recep_ref: dict[str, str]) -> bool:
     return parent is not None and not world.is_held(name) and matches(world, recep_ref, parent)
 
 
+def usable(world: World, goal: dict[str, Any]) -> list[str]:
+    """The instances that can serve as the goal's object in the current state.
+
+    A sliced goal needs slices (the original's ``AppleSliced``), so only sliced instances count for placing,
+    heating, holding...; an unsliced goal needs a whole object, so a sliced instance no longer counts.
+    """
+    want_sliced = bool(goal.get("sliced"))
+    return [x for x in candidates(world, goal["object"]) if world.objects[x].is_sliced == want_sliced]
+
+
 _PRED = {"hot": "isHot", "cold": "isCool", "clean": "isClean", "sliced": "isSliced"}
 
 
 def conditions(goal: dict[str, Any]) -> list[Condition]:
-    """Expand a goal into its conditions (see the module docstring)."""
+    """Expand a goal into its conditions, counted as the original's ``goal_conditions_met`` counts them."""
     kind = goal["kind"]
     obj = goal["object"]
-    props = ([("sliced")] if goal.get("sliced") else []) + ([PROPERTY_OF_KIND[kind]] if kind in PROPERTY_OF_KIND else [])
+    sliced = bool(goal.get("sliced"))
+    prop = PROPERTY_OF_KIND.get(kind)
     o = _ref_text(obj)
+    xo = f"{o}Sliced" if sliced else o
     conds: list[Condition] = []
 
     def some(pred: Callable[[World, str], bool]) -> Callable[[World], bool]:
-        return lambda w: any(pred(w, x) for x in candidates(w, obj))
+        return lambda w: any(pred(w, x) for x in usable(w, goal))
 
-    for p in props:
-        conds.append(Condition(f"({_PRED[p]} {o})", some(lambda w, x, p=p: _has(w, x, p))))
+    def n_sliced(w: World) -> int:
+        return sum(1 for x in candidates(w, obj) if w.objects[x].is_sliced)
+
+    if sliced:
+        conds.append(Condition(f"(isSliced {o})", lambda w: n_sliced(w) >= 1))
+        if kind == "pick_two_and_place":
+            conds.append(Condition(f"(isSliced {o}_second)", lambda w: n_sliced(w) >= 2))
 
     if kind == "examine_in_light":
         lamp = goal["lamp"]
-        conds.append(Condition(f"(holds {o})", some(lambda w, x: w.held == x)))
+        conds.append(Condition(f"(holds {xo})", some(lambda w, x: w.held == x)))
         conds.append(Condition(f"(and (isToggled {_ref_text(lamp)}) (atLocation agent {_ref_text(lamp)}))",
                                lambda w: any(w.objects[lm].is_on and w.near(lm) for lm in candidates(w, lamp))))
         return conds
@@ -99,10 +119,16 @@ def conditions(goal: dict[str, Any]) -> list[Condition]:
     recep = goal["receptacle"]
     r = _ref_text(recep)
     if kind == "pick_two_and_place":
-        def count(w: World) -> int:
-            return sum(1 for x in candidates(w, obj) if _inside(w, x, recep) and all(_has(w, x, p) for p in props))
-        conds.append(Condition(f"(inReceptacle {o} {r})", lambda w: count(w) >= 1))
-        conds.append(Condition(f"(inReceptacle {o}_second {r})", lambda w: count(w) >= 2))
+        def best(w: World) -> int:
+            """Most usable objects inside one receptacle (both must share it, as in the original)."""
+            counts: dict[str, int] = {}
+            for x in usable(w, goal):
+                if _inside(w, x, recep):
+                    parent = w.objects[x].parent
+                    counts[parent] = counts.get(parent, 0) + 1  # type: ignore[index]
+            return max(counts.values(), default=0)
+        conds.append(Condition(f"(inReceptacle {xo} {r})", lambda w: best(w) >= 1))
+        conds.append(Condition(f"(inReceptacle {xo}_second {r})", lambda w: best(w) >= 2))
         return conds
 
     if kind == "stack_and_place":
@@ -113,17 +139,17 @@ def conditions(goal: dict[str, Any]) -> list[Condition]:
             parent = w.objects[x].parent
             return parent if parent is not None and matches(w, mov, parent) else None
 
-        conds.append(Condition(f"(inReceptacle {o} {m})", some(lambda w, x: x_in_m(w, x) is not None)))
+        conds.append(Condition(f"(inReceptacle {xo} {m})", some(lambda w, x: x_in_m(w, x) is not None)))
         conds.append(Condition(f"(inReceptacle {m} {r})", lambda w: any(_inside(w, y, recep) for y in candidates(w, mov))))
-        conds.append(Condition(f"(and (inReceptacle {o} {m}) (inReceptacle {m} {r}))",
-                               some(lambda w, x: (mm := x_in_m(w, x)) is not None and _inside(w, mm, recep)
-                                    and all(_has(w, x, p) for p in props))))
+        conds.append(Condition(f"(and (inReceptacle {xo} {m}) (inReceptacle {m} {r}))",
+                               some(lambda w, x: (mm := x_in_m(w, x)) is not None and _inside(w, mm, recep))))
         return conds
 
-    conds.append(Condition(f"(inReceptacle {o} {r})", some(lambda w, x: _inside(w, x, recep))))
-    if props:
-        conds.append(Condition(f"(and {' '.join(f'({_PRED[p]} {o})' for p in props)} (inReceptacle {o} {r}))",
-                               some(lambda w, x: _inside(w, x, recep) and all(_has(w, x, p) for p in props))))
+    conds.append(Condition(f"(inReceptacle {xo} {r})", some(lambda w, x: _inside(w, x, recep))))
+    if prop is not None:
+        conds.append(Condition(f"({_PRED[prop]} {xo})", some(lambda w, x: _has(w, x, prop))))
+        conds.append(Condition(f"(and ({_PRED[prop]} {xo}) (inReceptacle {xo} {r}))",
+                               some(lambda w, x: _inside(w, x, recep) and _has(w, x, prop))))
     return conds
 
 

@@ -1,23 +1,41 @@
-"""The oracle planner: a search over the symbolic state for the shortest plan that reaches the goal.
+"""The expert: a shortest-plan search from the CURRENT symbolic state, whatever actions led there.
 
-The search is over *bindings* (which apple, which cabinet, which knife, which microwave...) and a few
-orderings; for each it expands skill macros (fetch, put into, heat, cool, clean, slice, light) step by step
-on a copy of the world, so every plan it returns has been executed symbolically and is known to succeed.
-The shortest successful plan wins (ties: the first in a stable order). Plans start from the CURRENT state,
-so the oracle can be asked again after any failure.
+The plan is a function of the state only (what is held, where everything is, open/closed, on/off, sliced,
+clean/hot/cold, where the agent stands and what it faces), never of the task template. The search tries every
+*binding* (which apple, which cabinet, knife, microwave, fridge, sink basin, lamp, movable receptacle) and a few
+orderings of the sub-goals; each candidate is expanded by state-driven skill macros on a copy of the world:
+
+* ``pick(x)``: nothing if ``x`` is in hand; else free the hand, walk to ``x`` unless it is already the nearest
+  one of its kind, open what hides it (switching a running microwave off first) and pick it up.
+* ``put_into(r)``: face ``r`` (unless ``put down`` already targets it), uncover and open it, put down.
+* ``heat / cool / clean``: nothing if ``x`` already has the property; if ``x`` already sits in the appliance,
+  only the missing switch steps (close, turn on / close / turn on the faucet); else bring it there first.
+* ``slice(x)``: nothing if sliced; else a knife in hand (the held one if any), walk to ``x``, slice.
+
+Every action a macro takes is executed by the world's own rules, so a returned plan is known to succeed; the
+shortest over all candidates wins (branch and bound: a candidate is cut once it is as long as the best so far).
+Because the macros skip whatever the state already satisfies, the tail of an expert plan is again an expert
+plan: following its first action and asking again (closed loop) reaches the goal. :func:`why_unreachable` says
+why no plan exists (e.g. the only apple was sliced and the task needs it whole).
 """
 
 from __future__ import annotations
 
 import itertools
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from typing import Any
 
 from eb_alfred.catalog import KNIVES, TYPES, fits
-from eb_alfred.goals import PROPERTY_OF_KIND, candidates, evaluate
-from eb_alfred.world import World
+from eb_alfred.goals import PROPERTY_OF_KIND, candidates, evaluate, usable
+from eb_alfred.world import VERBS, World
 
-__all__ = ["expert_plan"]
+__all__ = ["expert_plan", "why_unreachable", "DEFAULT_LIMIT"]
+
+DEFAULT_LIMIT = 40
+"""The longest plan the expert looks for (the episode budget is 30 steps)."""
+
+_PUT = VERBS["put"]
+_DROP = VERBS["drop"]
 
 
 class _Fail(Exception):
@@ -25,218 +43,360 @@ class _Fail(Exception):
 
 
 class _Sim:
-    """A world copy that records the actions it takes; any failed action aborts the candidate."""
+    """A world copy that records the actions it takes; a failed action or the length limit aborts it."""
 
     def __init__(self, world: World, limit: int) -> None:
         self.w = world.copy()
+        self.w.history = []
         self.plan: list[str] = []
         self.limit = limit
 
+    def fork(self) -> _Sim:
+        twin = _Sim.__new__(_Sim)
+        twin.w = self.w.copy()
+        twin.plan = list(self.plan)
+        twin.limit = self.limit
+        return twin
+
+    def _room(self) -> None:
+        if len(self.plan) >= self.limit:
+            raise _Fail("too long")
+
     def do(self, action: str) -> None:
+        self._room()
         ok, _ = self.w.step(action)
         if not ok:
             raise _Fail(action)
         self.plan.append(action)
-        if len(self.plan) > self.limit:
-            raise _Fail("too long")
 
     def try_do(self, action: str) -> bool:
-        probe = self.w.copy()
-        ok, _ = probe.step(action)
+        self._room()
+        ok, _ = self.w.step(action)  # a failed action changes nothing
         if ok:
-            self.do(action)
+            self.plan.append(action)
         return ok
+
+    def act(self, verb: str, x: str) -> None:
+        """Apply ``verb`` to instance ``x`` through the action names that exist (type names act on the nearest)."""
+        w = self.w
+        name = x if verb in ("open", "close") else w.objects[x].type
+        if w.resolve(verb, name) != x:
+            self.do(VERBS["find"].format(x))
+            if w.resolve(verb, name) != x:
+                raise _Fail(f"cannot single out {x}")
+        self.do(VERBS[verb].format(name))
 
     # ---------------------------------------------------------------- macros
     def free_hand(self) -> None:
         if self.w.held is None:
             return
-        if not self.try_do("put down the object in hand"):
-            self.do("drop the object in hand")
+        if self.w.target_recep is None or not self.try_do(_PUT):
+            self.do(_DROP)
 
-    def reach(self, x: str) -> None:
-        """Be at ``x``'s place with ``x`` visible."""
-        if not self.w.near(x) or self.w.facing is None:
-            self.do(f"find a {x}")
+    def uncover(self, x: str) -> None:
+        """Open every closed receptacle around ``x`` (the agent stands at ``x``'s place)."""
         while (c := self.w.closed_container(x)) is not None:
-            self.do(f"open the {c}")
+            self.open(c)
 
-    def face(self, x: str) -> None:
-        """Stand at ``x`` and face it (so ``put down`` targets it)."""
-        if self.w.target_recep != x:
-            self.do(f"find a {x}")
-        while (c := self.w.closed_container(x)) is not None:
-            self.do(f"open the {c}")
+    def open(self, c: str) -> None:
+        if self.w.objects[c].is_on:
+            self.act("toggle_off", c)
+        self.act("open", c)
 
-    def fetch(self, x: str) -> None:
-        if self.w.held == x:
+    def pick(self, x: str) -> None:
+        w = self.w
+        if w.held == x:
             return
         self.free_hand()
-        self.reach(x)
-        self.do(f"pick up the {x}")
+        if not w.near(x):
+            self.do(VERBS["find"].format(x))
+        self.uncover(x)
+        self.act("pickup", x)  # finds x first if another one of its kind is nearer
+        if w.held != x:
+            raise _Fail(f"picked the wrong {w.objects[x].type}")
 
     def put_into(self, r: str) -> None:
-        self.face(r)
-        if self.w.target_recep != r:
-            raise _Fail(f"cannot face {r}")
-        if TYPES[self.w.objects[r].type].openable and not self.w.objects[r].is_open:
-            self.do(f"open the {r}")
-        self.do("put down the object in hand")
-
-    def slice(self, x: str, knife: str) -> None:
-        if self.w.objects[x].is_sliced:
-            return
-        self.fetch(knife)
-        self.reach(x)
-        self.do(f"slice the {x}")
-
-    def heat(self, x: str, mw: str) -> None:
-        if self.w.objects[x].is_hot:
-            return
-        self.fetch(x)
-        self.face(mw)
-        if self.w.objects[mw].is_on:
-            self.do(f"turn off the {mw}")
-        self.put_into(mw)
-        self.do(f"close the {mw}")
-        self.do(f"turn on the {mw}")
-        self.do(f"turn off the {mw}")
-        self.do(f"open the {mw}")
-        self.do(f"pick up the {x}")
-
-    def cool(self, x: str, fridge: str) -> None:
-        if self.w.objects[x].is_cold:
-            return
-        self.fetch(x)
-        self.put_into(fridge)
-        self.do(f"close the {fridge}")
-        self.do(f"open the {fridge}")
-        self.do(f"pick up the {x}")
-
-    def clean(self, x: str, basin: str) -> None:
-        if not self.w.objects[x].is_dirty:
-            return
-        self.fetch(x)
-        self.put_into(basin)
-        faucet = self.w.faucet_of(basin)
-        if faucet is None:
-            raise _Fail("no faucet")
-        if self.w.objects[x].is_dirty:
-            self.do(f"turn on the {faucet}")
-            self.do(f"turn off the {faucet}")
-        self.do(f"pick up the {x}")
+        w = self.w
+        held = w.held
+        if held is None:
+            raise _Fail("nothing to put")
+        if w.target_recep != r or not w.near(r):
+            self.do(VERBS["find"].format(r))
+            if w.target_recep != r:
+                raise _Fail(f"put down would not target {r}")
+        self.uncover(r)
+        o = w.objects[r]
+        if TYPES[o.type].openable and not o.is_open:
+            self.open(r)
+        self.do(_PUT)
+        if w.objects[held].parent != r:
+            raise _Fail("put elsewhere")
 
     def place(self, x: str, r: str) -> None:
         if self.w.objects[x].parent == r and not self.w.is_held(x):
             return
-        self.fetch(x)
+        self.pick(x)
         self.put_into(r)
 
+    def _in_settled(self, x: str, container: str) -> bool:
+        return container in self.w.ancestors(x) and not self.w.is_held(x)
 
-def _goal_done(goal: dict[str, Any], w: World) -> bool:
-    return evaluate(goal, w)[0]
+    def heat(self, x: str, mw: str) -> None:
+        w = self.w
+        if w.objects[x].is_hot:
+            return
+        if self._in_settled(x, mw):
+            if not w.near(mw):
+                self.do(VERBS["find"].format(mw))
+            if w.objects[mw].is_on:
+                self.act("toggle_off", mw)
+            if w.objects[mw].is_open:
+                self.act("close", mw)
+        else:
+            self.pick(x)
+            self.put_into(mw)
+            self.act("close", mw)
+        self.act("toggle_on", mw)
+        if not w.objects[x].is_hot:
+            raise _Fail("not heated")
 
+    def cool(self, x: str, fridge: str) -> None:
+        w = self.w
+        if w.objects[x].is_cold:
+            return
+        if self._in_settled(x, fridge):
+            if not w.near(fridge):
+                self.do(VERBS["find"].format(fridge))
+            if not w.objects[fridge].is_open:
+                self.act("open", fridge)
+        else:
+            self.pick(x)
+            self.put_into(fridge)
+        self.act("close", fridge)
+        if not w.objects[x].is_cold:
+            raise _Fail("not cooled")
 
-def _run(world: World, goal: dict[str, Any], limit: int, body: Callable[[_Sim], None]) -> list[str] | None:
-    sim = _Sim(world, limit)
-    try:
-        body(sim)
-    except _Fail:
-        return None
-    return sim.plan if _goal_done(goal, sim.w) else None
+    def clean(self, x: str, basin: str) -> None:
+        w = self.w
+        if not w.objects[x].is_dirty:
+            return
+        faucet = w.faucet_of(basin)
+        if faucet is None:
+            raise _Fail("no faucet")
+        if self._in_settled(x, basin):
+            if not w.near(basin):
+                self.do(VERBS["find"].format(basin))
+        else:
+            self.pick(x)
+            self.put_into(basin)
+        if w.objects[x].is_dirty:
+            if w.objects[faucet].is_on:
+                self.act("toggle_off", faucet)
+            self.act("toggle_on", faucet)
+        if w.objects[x].is_dirty:
+            raise _Fail("not washed")
+
+    def slice(self, x: str, knife: str | None) -> None:
+        w = self.w
+        if w.objects[x].is_sliced:
+            return
+        if w.held is None or w.objects[w.held].type not in KNIVES:
+            if knife is None:
+                raise _Fail("no knife")
+            self.pick(knife)
+        if not w.near(x):
+            self.do(VERBS["find"].format(x))
+        self.uncover(x)
+        self.act("slice", x)
+
+    def light(self, x: str, lamp: str) -> None:
+        w = self.w
+        self.pick(x)
+        if not w.near(lamp):
+            self.do(VERBS["find"].format(lamp))
+        if not w.objects[lamp].is_on:
+            self.act("toggle_on", lamp)
 
 
 def _fitting(world: World, obj: str, receps: Iterable[str]) -> list[str]:
     t = world.objects[obj].type
-    return [r for r in receps if fits(t, world.objects[r].type) and r != obj]
+    return [r for r in receps if r != obj and fits(t, world.objects[r].type)]
 
 
-def _candidate_bodies(world: World, goal: dict[str, Any]) -> Iterable[Callable[[_Sim], None]]:
+def _situation(world: World, name: str, anchors: set[str] | None, watch: set[str]) -> tuple[Any, ...]:
+    """What makes two instances interchangeable for planning: their states, what hides them, which watched
+    objects (goal objects) they hold, and their place -- but only when that place matters (``anchors``: where
+    the agent or another bound object is); any other place costs the same one ``find``."""
+    o = world.objects[name]
+    place = world.place_of(name)
+    if anchors is not None and place not in anchors:
+        place = None
+    t = TYPES[o.type]
+    kind = "knife" if o.type in KNIVES else o.type
+    return (kind, place, world.closed_container(name), world.is_held(name), t.openable and o.is_open, o.is_on,
+            o.is_sliced, o.is_dirty, o.is_hot, o.is_cold, name == world.facing,
+            tuple(c for c in world.children(name) if c in watch))
+
+
+def _distinct(world: World, names: Iterable[str], anchors: set[str] | None = None,
+              watch: set[str] = frozenset()) -> list[str]:  # type: ignore[assignment]
+    """One instance per situation (the first): the others would give plans of the same length."""
+    seen: set[tuple[Any, ...]] = set()
+    out = []
+    for n in names:
+        key = _situation(world, n, anchors, watch)
+        if key not in seen:
+            seen.add(key)
+            out.append(n)
+    return out
+
+
+def _knives(world: World, anchors: set[str] | None = None) -> list[str]:
+    """The held knife if there is one (slicing uses it whatever the binding), else one knife per situation."""
+    ks = [k for t in sorted(KNIVES) for k in world.of_type(t)]
+    held = [k for k in ks if world.held == k]
+    return held or _distinct(world, ks, anchors)
+
+
+def _helpers(world: World, prop: str | None, watch: set[str]) -> list[str | None]:
+    if prop == "hot":
+        return list(_distinct(world, world.of_type("Microwave"), watch=watch))
+    if prop == "cold":
+        return list(_distinct(world, world.of_type("Fridge"), watch=watch))
+    if prop == "clean":
+        basins = [b for b in world.of_type("SinkBasin") if world.faucet_of(b) is not None]
+        return list(_distinct(world, basins, watch=watch))
+    return [None]
+
+
+def _objects(world: World, goal: dict[str, Any]) -> list[str]:
+    """Instances that are, or can still become, the goal's object (whole ones for a sliced goal get sliced)."""
+    if goal.get("sliced"):
+        return [x for x in candidates(world, goal["object"]) if TYPES[world.objects[x].type].sliceable
+                or world.objects[x].is_sliced]
+    return usable(world, goal)
+
+
+Step = tuple[str, ...]
+"""One macro call, e.g. ``("place", "Apple_2", "Fridge")``; a candidate plan is a sequence of them."""
+
+
+def _sequences(world: World, goal: dict[str, Any]) -> Iterable[tuple[Step, ...]]:
+    """Every candidate (bindings x sub-goal orderings) as a sequence of macro calls."""
     kind = goal["kind"]
-    xs = candidates(world, goal["object"])
-    knives = [k for t in KNIVES for k in world.of_type(t)] if goal.get("sliced") else [None]
+    sliced = bool(goal.get("sliced"))
     prop = PROPERTY_OF_KIND.get(kind)
-    helpers = {
-        "hot": world.of_type("Microwave"),
-        "cold": world.of_type("Fridge"),
-        "clean": [b for b in world.of_type("SinkBasin") if world.faucet_of(b) is not None],
-        None: [None],
-    }[prop]
+    xs = _objects(world, goal)
+    watch = set(xs)
+    anchors = {world.place} | {world.place_of(x) for x in xs}  # type: ignore[misc]
+    if kind != "pick_two_and_place":  # pick two needs two of them, interchangeable or not
+        xs = _distinct(world, xs)
+    helpers = _helpers(world, prop, watch)
+    lamps = _distinct(world, candidates(world, goal["lamp"])) if "lamp" in goal else []
+    ms = _distinct(world, candidates(world, goal["movable"]), watch=watch) if "movable" in goal else []
+    anchors |= {world.place_of(y) for y in [*helpers, *lamps, *ms] if y is not None}
+    knives: list[str | None] = list(_knives(world, anchors)) if sliced else [None]
+    if sliced and not knives:
+        return
+    anchors |= {world.place_of(k) for k in knives if k is not None}
+    rs = _distinct(world, candidates(world, goal["receptacle"]), anchors, watch) if "receptacle" in goal else []
 
-    def prepare(sim: _Sim, x: str, knife: str | None) -> None:
-        if knife is not None:
-            sim.slice(x, knife)
+    def cut(x: str, knife: str | None) -> tuple[Step, ...]:
+        return (("slice", x, knife),) if sliced and knife is not None else ()
 
     if kind == "examine_in_light":
-        for x, lamp, knife in itertools.product(xs, candidates(world, goal["lamp"]), knives):
-            def body(sim: _Sim, x=x, lamp=lamp, knife=knife) -> None:
-                prepare(sim, x, knife)
-                sim.fetch(x)
-                if not sim.w.near(lamp):
-                    sim.do(f"find a {lamp}")
-                if not sim.w.objects[lamp].is_on:
-                    sim.do(f"turn on the {lamp}")
-            yield body
+        for x, lamp, knife in itertools.product(xs, lamps, knives):
+            yield (*cut(x, knife), ("light", x, lamp))
         return
 
-    rs = candidates(world, goal["receptacle"])
     if kind == "stack_and_place":
-        ms = candidates(world, goal["movable"])
         for x, m, knife in itertools.product(xs, ms, knives):
             if not fits(world.objects[x].type, world.objects[m].type):
                 continue
             for r in _fitting(world, m, rs):
-                def first_x(sim: _Sim, x=x, m=m, r=r, knife=knife) -> None:
-                    prepare(sim, x, knife)
-                    sim.place(x, m)
-                    sim.place(m, r)
-
-                def first_m(sim: _Sim, x=x, m=m, r=r, knife=knife) -> None:
-                    prepare(sim, x, knife)
-                    sim.place(m, r)
-                    sim.place(x, m)
-                yield first_x
-                yield first_m
+                yield (*cut(x, knife), ("place", x, m), ("place", m, r))
+                yield (*cut(x, knife), ("place", m, r), ("place", x, m))
         return
 
     if kind == "pick_two_and_place":
-        for (x1, x2), knife in itertools.product(itertools.combinations(xs, 2), knives):
-            for r in rs:
-                if not (fits(world.objects[x1].type, world.objects[r].type)
-                        and fits(world.objects[x2].type, world.objects[r].type)):
-                    continue
-
-                def body(sim: _Sim, x1=x1, x2=x2, r=r, knife=knife) -> None:
-                    for x in (x1, x2):
-                        parent = sim.w.objects[x].parent
-                        if parent is not None and parent in rs and not sim.w.is_held(x):
-                            continue
-                        prepare(sim, x, knife)
-                        sim.place(x, r)
-                yield body
+        for r in rs:
+            fit = [x for x in xs if fits(world.objects[x].type, world.objects[r].type)]
+            for (x1, x2), knife in itertools.product(itertools.permutations(fit, 2), knives):
+                yield (*cut(x1, knife), ("place", x1, r), *cut(x2, knife), ("place", x2, r))
+                if sliced:
+                    yield (*cut(x1, knife), *cut(x2, knife), ("place", x1, r), ("place", x2, r))
+                    yield (("place", x1, r), ("place", x2, r), *cut(x1, knife), *cut(x2, knife))
         return
 
+    treat = {"hot": "heat", "cold": "cool", "clean": "clean"}.get(prop)  # type: ignore[arg-type]
     for x, helper, knife in itertools.product(xs, helpers, knives):
         for r in _fitting(world, x, rs):
-            def body(sim: _Sim, x=x, r=r, helper=helper, knife=knife) -> None:
-                prepare(sim, x, knife)
-                if prop == "hot":
-                    sim.heat(x, helper)
-                elif prop == "cold":
-                    sim.cool(x, helper)
-                elif prop == "clean":
-                    sim.clean(x, helper)
-                sim.place(x, r)
-            yield body
+            fix: tuple[Step, ...] = ((treat, x, helper),) if treat else ()
+            yield (*cut(x, knife), *fix, ("place", x, r))
+            if sliced and fix:
+                yield (*fix, *cut(x, knife), ("place", x, r))
+            if sliced:
+                yield (*fix, ("place", x, r), *cut(x, knife))
 
 
-def expert_plan(world: World, goal: dict[str, Any], limit: int = 40) -> list[str] | None:
-    """The shortest plan (action names) found from the current state, [] if already solved, None if none."""
-    if _goal_done(goal, world):
+def _done(goal: dict[str, Any], world: World) -> bool:
+    return evaluate(goal, world)[0]
+
+
+_END = ("end",)
+
+
+def expert_plan(world: World, goal: dict[str, Any], limit: int = DEFAULT_LIMIT) -> list[str] | None:
+    """The shortest plan (action names) found from the current state; [] if solved, None if none is found.
+
+    Candidates share their first macro calls, so they are walked as a tree: each macro runs once per distinct
+    prefix, and a branch is cut as soon as it is as long as the best complete plan.
+    """
+    if _done(goal, world):
         return []
+    tree: dict[Step, Any] = {}
+    for seq in _sequences(world, goal):
+        node = tree
+        for step in seq:
+            node = node.setdefault(step, {})
+        node[_END] = {}
     best: list[str] | None = None
-    for body in _candidate_bodies(world, goal):
-        plan = _run(world, goal, limit if best is None else len(best) - 1, body)
-        if plan is not None and (best is None or len(plan) < len(best)):
-            best = plan
+
+    def walk(sim: _Sim, node: dict[Step, Any]) -> None:
+        nonlocal best
+        items = list(node.items())
+        for i, (step, child) in enumerate(items):
+            if step == _END:
+                if _done(goal, sim.w) and (best is None or len(sim.plan) < len(best)):
+                    best = list(sim.plan)
+                continue
+            branch = sim if i == len(items) - 1 else sim.fork()
+            branch.limit = limit if best is None else len(best) - 1
+            try:
+                getattr(branch, step[0])(*step[1:])
+            except _Fail:
+                continue
+            walk(branch, child)
+
+    walk(_Sim(world, limit), tree)
     return best
+
+
+def why_unreachable(world: World, goal: dict[str, Any], limit: int = DEFAULT_LIMIT) -> str:
+    """A one-line reason why :func:`expert_plan` found nothing from this state."""
+    ref = goal["object"]
+    name = ref.get("instance") or ref["type"]
+    all_x = candidates(world, ref)
+    xs = _objects(world, goal)
+    need = 2 if goal["kind"] == "pick_two_and_place" else 1
+    if not all_x:
+        return f"there is no {name} in this room"
+    if len(xs) < need:
+        if not goal.get("sliced") and any(world.objects[x].is_sliced for x in all_x):
+            left = len(xs)
+            return (f"the task needs {'two whole ' if need == 2 else 'a whole '}{name}, but "
+                    + (f"only {left} is left unsliced" if left else f"every {name} here has been sliced"))
+        return f"the task needs {need} {name} and only {len(xs)} is here"
+    if goal.get("sliced") and not _knives(world):
+        return "the task needs a slice, and there is no knife in this room"
+    return f"no plan of at most {limit} actions reaches the goal from this state"

@@ -8,7 +8,13 @@ Rules, as in AI2-THOR / ALFRED:
 
 * The agent holds at most one object.
 * ``find a X`` walks to X's *place* (the piece of furniture or fixture it stands in or on) and faces X.
-  Objects at the agent's place can be acted on; anything elsewhere must be found first.
+  Objects at the agent's place can be acted on; anything elsewhere must be found first. ``find a Cabinet``
+  means the first cabinet, ``find a Cabinet_2`` the second.
+* Nearest instance: an un-suffixed name in any other action (``pick up the Mug``, ``slice the Apple``,
+  ``turn on the DeskLamp``, ``open the Drawer``) acts on the nearest reachable instance of that type, as
+  AI2-THOR's name lookup does in the original: the instance the agent faces, else one in plain view at its
+  place, else one held, else one hidden at its place (lowest number first). A suffixed name means exactly that
+  instance.
 * Closed receptacles hide their contents and block picking them up.
 * ``put down`` puts the held object in/on the receptacle the agent faces (the found receptacle, or the
   receptacle holding the found object). A sink or bathtub takes it into its basin.
@@ -19,7 +25,6 @@ Rules, as in AI2-THOR / ALFRED:
 
 from __future__ import annotations
 
-import copy
 import re
 from dataclasses import dataclass, field
 from typing import Any
@@ -94,6 +99,12 @@ class Instance:
     color: str | None = None
     shape: str | None = None
 
+    def clone(self) -> Instance:
+        """A shallow copy (all fields are immutable values); much faster than ``copy.copy``."""
+        twin = Instance.__new__(Instance)
+        twin.__dict__.update(self.__dict__)
+        return twin
+
     def to_dict(self) -> dict[str, Any]:
         out: dict[str, Any] = {"name": self.name, "type": self.type}
         if self.parent is not None:
@@ -138,12 +149,23 @@ class World:
         return {"room": self.room, "objects": [o.to_dict() for o in self.objects.values()]}
 
     def copy(self) -> World:
-        return World(room=self.room, objects={k: copy.copy(v) for k, v in self.objects.items()}, held=self.held,
+        twin = World(room=self.room, objects={k: v.clone() for k, v in self.objects.items()}, held=self.held,
                      place=self.place, facing=self.facing, target_recep=self.target_recep, history=list(self.history))
+        twin._types = self._type_index()  # types never change, so copies share the index
+        return twin
 
     # ------------------------------------------------------------------ queries
+    def _type_index(self) -> dict[str, list[str]]:
+        index = self.__dict__.get("_types")
+        if index is None:
+            index = {}
+            for n, o in self.objects.items():
+                index.setdefault(o.type, []).append(n)
+            self._types = index
+        return index
+
     def of_type(self, type_name: str) -> list[str]:
-        return [n for n, o in self.objects.items() if o.type == type_name]
+        return list(self._type_index().get(type_name, ()))
 
     def children(self, name: str) -> list[str]:
         return [n for n, o in self.objects.items() if o.parent == name]
@@ -226,11 +248,40 @@ class World:
     def in_scene(self, name: str) -> bool:
         return name in self.objects
 
+    def resolve(self, verb: str, name: str) -> str:
+        """The instance an action's object name refers to (see the nearest-instance rule in the module docstring).
+
+        ``find`` and suffixed names are exact. An un-suffixed type name in any other verb means the nearest
+        reachable instance of that type; with none at the agent's place it means the first instance (the action
+        then fails with a 'not close' reason).
+        """
+        if verb == "find" or name not in TYPES:
+            return name
+        same = self.of_type(name)
+        if not same:
+            return name
+        here = [n for n in same if self.near(n)]
+        if not here:
+            return name if name in self.objects else min(same, key=instance_index)
+
+        def rank(n: str) -> tuple[int, int, tuple[str, int]]:
+            if self.is_held(n):
+                where = 1
+            elif self.closed_container(n) is not None:
+                where = 2
+            else:
+                where = 0
+            return (0 if n == self.facing else 1, where, instance_index(n))
+
+        return min(here, key=rank)
+
     # ------------------------------------------------------------------ stepping
     def step(self, action: str) -> tuple[bool, str]:
         """Execute one action name; return ``(success, feedback)``. A failed action changes nothing."""
         verb, target = parse_action(action)
         self.history.append(action)
+        if target is not None:
+            target = self.resolve(verb, target)
         if target is not None and target not in self.objects:
             base, _ = instance_index(target)
             noun = TYPES[base].noun if base in TYPES else base
@@ -240,6 +291,12 @@ class World:
 
     # Every handler returns (ok, feedback). Check order: existence, hand, distance, visibility, state.
     def _not_near(self, name: str) -> tuple[bool, str]:
+        kind = self.objects[name].type
+        others = [n for n in self.of_type(kind) if n != name]
+        if others and name == kind:  # an un-suffixed name stands for any instance of the type
+            where = "you have not found one yet" if self.place is None else f"you are at the {self.place}"
+            return False, (f"Failed: no {kind} is within reach ({where}). "
+                           f"Use 'find a {kind}' or the find action of another {kind} to go to one first.")
         if self.place is None:
             return False, f"Failed: you have not found the {name} yet. Use 'find a {name}' to go to it first."
         return False, (f"Failed: the {name} is not close to you (you are at the {self.place}). "
