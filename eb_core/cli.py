@@ -20,6 +20,8 @@ commands:
   report RUN_DIR [...]       paper-style table of runs with 95% intervals [--format rich|markdown|csv]
                              [--out FILE]; `report A B --paired`: is B's difference to A real?
   show RUN_DIR               write RUN_DIR/index.html: every episode, step, image, answer and feedback
+  prompt env=NAME task=ID [step=N] [ablation=NAME] [out=DIR]   print what the model receives at planner
+                             call N (the expert plays the earlier ones); images saved as PNG beside prompt.txt
   tasks generate env=NAME [key=value ...]   write a task file with the env's generator
   audit env=NAME [task_file=PATH] [--quick] [--probe NAME]   shortcut probes of a task set; exit 1 on a failure
 """
@@ -53,6 +55,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             return cmd_tasks(rest)
         if cmd == "show":
             return cmd_show(rest)
+        if cmd == "prompt":
+            from eb_core.prompt_view import cmd_prompt
+
+            return cmd_prompt(rest)
         if cmd == "audit":
             from eb_core.audit import cmd_audit
 
