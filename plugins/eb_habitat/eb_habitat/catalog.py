@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 
 __all__ = [
     "COLORS",
+    "FRIDGE_END",
+    "KITCHEN_SIDE_CHAIR",
     "N_APARTMENTS",
     "OBJECT_TYPES",
     "RECEPTACLES",
@@ -22,6 +24,14 @@ __all__ = [
 
 N_APARTMENTS = 3
 """Apartment layouts (furniture placement, colours); the receptacle set and the skills are the same in all."""
+
+FRIDGE_END: tuple[str, ...] = ("left", "right", "left")
+"""Per apartment, the end of the kitchen row the fridge stands at, seen facing the row. The counters always flank
+the sink (the left counter is left of it), so "the counter nearer the fridge" differs between apartments;
+:mod:`eb_habitat.render` builds the rows from this."""
+
+KITCHEN_SIDE_CHAIR: tuple[str, ...] = ("left_chair", "right_chair", "left_chair")
+"""Per apartment, the dining chair on the side of the table that faces the kitchen (the renderer checks it)."""
 
 
 @dataclass(frozen=True)
@@ -39,7 +49,8 @@ class Receptacle:
     room: str
     """``kitchen``, ``living``, ``dining`` or ``study``."""
     spatial: tuple[str, ...] = ()
-    """Ways to refer to it by where it is (for the spatial_relationship subset), in our words."""
+    """Ways to refer to it by where it stands. Not used by the task generator since tasks v2: a fixed position
+    in a row that is the same everywhere can be resolved from the words alone (see ``eb_habitat.audit``)."""
     prep: str = ""
     """Preposition for things lying there, when not the kind's default (``in`` the sink)."""
 

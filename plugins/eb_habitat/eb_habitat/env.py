@@ -23,7 +23,7 @@ from eb_core.env import (
 )
 from eb_habitat import prompts
 from eb_habitat.goals import GoalTracker
-from eb_habitat.oracle import expert_plan
+from eb_habitat.oracle import OracleError, expert_plan
 from eb_habitat.skills import SKILL_NAMES, SKILLS
 from eb_habitat.tasks import TaskSpec, load_tasks, spec_of
 from eb_habitat.world import World, item_label
@@ -163,9 +163,25 @@ class HabitatEnv(Env):
         return prompts.prompt_parts(self._task.subset if self._task is not None else None)
 
     def expert_plan(self) -> list[Action] | None:
+        """The expert's plan from the current world state only (not from the episode's history); None with
+        :attr:`expert_reason` set when no plan reaches the goal from here."""
         if self._world is None or self._tracker is None:
+            self.expert_reason = "no episode: call reset() first"
             return None
-        return list(expert_plan(self._world, self._tracker.goal))
+        try:
+            plan = list(expert_plan(self._world, self._tracker.goal))
+        except OracleError as exc:
+            self.expert_reason = str(exc)
+            return None
+        self.expert_reason = None
+        return plan
+
+    @classmethod
+    def audit_probes(cls) -> list[Any]:
+        """Habitat's shortcut probes (:mod:`eb_habitat.audit`): word matching on spatial tasks, first branch."""
+        from eb_habitat.audit import probes
+
+        return probes()
 
     def close(self) -> None:
         self._closed = True

@@ -92,8 +92,25 @@ class _Planner:
         self.ensure_open(target)
         self.goto(target)
         if self.w.free_slot(target) is None:
-            raise OracleError(f"no room at {target}")
+            self.make_room(target)  # ends with the held object delivered
+            return
         self.do("place", target)
+
+    def make_room(self, target: str) -> None:
+        """``target`` is full while the held object must go there: park it, carry away something no goal wants
+        there, then deliver the parked object."""
+        locked = self.locked()
+        blockers = [it for it in self.w.items_at(target)
+                    if it.name not in locked and getattr(self.w.pick_candidate(it.type), "name", None) == it.name]
+        if not blockers:
+            raise OracleError(f"the {target} is full and everything on it is needed there")
+        parked = self.w.held_item
+        assert parked is not None
+        self.stash(avoid=frozenset({target}))
+        self.goto(target)
+        self.do("pick", blockers[0].type)
+        self.stash(avoid=frozenset({target}))
+        self.deliver(parked, target)
 
     def choose(self, p: Predicate) -> Item:
         """The instance to bring for an unmet placement goal."""

@@ -1,8 +1,15 @@
-"""Prompt parts for EB-Habitat, in our own words, with the paper's structure.
+"""Prompt parts for EB-Habitat, in our own words, with the original's structure.
 
-The ten in-context examples live in ``examples.json`` as scripted episodes (scene, instruction, and per turn
-the agent's reasoning and plan). Their feedback lines are not stored: :func:`examples` replays every plan in
-the symbolic world, so the examples always show exactly the feedback the env gives.
+The system prompt follows the original's order: who the robot is; one rule per skill kind saying when it is
+valid; (the core adds the numbered action list); the in-context examples; the guidelines (no empty plan,
+find before acting, valid actions only, no repeated failures, several instances of a kind, learn from history
+and feedback; the core adds the 20-action plan limit and the exact-name rule).
+
+The ten examples live in ``examples.json``. As in the original, each is one instruction answered in a single turn
+by a ``language_plan`` and an ``executable_plan``, shown in a fixed order (the planner takes the first
+``n_shot``), with no description of what the robot perceives and no list of the room's contents. Each example
+also stores a scene that is never shown: :func:`examples` replays every plan in the symbolic world and refuses
+an example whose plan fails a step or misses its goal.
 """
 
 from __future__ import annotations
@@ -17,41 +24,40 @@ from eb_habitat.skills import SKILL_NAMES
 from eb_habitat.tasks import TaskSpec
 from eb_habitat.world import World
 
-__all__ = ["ACTION_RULES", "GUIDELINES", "ROLE", "examples", "prompt_parts"]
+__all__ = ["ACTION_RULES", "GUIDELINES", "ROLE", "examples", "prompt_parts", "render_example"]
 
 EXAMPLES_FILE = Path(__file__).parent / "examples.json"
 
 ROLE = (
-    "You control a household robot in an apartment. You receive a request from a person and must rearrange "
-    "small objects to fulfil it, using only the high-level skills listed below. After every step you see a "
-    "first-person picture of the receptacle in front of you and what lies on it, plus text feedback on whether "
-    "your last action worked."
+    "You are a household robot in an apartment. A person gives you a task, and you carry it out with the "
+    "high-level actions listed below."
 )
 
 ACTION_RULES = (
-    "There are five kinds of skills.\n"
-    "- navigate to <receptacle>: walk to a receptacle (a counter, table, chair, the sofa, the sink, the fridge, a "
-    "drawer, the cabinet...). You can only walk to receptacles, never straight to an object, so to find an object "
-    "you have to visit the places where it might be and look.\n"
-    "- pick up <object>: take an object of that kind from the receptacle you are standing at. Your hand must be "
-    "empty, the object must lie on or in that receptacle, and a fridge, drawer or cabinet must be open first.\n"
-    "- place it on/in <receptacle>: put down what you hold. You must be standing at that receptacle, and a fridge, "
-    "drawer or cabinet must be open. A receptacle that is full takes nothing more.\n"
-    "- open <receptacle> / close <receptacle>: only the fridge, the two kitchen drawers and the kitchen cabinet "
-    "open and close, and only when you stand at them. Things inside a closed one cannot be seen or reached.\n"
+    "- Navigate (\"navigate to the <receptacle>\"): walk to a receptacle: a counter, a table, a chair, the sofa, "
+    "the TV stand, the sink, the fridge, a drawer or the kitchen cabinet. It always works; you can never walk "
+    "straight to an object.\n"
+    "- Pick (\"pick up the <object>\"): take an object of that kind from the receptacle you stand at. It works only "
+    "when your hand is empty, the object lies there, and the receptacle, if it opens, is open. With several of that "
+    "kind there, you get the leftmost one.\n"
+    "- Place (\"place it on/in the <receptacle>\"): put the object you hold on or into a receptacle. It works only "
+    "when you hold something, stand at that receptacle, it is open if it opens, and it has room left.\n"
+    "- Open (\"open the <receptacle>\"): open the fridge, a kitchen drawer or the kitchen cabinet. It works only "
+    "when you stand at it and it is closed. What is inside a closed one can be neither seen nor taken.\n"
+    "- Close (\"close the <receptacle>\"): close one of those. It works only when you stand at it and it is open.\n"
     "You hold at most one object at a time."
 )
 
 GUIDELINES = (
-    "Never answer with an empty plan: the episode ends at once.",
-    "Plan only as far as you can see: a short plan you can check is better than a long guess.",
-    "Find an object before trying to pick it up: if it is not visible where you are, navigate to other "
-    "receptacles, and open closed ones to look inside.",
-    "Objects of the same kind can differ in colour; read the request carefully and pick the right one.",
-    "When a step fails, read the feedback, which says why, and change the plan instead of repeating it.",
-    "Use the history of your actions and their feedback to avoid visiting the same empty place twice.",
-    "The task is finished when every requested object is where it should be (and containers are open or closed "
-    "as asked); you do not need to do anything else.",
+    "Always answer with a plan of at least one action: an empty plan ends the episode.",
+    "If the object you need is not in view, navigate to the receptacles where it may be (and open closed ones) "
+    "before you try to pick it up or use it.",
+    "Choose only actions whose conditions hold at that point of the plan; check the rules above for each one.",
+    "Do not repeat an action or a sequence of actions that has already failed: change the plan instead.",
+    "There may be several objects of the same kind, told apart by colour or by where they lie. Make sure the one "
+    "you take is the one the task means; look at other receptacles if it is not here.",
+    "Use the history of your actions and the feedback of the environment: when an action failed, work out why "
+    "(a rule not met, a step missing) and plan around it.",
 )
 
 OUTPUT_NOTES = (
@@ -60,52 +66,40 @@ OUTPUT_NOTES = (
 )
 
 
-def _action(i: int) -> str:
-    return json.dumps({"action_id": i, "action_name": SKILL_NAMES[i]})
+def _item(name: str) -> dict[str, Any]:
+    return {"action_id": SKILL_NAMES.index(name), "action_name": name}
 
 
 def render_example(ex: dict[str, Any], number: int) -> str:
-    """One scripted episode as prompt text; raises ValueError if its script does not replay as written."""
+    """One example as prompt text; raises ValueError if its plan does not replay as written in its scene."""
+    unknown = [name for name in ex["plan"] if name not in SKILL_NAMES]
+    if unknown:
+        raise ValueError(f"example {number}: unknown action name {unknown[0]!r}; use a name from eb_habitat.skills")
     spec = TaskSpec.model_validate(ex["scene"])
     world = World([o.model_dump() for o in spec.objects], spec.open)
     tracker = spec.tracker()
-    lines = [f"Instruction: {ex['instruction']}"]
-    for t, turn in enumerate(ex["turns"], 1):
-        ids = [SKILL_NAMES.index(name) for name in turn["plan"]]
-        answer = {
-            "reasoning_and_reflection": turn["reasoning"],
-            "language_plan": turn["language_plan"],
-            "executable_plan": [json.loads(_action(i)) for i in ids],
-        }
-        lines.append(f"Planning step {t}. The robot perceives: {world.describe()}")
-        lines.append("Answer: " + json.dumps(answer, ensure_ascii=False))
-        lines.append("Execution:")
-        for k, i in enumerate(ids):
-            out = world.step(i)
-            tracker.update(world)
-            lines.append(f"  action id {i}, {SKILL_NAMES[i]}: {out.feedback}")
-            if not out.success:
-                if k != len(ids) - 1:
-                    raise ValueError(f"example {number}: action {SKILL_NAMES[i]!r} fails before the end of its plan")
-                break
+    for name in ex["plan"]:
+        out = world.step(SKILL_NAMES.index(name))
+        if not out.success:
+            raise ValueError(f"example {number}: action {name!r} fails when replayed: {out.feedback}")
+        tracker.update(world)
     if not tracker.success(world):
-        raise ValueError(f"example {number} ({ex['instruction']!r}) does not reach its goal")
-    lines.append("The task is complete.")
-    return "\n".join(lines)
+        raise ValueError(f"example {number} ({ex['instruction']!r}): its plan does not reach the goal")
+    answer = {"language_plan": ex["language_plan"], "executable_plan": [_item(n) for n in ex["plan"]]}
+    return f"Instruction: {ex['instruction']}\nAnswer: {json.dumps(answer, ensure_ascii=False)}"
 
 
 @lru_cache(maxsize=1)
-def _all_examples() -> tuple[tuple[str, str], ...]:
+def _all_examples() -> tuple[str, ...]:
     data = json.loads(EXAMPLES_FILE.read_text(encoding="utf-8"))
-    return tuple((ex["subset"], render_example(ex, i + 1)) for i, ex in enumerate(data["examples"]))
+    return tuple(render_example(ex, i + 1) for i, ex in enumerate(data["examples"]))
 
 
 def examples(subset: str | None = None) -> tuple[str, ...]:
-    """The ten examples as text (the planner numbers them), those written for ``subset`` first."""
-    items = list(_all_examples())
-    if subset is not None:
-        items.sort(key=lambda item: item[0] != subset)  # stable: keeps the file order otherwise
-    return tuple(text for _, text in items)
+    """The ten examples as text, always in the file's order (the original shows the first ``n_shot``
+    whatever the subset; ``subset`` is accepted for symmetry with other worlds and ignored)."""
+    del subset
+    return _all_examples()
 
 
 def prompt_parts(subset: str | None = None) -> PromptParts:

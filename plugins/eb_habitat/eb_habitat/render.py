@@ -19,7 +19,7 @@ from eb_scenekit import SceneBuilder, get_type, set_agent_pose, set_open, surfac
 from eb_scenekit.gl import import_mujoco
 from eb_scenekit.render import SceneRenderer, camera_from_eye
 from eb_habitat._ycb import KIT_TYPES, kit_or_ycb
-from eb_habitat.catalog import COLORS, N_APARTMENTS, RECEPTACLES
+from eb_habitat.catalog import COLORS, FRIDGE_END, N_APARTMENTS, RECEPTACLES
 from eb_habitat.world import HAND
 
 if TYPE_CHECKING:
@@ -70,14 +70,20 @@ worktop fills the gap to the wall behind it: (distance of the strip's centre beh
 depth), metres."""
 
 
-def _kitchen(x0: float, ywall: float, counter: str, fridge: str) -> dict[str, Place]:
-    """The kitchen row along a north wall, left to right as seen facing it: fridge, cabinet, counter, sink, counter."""
+def _kitchen(x0: float, ywall: float, counter: str, fridge: str, fridge_end: str = "left") -> dict[str, Place]:
+    """The kitchen row along a north wall, left to right as seen facing it: fridge, cabinet, counter, sink, counter
+    (``fridge_end="left"``) or counter, sink, counter, cabinet, fridge (``"right"``). ``x0`` is the row's left
+    end piece. The counters always flank the sink, so their names stay true."""
+    if fridge_end == "left":
+        xs = {"fridge": 0.0, "cabinet": 0.7, "left_counter": 1.62, "sink": 2.53, "right_counter": 3.44}
+    else:
+        xs = {"left_counter": 0.0, "sink": 0.91, "right_counter": 1.82, "cabinet": 2.74, "fridge": 3.44}
     return {
-        "fridge": Place("Fridge", (x0, ywall - 0.38), -90, fridge),
-        "cabinet": Place("Cabinet", (x0 + 0.7, ywall - 0.25), -90, counter),
-        "left_counter": Place("CounterTop", (x0 + 1.62, ywall - 0.33), -90, counter),
-        "sink": Place("Sink", (x0 + 2.53, ywall - 0.355), -90, counter),
-        "right_counter": Place("CounterTop", (x0 + 3.44, ywall - 0.33), -90, counter),
+        "fridge": Place("Fridge", (x0 + xs["fridge"], ywall - 0.38), -90, fridge),
+        "cabinet": Place("Cabinet", (x0 + xs["cabinet"], ywall - 0.25), -90, counter),
+        "left_counter": Place("CounterTop", (x0 + xs["left_counter"], ywall - 0.33), -90, counter),
+        "sink": Place("Sink", (x0 + xs["sink"], ywall - 0.355), -90, counter),
+        "right_counter": Place("CounterTop", (x0 + xs["right_counter"], ywall - 0.33), -90, counter),
     }
 
 
@@ -115,7 +121,7 @@ def _decor(living_x: float, ysouth: float, plant: tuple[float, float], painting:
 def _layout0() -> Layout:
     ysouth, ywall = -3.5, 3.5
     desk = Place("Desk", (4.13, -1.9), 180, "oak")
-    furniture = {**_kitchen(-4.08, ywall, "white", "white"), **_living(-2.6, ysouth, "gray", "oak", "walnut"),
+    furniture = {**_kitchen(-4.08, ywall, "white", "white", FRIDGE_END[0]), **_living(-2.6, ysouth, "gray", "oak", "walnut"),
                  **_dining(1.7, 0.9, "white", "black"), "desk": desk}
     decor = _decor(-2.6, ysouth, (4.1, 3.1), (4.45, -1.9, 1.6, 180.0))
     return Layout((9.0, 7.0), 3, furniture, decor, (0.3, -2.6, 1.6), (-1.2, 1.5, 0.7))
@@ -124,7 +130,7 @@ def _layout0() -> Layout:
 def _layout1() -> Layout:
     ysouth, ywall = -3.5, 3.5
     desk = Place("Desk", (-4.13, -2.0), 0, "white")
-    furniture = {**_kitchen(0.4, ywall, "wood", "silver"), **_living(1.9, ysouth, "blue", "white", "black"),
+    furniture = {**_kitchen(0.4, ywall, "wood", "silver", FRIDGE_END[1]), **_living(1.9, ysouth, "blue", "white", "black"),
                  **_dining(-2.2, 1.0, "oak", "wood"), "desk": desk}
     decor = _decor(1.9, ysouth, (-4.1, 3.1), (-4.45, -2.0, 1.6, 0.0))
     return Layout((9.0, 7.0), 11, furniture, decor, (-0.4, -2.5, 1.6), (1.5, 1.8, 0.7))
@@ -133,7 +139,7 @@ def _layout1() -> Layout:
 def _layout2() -> Layout:
     ysouth, ywall = -3.75, 3.75
     desk = Place("Desk", (3.9, ywall - 0.34), -90, "white")
-    furniture = {**_kitchen(-4.58, ywall, "gray", "black"), **_living(2.6, ysouth, "green", "white", "white"),
+    furniture = {**_kitchen(-4.58, ywall, "gray", "black", FRIDGE_END[2]), **_living(2.6, ysouth, "green", "white", "white"),
                  **_dining(-1.9, -1.4, "white", "white"), "desk": desk}
     decor = _decor(2.6, ysouth, (-4.6, -3.3), (3.9, ywall - 0.05, 1.75, -90.0))
     return Layout((10.0, 7.5), 23, furniture, decor, (0.9, -2.9, 1.6), (-1.0, 1.6, 0.7))

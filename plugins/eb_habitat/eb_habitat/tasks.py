@@ -2,7 +2,7 @@
 
 A task file (``eb_habitat/tasks/<subset>.json``) looks like::
 
-    {"format": "eb-habitat-tasks", "version": 1, "subset": "base", "generator": {...},
+    {"format": "eb-habitat-tasks", "version": 2, "subset": "base", "generator": {...},
      "tasks": [{"id": "base-00", "subset": "base", "instruction": "...",
                 "metadata": {"apartment": 0, "template": "base.move",
                              "objects": [{"name": "apple_1", "type": "apple", "color": "red",
@@ -41,7 +41,9 @@ __all__ = [
 ]
 
 FORMAT = "eb-habitat-tasks"
-VERSION = 1
+VERSION = 2
+"""Task-file version: 2 since the repaired templates (varied layouts, spatial relations to objects).
+Version-1 files are refused with a one-line message that says to regenerate them."""
 SUBSETS = ("base", "common_sense", "complex_instruction", "spatial_relationship", "visual_appearance", "long_horizon")
 TASK_DIR = Path(__file__).parent / "tasks"
 
@@ -113,7 +115,7 @@ class _TaskFile(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     format: Literal["eb-habitat-tasks"]
-    version: Literal[1]
+    version: Literal[2]
     subset: str
     generator: dict[str, Any] = Field(default_factory=dict)
     tasks: list[_TaskEntry] = Field(min_length=1)

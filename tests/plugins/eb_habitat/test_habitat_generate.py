@@ -1,10 +1,15 @@
-"""The generator is deterministic, reproduces the shipped files and writes only valid tasks."""
+"""The generator is deterministic, reproduces the shipped files and writes only valid, well-worded tasks."""
 
 from __future__ import annotations
 
+import re
+from collections import Counter
 from pathlib import Path
 
-from eb_habitat.generate import generate
+import pytest
+
+from eb_habitat.catalog import FRIDGE_END, KITCHEN_SIDE_CHAIR
+from eb_habitat.generate import PLURAL, fix_articles, generate
 from eb_habitat.tasks import SUBSETS, TASK_DIR, load_task_file, load_tasks
 
 
@@ -24,12 +29,72 @@ def test_other_seed_single_file(tmp_path: Path) -> None:
     assert any(t.instruction not in shipped for t in tasks)
 
 
+@pytest.mark.parametrize("subset", SUBSETS)
+def test_each_subset_has_ten_templates_and_unique_instructions(subset: str) -> None:
+    tasks = [t for t in load_tasks() if t.subset == subset]
+    assert len(tasks) == 50
+    templates = Counter(t.metadata["template"] for t in tasks)
+    assert len(templates) >= 10, templates
+    assert len({t.instruction for t in tasks}) >= 0.95 * len(tasks)
+
+
 def test_templates_cover_the_paper_subsets() -> None:
     tasks = load_tasks()
-    templates = {t.metadata["template"] for t in tasks}
-    for needed in ("complex.if_open", "complex.if_present", "complex.irrelevant_context", "visual.color_variant",
-                   "visual.looks", "spatial.next_to_object", "long.multi_object", "long.swap"):
-        assert needed in templates
+    families = {t.metadata["template"].rsplit(".", 1)[0] for t in tasks}
+    for needed in ("complex.if_open", "complex.if_present", "complex.context", "visual.color_variant",
+                   "visual.looks", "spatial.beside", "spatial.with_landmark", "long.multi_object", "long.swap"):
+        assert needed in families
     long = [t for t in tasks if t.subset == "long_horizon"]
     assert all(len(t.metadata["goal"]) >= 2 for t in long)
     assert all(t.metadata["oracle_steps"] <= 20 for t in long)
+
+
+_VOWEL_SOUND_EXCEPTIONS = ("one", "uni", "use", "usu")
+
+
+def _grammar_problems(text: str) -> list[str]:
+    problems = []
+    for art, word in re.findall(r"\b([Aa]n?) ([A-Za-z']+)", text):
+        vowel = word[0].lower() in "aeiou" and not word.lower().startswith(_VOWEL_SOUND_EXCEPTIONS)
+        if art.lower() == "a" and vowel or art.lower() == "an" and not vowel:
+            problems.append(f"'{art} {word}'")
+    for plural in PLURAL:
+        if re.search(rf"\ba {plural}\b|\b{plural} (is|has|needs|lies|belongs|goes|was|sits|stands)\b|\b{plural} and (put|bring|leave) it\b",
+                     text):
+            problems.append(f"singular use of '{plural}'")
+    if re.search(r"\b(the|a|an) (the|a|an)\b|  |\bin where\b|\bon the place\b", text):
+        problems.append("doubled article, double space or a place used as a preposition's object")
+    if not text[0].isupper() or text[-1] not in ".?!":
+        problems.append("sentence case / final punctuation")
+    return problems
+
+
+def test_every_shipped_instruction_is_well_formed() -> None:
+    bad = {t.id: _grammar_problems(t.instruction) for t in load_tasks()}
+    bad = {k: v for k, v in bad.items() if v}
+    assert not bad, bad
+
+
+def test_grammar_check_catches_bad_articles_and_agreement() -> None:
+    assert _grammar_problems("Find a orange and bring it to the sofa.")
+    assert _grammar_problems("Carry an banana over to the desk.")
+    assert _grammar_problems("The scissors is on the desk; move it.")
+    assert _grammar_problems("The bowl goes where the scissors goes now.")
+    assert _grammar_problems("Put the mug in where food stays cold.")
+    assert fix_articles("Find a orange, an pear and a apple.") == "Find an orange, a pear and an apple."
+
+
+def test_layout_relations_follow_the_apartment() -> None:
+    """spatial.layout tasks name a side that depends on the apartment, so the same words mean different places."""
+    answers = Counter()
+    for t in load_tasks():
+        if not t.metadata["template"].startswith("spatial.layout"):
+            continue
+        apt, goal = t.metadata["apartment"], t.metadata["goal"][0]
+        nearer = "nearer" in t.instruction
+        if "chair" in t.instruction:
+            assert (KITCHEN_SIDE_CHAIR[apt] in goal) == nearer, t.id
+        else:
+            assert (f" {FRIDGE_END[apt]}_" in goal) == nearer, t.id
+        answers[goal.split()[-1].rstrip(")")] += 1
+    assert len(answers) >= 2, answers

@@ -1,25 +1,60 @@
-"""Prompt parts: our wording, ten examples that replay exactly in the world."""
+"""Prompt parts: the original's structure in our wording; ten single-turn examples that replay in the world."""
 
 from __future__ import annotations
 
-from eb_habitat.prompts import examples, prompt_parts
+import copy
+import json
+
+import pytest
+
+from eb_habitat.prompts import EXAMPLES_FILE, examples, prompt_parts, render_example
+from eb_habitat.skills import SKILL_NAMES
 
 
-def test_ten_examples_replay_and_put_the_subset_first() -> None:
+def test_ten_single_turn_examples_in_a_fixed_order() -> None:
     exs = examples()
     assert len(exs) == 10
-    assert all(e.startswith("Instruction: ") for e in exs)
-    first = examples("visual_appearance")[0]
-    assert first.startswith("Instruction: Move the blue cup")
-    assert all("The task is complete." in e for e in exs)
-    # examples show failures and the feedback that explains them
-    joined = "\n".join(exs)
-    assert "Cannot pick up the banana: there is no banana" in joined
-    assert "it is closed. Open it first." in joined
+    assert examples("visual_appearance") == exs == examples("long_horizon")  # no reordering by subset
+    for text in exs:
+        first, second = text.split("\n")
+        assert first.startswith("Instruction: ")
+        answer = json.loads(second.removeprefix("Answer: "))
+        assert set(answer) == {"language_plan", "executable_plan"}
+        assert answer["executable_plan"], text
+        for item in answer["executable_plan"]:
+            assert SKILL_NAMES[item["action_id"]] == item["action_name"]
 
 
-def test_prompt_parts() -> None:
+def test_examples_carry_no_perception_or_inventory() -> None:
+    joined = "\n".join(examples()).lower()
+    for leak in ("perceives", "you see:", "from left to right", "the robot is holding", "in the room there"):
+        assert leak not in joined
+
+
+def _doc() -> dict:
+    return json.loads(EXAMPLES_FILE.read_text(encoding="utf-8"))
+
+
+def test_an_example_whose_plan_fails_is_refused() -> None:
+    ex = copy.deepcopy(_doc()["examples"][0])
+    ex["plan"] = [name for name in ex["plan"] if not name.startswith("navigate to the right counter")]
+    with pytest.raises(ValueError, match="fails when replayed"):
+        render_example(ex, 1)
+
+
+def test_an_example_that_misses_its_goal_is_refused() -> None:
+    ex = copy.deepcopy(_doc()["examples"][0])
+    ex["plan"] = ex["plan"][:2]
+    with pytest.raises(ValueError, match="does not reach the goal"):
+        render_example(ex, 1)
+
+
+def test_prompt_parts_follow_the_original_structure() -> None:
     parts = prompt_parts("base")
-    assert "navigate to <receptacle>" in parts.action_rules
-    assert any("empty plan" in g for g in parts.guidelines)
+    rules = parts.action_rules
+    for kind in ("- Navigate", "- Pick", "- Place", "- Open", "- Close"):
+        assert kind in rules
+    text = " ".join(parts.guidelines).lower()
+    for topic in ("empty plan", "not in view", "conditions", "do not repeat", "same kind", "feedback"):
+        assert topic in text, topic
     assert len(parts.examples) == 10

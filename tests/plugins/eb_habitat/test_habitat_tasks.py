@@ -84,8 +84,9 @@ def test_goal_already_met(tmp_path: Path) -> None:
 
 def test_version_and_json(tmp_path: Path) -> None:
     doc = _doc()
-    doc["version"] = 2
-    _breaks(tmp_path, doc, "version 2 is not supported")
+    doc["version"] = 1  # the pre-repair task files (fixed kitchen rows, word-matchable spatial tasks)
+    msg = _breaks(tmp_path, doc, "version 1 is not supported", "reads version 2", "eb tasks generate env=habitat")
+    assert msg.count("Regenerate") == 1
     path = tmp_path / "broken.json"
     path.write_text('{"format": "eb-habitat-tasks",')
     with pytest.raises(TaskFileError, match="not valid JSON"):
