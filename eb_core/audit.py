@@ -418,10 +418,14 @@ def probe_blind_policies(setup: AuditSetup) -> ProbeResult:
     rows.sort(key=lambda r: -r["_rate"])
     shown = [{k: v for k, v in r.items() if k != "_rate"} for r in rows[:8]]
     bad = [r for r in rows if r["_rate"] > BLIND_MAX_SUCCESS]
-    value = (f"{len(policies)} policies; worst {_pct(worst[0])} ({worst[1]} on {worst[2]})" if policies
+    kinds = Counter("turn, then forward" if p.prefix else "cycle" if p.name.startswith("cycle") else
+                    "constant" if p.name.startswith("always") else "named by the world" for p in policies)
+    mix = ", ".join(f"{v} {k}" for k, v in kinds.items())
+    value = (f"{len(policies)} policies ({mix}); worst {_pct(worst[0])} ({worst[1]} on {worst[2]})" if policies
              else "no policies (no actions)")
     if bad:
-        value = f"{len(bad)} of {len(policies)} policies above 5 %; worst {_pct(worst[0])} ({worst[1]} on {worst[2]})"
+        value = (f"{len(bad)} of {len(policies)} policies ({mix}) above 5 %; worst {_pct(worst[0])} "
+                 f"({worst[1]} on {worst[2]})")
     return ProbeResult(name="blind_policies", passed=not bad, value=value,
                        threshold="<= 5 % success per subset, every policy", failing_tasks=_listed(failing),
                        rows=shown)
@@ -452,11 +456,13 @@ def probe_unique_instructions(setup: AuditSetup) -> ProbeResult:
         failing += dups
     value = f"worst {_pct(worst[0])} unique ({worst[1]})" if worst[1] else "100 % unique in every subset"
     warning = None
+    passed = worst[0] >= UNIQUE_MIN
     if failing:
         note = ", ".join(dup_note[:4]) + (" ..." if len(dup_note) > 4 else "")
         value += f"; duplicates: {note}"
-        warning = f"{len(failing)} duplicate instructions (same words, ignoring case and spacing): {note}"
-    return ProbeResult(name="instruction_unique", passed=worst[0] >= UNIQUE_MIN, value=value,
+        if passed:
+            warning = f"{len(failing)} duplicate instructions (same words, ignoring case and spacing): {note}"
+    return ProbeResult(name="instruction_unique", passed=passed, value=value,
                        threshold=">= 95 % unique per subset (duplicates named)", failing_tasks=_listed(failing),
                        warning=warning, rows=rows)
 
@@ -663,7 +669,8 @@ def _fresh_form(setup: AuditSetup, workdir: Path) -> tuple[list[Task], dict[str,
 
 
 def probe_parallel_forms(setup: AuditSetup) -> ProbeResult:
-    threshold = f"no subset differs at p < {PARALLEL_ALPHA} (noise {PARALLEL_NOISE}, {setup.parallel_repeats} runs/task)"
+    threshold = (f"no subset differs at p < {PARALLEL_ALPHA} (noise {PARALLEL_NOISE}, "
+                 f"{setup.parallel_repeats} runs/task)")
     if setup.quick:
         return ProbeResult(name="parallel_forms", passed=True, skipped=True, value="skipped (--quick)",
                            threshold=threshold)
@@ -796,7 +803,8 @@ def format_audit(env_name: str, results: list[tuple[AuditProbe, ProbeResult]], n
         if res.rows:
             keys = list(dict.fromkeys(k for r in res.rows for k in r))
             lines += ["", f"{res.name}:"]
-            lines += _text_table(keys, [[str(r.get(k, "")) for k in keys] for r in res.rows], widths={len(keys) - 1: 100})
+            cells = [[str(r.get(k, "")) for k in keys] for r in res.rows]
+            lines += _text_table(keys, cells, widths={len(keys) - 1: 100})
         if res.warning:
             lines += ["", f"warning ({res.name}): {res.warning}"]
         if not res.passed and len(res.failing_tasks) > 5:
@@ -850,7 +858,11 @@ def cmd_audit(args: list[str]) -> int:
             overrides.append(a)
     if not any(o.split("=", 1)[0] == "env" for o in overrides):
         raise CliError(f"audit needs env=NAME (`eb list` shows the envs). {AUDIT_USAGE}")
+    # The probes drive the env directly: no model is composed, so any installed set of plugins can be audited.
+    if not any(o.lstrip("+~").split("=", 1)[0] == "model" for o in overrides):
+        overrides.append("~model")
     cfg_dict = compose(overrides)
+    cfg_dict["model"] = cfg_dict.get("model") or {"name": "none", "backend": "none"}
     params = cfg_dict["env"].setdefault("params", {}) or {}
     cfg_dict["env"]["params"] = params
     if "task_file" in extra:
