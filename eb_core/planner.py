@@ -236,7 +236,8 @@ class VLMPlanner:
         k = len(self.frames) if (self.config.multi_step_images > 1 and not self.visual_icl) else 1
         if k > 1:
             for i in range(k):
-                when = "now" if i == k - 1 else f"{k - 1 - i} step{'s' if k - 1 - i > 1 else ''} ago"
+                ago = k - 1 - i
+                when = "now" if ago == 0 else f"{ago} environment step{'s' if ago > 1 else ''} ago"
                 out.append((f"frame-{i}", f"{desc.get(obs.primary or '', 'your view')} ({when})"))
         else:
             out.append((obs.primary or "image", desc.get(obs.primary or "", "")))
@@ -254,9 +255,6 @@ class VLMPlanner:
             return f"## The image\nImage: {names[0][1]}." if names[0][1] else None
         lines = [f"## The images\nYou get {len(names)} images, in this order:"]
         lines += [f"Image {i + 1}: {d}." for i, (_, d) in enumerate(names)]
-        if self.config.multi_step_images > 1 and not self.visual_icl and len(self.frames) > 1:
-            lines.append(f"The first {len(self.frames)} are your view after each of your last environment steps, "
-                         f"oldest first; the last of them is the current view.")
         return "\n".join(lines)
 
     def _step_guidance(self) -> str:
