@@ -102,8 +102,10 @@ def cluster_bootstrap_interval(task_means: Any, level: float = LEVEL, n_boot: in
 
 
 def outcome_matrix(values: dict[str, dict[int, float]]) -> tuple[list[str], np.ndarray]:
-    """Task ids and a ``(tasks, repeats)`` matrix from ``{task_id: {repeat: value}}`` (missing = NaN)."""
-    ids = list(values)
+    """Task ids (sorted) and a ``(tasks, repeats)`` matrix from ``{task_id: {repeat: value}}`` (missing = NaN).
+
+    Sorting makes every interval independent of the order in which episodes finished (workers, resume)."""
+    ids = sorted(values)
     n_rep = max((max(r) + 1 for r in values.values() if r), default=0)
     m = np.full((len(ids), max(1, n_rep)), np.nan)
     for i, tid in enumerate(ids):

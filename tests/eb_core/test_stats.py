@@ -74,7 +74,7 @@ def test_repeat_sd_is_the_spread_of_per_repeat_rates():
 
 
 def test_outcome_matrix_puts_repeats_in_columns():
-    ids, m = outcome_matrix({"a": {0: 1.0, 1: 0.0}, "b": {1: 1.0}})
+    ids, m = outcome_matrix({"b": {1: 1.0}, "a": {0: 1.0, 1: 0.0}})
     assert ids == ["a", "b"] and m.shape == (2, 2) and np.isnan(m[1, 0]) and m[1, 1] == 1.0
 
 
