@@ -112,3 +112,47 @@ def test_fuzz_1000_inputs_never_crash_and_are_all_counted():
                 outcomes["empty"] += 1
     assert sum(outcomes.values()) == 2000
     assert outcomes["error"] > 500  # most garbage is recognised as garbage
+
+
+# -- the original protocol's formats (issue 11) ------------------------------------------------------------
+
+D4 = DiscreteActionSpace(actions=("a", "b", "c", "d"))
+
+
+def test_the_object_holding_executable_plan_wins_over_earlier_objects():
+    text = ('Following the example {"instruction": "walk", "note": {"x": 1}} I answer:\n'
+            '{"reasoning_and_reflection": "r", "executable_plan": [{"action_id": 2, "action_name": "c"}]}\n'
+            'and a schema echo {"type": "object"}')
+    r = parse_planner_output(text, D4)
+    assert r.error is None and r.actions == [2] and r.output.reasoning_and_reflection == "r"
+    assert extract_json_object('{"a": 1} {"b": 2}') == {"a": 1}  # no plan anywhere: the first object
+
+
+def test_nested_plan_lists_and_id_name_pairs():
+    assert parse_planner_output('{"executable_plan": [[{"action_id": 1}, {"action_id": 3}]]}', D4).actions == [1, 3]
+    # the original's visual-ICL format, as a list and as a string
+    assert parse_planner_output('{"executable_plan": [[3, "d"], [0, "a"]]}', D4).actions == [3, 0]
+    assert parse_planner_output('{"executable_plan": [[[3, "d"], [0, "a"]]]}', D4).actions == [3, 0]
+    assert parse_planner_output('{"executable_plan": "[[3, \'d\'], [0, \'a\']]"}', D4).actions == [3, 0]
+    bad = parse_planner_output('{"executable_plan": [[9, "z"]]}', D4)
+    assert bad.actions == [] and bad.truncated_at == 0 and "out of range" in bad.plan_error
+
+
+def test_vector_plans_in_the_original_manipulation_shapes():
+    v = VectorActionSpace(names=tuple("xyzabcg"), low=(0,) * 7, high=(99,) * 6 + (1,))
+    text = '{"executable_plan": [[{"action": [1, 2, 3, 4, 5, 6, 1]}], [[7, 8, 9, 10, 11, 12, 0]]]}'
+    assert parse_planner_output(text, v).actions == [(1, 2, 3, 4, 5, 6, 1), (7, 8, 9, 10, 11, 12, 0)]
+    assert parse_planner_output('{"executable_plan": [[1, 2, 3, 4, 5, 6, 1]]}', v).actions == [(1, 2, 3, 4, 5, 6, 1)]
+
+
+@pytest.mark.parametrize("text", [
+    # Claude / InternVL style: single quotes with an apostrophe inside, fenced
+    "```json\n{'visual_state_description': 'the robot's arm is up', 'executable_plan': "
+    "[{'action_id': 1, 'action_name': 'b'}]}\n```",
+    # a Python literal with a double quote inside a single-quoted string
+    "{'language_plan': 'say \"hi\"', 'executable_plan': [{'action_id': 1, 'action_name': 'b'}],}",
+])
+def test_quote_and_fence_fixup(text):
+    r = parse_planner_output(text, D4)
+    assert r.error is None and r.actions == [1]
+    assert "robot's arm" in r.output.visual_state_description or 'say "hi"' in r.output.language_plan
