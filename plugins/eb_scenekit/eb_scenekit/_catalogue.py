@@ -653,6 +653,7 @@ def _wine_bottle(p: Parts, c: RGB) -> None:
 
 
 @_register("Mug", "container", ("red", "blue", "white", "yellow", "green"), (0.045, 0.07), 0.1, movable=True,
+           shapes={"tall": (0.95, 0.95, 1.45), "short": (1.1, 1.1, 0.65)},
            surfaces=(S("interior", 0.008, (0.02, 0.02), inside=True, clearance=0.09),))
 def _mug(p: Parts, c: RGB) -> None:
     p.mesh("body", "mug_body", (0, 0, 0), c, "eb_glossy")
@@ -672,6 +673,7 @@ def _cup(p: Parts, c: RGB) -> None:
 
 
 @_register("Bowl", "container", ("white", "blue", "red", "green"), (0.09, 0.09), 0.065, movable=True,
+           shapes={"deep": (0.9, 0.9, 1.9), "shallow": (1.15, 1.15, 0.5)},
            surfaces=(S("interior", 0.012, (0.04, 0.04), inside=True),))
 def _bowl(p: Parts, c: RGB) -> None:
     p.mesh("body", "bowl", (0, 0, 0), c, "eb_glossy")
@@ -680,8 +682,16 @@ def _bowl(p: Parts, c: RGB) -> None:
 
 
 @_register("Plate", "container", ("white", "blue", "cream", "green"), (0.125, 0.125), 0.025, movable=True,
+           shapes={"round": (1.0, 1.0, 1.0), "square": (1.0, 1.0, 1.0)},
            surfaces=(S("top", 0.011, (0.06, 0.06)),))
 def _plate(p: Parts, c: RGB) -> None:
+    if p.shape == "square":  # a flat square dish with a raised rim
+        p.box("body", (0.105, 0.105, 0.005), (0, 0, 0.005), c, "eb_glossy")
+        for k in (-1, 1):
+            p.box("rim_x", (0.008, 0.112, 0.008), (k * 0.104, 0, 0.012), c, "eb_glossy")
+            p.box("rim_y", (0.098, 0.008, 0.008), (0, k * 0.104, 0.012), c, "eb_glossy")
+        p.box("rim_band", (0.09, 0.09, 0.0008), (0, 0, 0.0105), _shade(c, 0.6), "eb_glossy", collide=False)
+        return
     p.mesh("body", "plate", (0, 0, 0), c, "eb_glossy")
     p.mesh("rim_band", "burner", (0, 0, 0.02), _shade(c, 0.6), "eb_glossy", stretch=(1.55, 1.55, 0.4),
            collide=False)
@@ -709,7 +719,8 @@ def _pan(p: Parts, c: RGB) -> None:
     p.cap_ft("handle", (0, 0.05, 0.045), (0, 0.25, 0.06), 0.012, _BLACK, "eb_plastic")
 
 
-@_register("Vase", "container", ("blue", "white", "green", "red"), (0.08, 0.08), 0.45, movable=True)
+@_register("Vase", "container", ("blue", "white", "green", "red"), (0.08, 0.08), 0.45, movable=True,
+           shapes={"tall": (0.95, 0.95, 1.35), "short": (1.2, 1.2, 0.55)})
 def _vase(p: Parts, c: RGB) -> None:
     p.mesh("body", "vase", (0, 0, 0), c, "eb_glossy")
     blossoms = ((0.9, 0.2, 0.25), (0.95, 0.85, 0.2), (0.95, 0.55, 0.7))
@@ -795,7 +806,8 @@ def _spatula(p: Parts, c: RGB) -> None:
         p.box("slot", (0.03, 0.004, 0.0008), (0.1, y, 0.0062), _BLACK, "eb_matte", collide=False)
 
 
-@_register("Book", "small", ("red", "blue", "green", "black", "yellow"), (0.082, 0.118), 0.034, movable=True)
+@_register("Book", "small", ("red", "blue", "green", "black", "yellow"), (0.082, 0.118), 0.034, movable=True,
+           shapes={"thick": (1.0, 1.0, 2.2), "thin": (1.0, 1.0, 0.4)})
 def _book(p: Parts, c: RGB) -> None:
     p.box("cover_bottom", (0.082, 0.118, 0.002), (0, 0, 0.002), c, "eb_plastic")
     p.box("cover_top", (0.082, 0.118, 0.002), (0, 0, 0.032), c, "eb_plastic")
@@ -1132,7 +1144,8 @@ def _watch(p: Parts, c: RGB) -> None:
     p.cyl("face", 0.016, 0.001, (0, 0, 0.0165), _WHITE, "eb_glossy", collide=False)
 
 
-@_register("Statue", "small", ("gold", "silver", "dark_gray"), (0.045, 0.05), 0.21, movable=True)
+@_register("Statue", "small", ("gold", "silver", "dark_gray"), (0.045, 0.05), 0.21, movable=True,
+           shapes={"tall": (1.0, 1.0, 1.5), "short": (1.15, 1.15, 0.6)})
 def _statue(p: Parts, c: RGB) -> None:
     """A small metal figure on a stone plinth."""
     p.box("plinth", (0.045, 0.045, 0.015), (0, 0, 0.015), _DARK, "eb_stone")

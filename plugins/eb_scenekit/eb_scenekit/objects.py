@@ -204,6 +204,9 @@ class _Ctx:
     assets: dict[str, El]
     names: set[str] = field(default_factory=set)
     open_fracs: Mapping[str, float] = field(default_factory=dict)
+    shape: str | None = None
+    stretch: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    """Per-axis factor of the instance's shape variant (on top of the uniform ``scale``)."""
 
     def unique(self, part: str) -> str:
         base = f"{self.inst}/{part}"
@@ -231,9 +234,36 @@ class Parts:
         self.ctx = ctx
         self.el = el
 
+    @property
+    def shape(self) -> str | None:
+        """The shape variant being built (see :attr:`ObjectType.shapes`), or None for the default look."""
+        return self.ctx.shape
+
     def _s(self, v: tuple[float, ...]) -> tuple[float, ...]:
         s = self.ctx.scale
         return tuple(x * s for x in v)
+
+    def _p(self, v: tuple[float, ...]) -> tuple[float, ...]:
+        """A position (or a list of points) scaled and stretched per axis."""
+        st = self.ctx.stretch
+        s = self.ctx.scale
+        return tuple(x * s * st[i % 3] for i, x in enumerate(v))
+
+    def _size(self, gtype: str, size: tuple[float, ...]) -> tuple[str, tuple[float, ...]]:
+        """Geom type and size after the shape stretch (a stretched sphere becomes an ellipsoid)."""
+        sx, sy, sz = self.ctx.stretch
+        s = self.ctx.scale
+        if (sx, sy, sz) == (1.0, 1.0, 1.0):
+            return gtype, self._s(size)
+        sxy = math.sqrt(sx * sy)
+        if gtype == "sphere":
+            r = size[0] * s
+            return "ellipsoid", (r * sx, r * sy, r * sz)
+        if gtype in ("box", "ellipsoid") and len(size) == 3:
+            return gtype, (size[0] * s * sx, size[1] * s * sy, size[2] * s * sz)
+        if gtype in ("cylinder", "capsule") and len(size) == 2:
+            return gtype, (size[0] * s * sxy, size[1] * s * sz)
+        return gtype, tuple(x * s * sxy for x in size)
 
     def geom(self, part: str, gtype: str, *, size: tuple[float, ...] | None = None,
              pos: tuple[float, float, float] = (0, 0, 0), rgba: tuple[float, ...] = _WHITE, mat: str = "eb_plastic",
@@ -244,13 +274,14 @@ class Parts:
         if mesh is not None:
             attrs["mesh"] = mesh
         if fromto is not None:
-            attrs["fromto"] = self._s(fromto)
-            attrs["size"] = self._s(size or (0.01,))
+            attrs["fromto"] = self._p(fromto)
+            sxy = math.sqrt(self.ctx.stretch[0] * self.ctx.stretch[1])
+            attrs["size"] = tuple(x * sxy for x in self._s(size or (0.01,)))
         else:
             if size is not None:
-                attrs["size"] = self._s(size)
+                attrs["type"], attrs["size"] = self._size(gtype, size)
             if any(abs(p) > 1e-12 for p in pos):
-                attrs["pos"] = self._s(pos)
+                attrs["pos"] = self._p(pos)
         if rot is not None:
             q = _rpy_quat(*rot)
             if not _is_identity(q):
@@ -294,7 +325,8 @@ class Parts:
              mat: str = "eb_plastic", stretch: tuple[float, float, float] = (1.0, 1.0, 1.0), **kw: object) -> El:
         """Add a generated mesh (see ``_meshes.MESHES``); ``stretch`` scales it per axis."""
         s = self.ctx.scale
-        sc = (stretch[0] * s, stretch[1] * s, stretch[2] * s)
+        st = self.ctx.stretch
+        sc = (stretch[0] * s * st[0], stretch[1] * s * st[1], stretch[2] * s * st[2])
         name = f"eb_{key}" if sc == (1.0, 1.0, 1.0) else f"eb_{key}__{'_'.join(fmt(v) for v in sc)}"
         if name not in self.ctx.assets:
             v, f = _mesh(key)
@@ -307,7 +339,7 @@ class Parts:
 
     def body(self, part: str, pos: tuple[float, float, float], rot: tuple[float, float, float] | None = None) -> Parts:
         """A static child body (for grouping); returns its writer."""
-        attrs: dict[str, object] = {"name": self.ctx.unique(part), "pos": self._s(pos)}
+        attrs: dict[str, object] = {"name": self.ctx.unique(part), "pos": self._p(pos)}
         if rot is not None:
             attrs["quat"] = _rpy_quat(*rot)
         return Parts(self.ctx, self.el.add("body", **attrs))
@@ -317,7 +349,7 @@ class Parts:
         """An openable child body turning about ``axis`` through ``pos``; build its geoms in the closed pose."""
         frac = float(self.ctx.open_fracs.get(part, 0.0))
         ref = frac * max_deg
-        attrs: dict[str, object] = {"name": self.ctx.unique(part), "pos": self._s(pos)}
+        attrs: dict[str, object] = {"name": self.ctx.unique(part), "pos": self._p(pos)}
         q = _axis_quat(axis, ref)
         if not _is_identity(q):
             attrs["quat"] = q
@@ -332,7 +364,7 @@ class Parts:
         frac = float(self.ctx.open_fracs.get(part, 0.0))
         t = travel * self.ctx.scale
         ref = frac * t
-        p = self._s(pos)
+        p = self._p(pos)
         n = math.sqrt(sum(a * a for a in axis))
         p = tuple(p[i] + axis[i] / n * ref for i in range(3))
         body = self.el.add("body", name=self.ctx.unique(part), pos=p)
@@ -344,7 +376,7 @@ class Parts:
               diffuse: tuple[float, float, float] = (0.5, 0.45, 0.35), cutoff: float = 70.0,
               active: bool = True) -> None:
         """A (shadowless) spotlight, e.g. a lamp bulb; toggled with :func:`set_powered`."""
-        self.el.add("light", name=self.ctx.unique(part), pos=self._s(pos), dir=direction, diffuse=diffuse,
+        self.el.add("light", name=self.ctx.unique(part), pos=self._p(pos), dir=direction, diffuse=diffuse,
                     specular=(0.1, 0.1, 0.1), cutoff=cutoff, exponent=2, attenuation=(1, 0.3, 0.1),
                     castshadow=False, active=active)
 
@@ -403,6 +435,18 @@ class ObjectType:
     """Initial open fraction per articulation when the caller gives none (e.g. a laptop starts open)."""
     toggleable: bool = False
     """Has an on/off state shown by :func:`set_powered` (lamps, TV, stove, microwave ...)."""
+    shapes: Mapping[str, tuple[float, float, float]] = field(default_factory=dict)
+    """Named shape variants (``"tall"``, ``"thin"``, ``"square"`` ...) -> per-axis stretch (x, y, z) of the whole
+    object; a builder may also draw a variant differently (it reads :attr:`Parts.shape`)."""
+
+    def shape_stretch(self, shape: str | None) -> tuple[float, float, float]:
+        """The per-axis stretch of a shape variant (None: the default look)."""
+        if shape is None:
+            return (1.0, 1.0, 1.0)
+        if shape not in self.shapes:
+            allowed = ", ".join(self.shapes) or "none"
+            raise ValueError(f"{self.name} has no shape {shape!r}; available: {allowed}")
+        return tuple(float(v) for v in self.shapes[shape])  # type: ignore[return-value]
 
     @property
     def default_color(self) -> str:
@@ -444,7 +488,7 @@ class ObjectType:
     def build(self, instance: str, pos: tuple[float, float, float] = (0.0, 0.0, 0.0), yaw: float = 0.0,
               color: str | tuple[float, ...] | None = None, scale: float = 1.0, movable: bool | None = None,
               open: Mapping[str, float] | float | None = None,
-              assets: dict[str, El] | None = None) -> tuple[El, dict[str, El]]:
+              assets: dict[str, El] | None = None, shape: str | None = None) -> tuple[El, dict[str, El]]:
         """Write the MJCF ``<body name=instance>`` subtree of one instance.
 
         Args:
@@ -456,6 +500,7 @@ class ObjectType:
             movable: add a free joint (default: :attr:`movable`).
             open: initial open fraction for all articulations (float) or per part (mapping).
             assets: asset dict to add meshes to (shared across a scene); a new one if None.
+            shape: a shape variant from :attr:`shapes` (None = the default look).
 
         Returns:
             The body element and the asset dict (mesh assets this body needs, plus whatever was passed in).
@@ -473,7 +518,8 @@ class ObjectType:
             fracs.update({k: float(v) for k, v in open.items()})
         fracs = {k: min(max(v, 0.0), 1.0) for k, v in fracs.items()}
         assets = {} if assets is None else assets
-        ctx = _Ctx(instance, float(scale), assets, open_fracs=fracs)
+        stretch = self.shape_stretch(shape)
+        ctx = _Ctx(instance, float(scale), assets, open_fracs=fracs, shape=shape, stretch=stretch)
         attrs: dict[str, object] = {"name": instance, "pos": tuple(pos)}
         q = yaw_quat(yaw)
         if not _is_identity(q):

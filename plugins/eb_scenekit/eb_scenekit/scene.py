@@ -73,6 +73,8 @@ class SceneObject:
     """True if it is inside the parent (fridge, cabinet, bowl) rather than on top."""
     mount: str = "surface"
     movable: bool = False
+    shape: str | None = None
+    """Shape variant name (see :attr:`eb_scenekit.ObjectType.shapes`), or None for the default look."""
 
     def corners(self, margin: float = 0.0) -> np.ndarray:
         """The 4 world (x, y) corners of the footprint, grown by ``margin``."""
@@ -452,7 +454,8 @@ class SceneBuilder:
     def add_object(self, type_name: str, instance_name: str | None = None,
                    pos: Sequence[float] = (0.0, 0.0), yaw: float = 0.0, color: str | Sequence[float] | None = None,
                    scale: float = 1.0, parent: str | None = None, *, surface: str | None = None,
-                   movable: bool | None = None, open: Mapping[str, float] | float | None = None) -> SceneObject:
+                   movable: bool | None = None, open: Mapping[str, float] | float | None = None,
+                   shape: str | None = None) -> SceneObject:
         """Place one catalogue object (or one of a type added with :meth:`register_type`).
 
         Args:
@@ -468,6 +471,7 @@ class SceneBuilder:
             surface: which surface of the parent (default: its first, e.g. a fridge's bottom shelf, a table top).
             movable: add a free joint (default: the type's ``movable``).
             open: initial open fraction (0 closed .. 1 open) of all articulated parts, or per part.
+            shape: a shape variant of the type (``"tall"``, ``"square"`` ...; see ``ObjectType.shapes``).
 
         Returns:
             The recorded :class:`SceneObject`.
@@ -502,13 +506,14 @@ class SceneBuilder:
         wyaw = round(((wyaw + 180.0) % 360.0) - 180.0, 4)
         mov = otype.movable if movable is None else bool(movable)
         rgb = color if color is None or isinstance(color, str) else tuple(float(v) for v in color)
-        body, _ = otype.build(name, world, wyaw, rgb, scale, mov, open, self._assets)
+        st = otype.shape_stretch(shape)
+        body, _ = otype.build(name, world, wyaw, rgb, scale, mov, open, self._assets, shape=shape)
         self._world.append(body)
         obj = SceneObject(name=name, type=otype.name, category=otype.category, color=color_name,
                           position=world, yaw=wyaw,  # type: ignore[arg-type]
-                          half_extents=(otype.half_extents[0] * scale, otype.half_extents[1] * scale),
-                          height=otype.height * scale, scale=float(scale), parent=parent, surface=surf_name,
-                          inside=inside, mount=otype.mount, movable=mov)
+                          half_extents=(otype.half_extents[0] * scale * st[0], otype.half_extents[1] * scale * st[1]),
+                          height=otype.height * scale * st[2], scale=float(scale), parent=parent, surface=surf_name,
+                          inside=inside, mount=otype.mount, movable=mov, shape=shape)
         self.objects.append(obj)
         self._by_name[name] = obj
         return obj
