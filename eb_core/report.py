@@ -129,9 +129,8 @@ def load_run(run_dir: str | Path) -> dict[str, Any]:
     aliases = ((conf.get("env") or {}).get("subset_aliases") or {})
     fns = {"success_rate": success_rate, "subgoal_success": subgoal_success, "steps": steps, "errors": errors,
            "usage": usage}
-    subsets = list(dict.fromkeys(aliases.get(s, s) for s in meta.get("subsets", {}))) or None
-    if subsets is not None:
-        subsets += [s for s in dict.fromkeys(r.subset for r in records) if s not in subsets]
+    subsets = list(dict.fromkeys(aliases.get(s, s) for s in meta.get("subsets", {})))
+    subsets += [s for s in dict.fromkeys(r.subset for r in records) if s not in subsets]  # in the run's order
     summary = compute_summary(records, fns, subsets)
 
     def name(key: str) -> str:
