@@ -829,7 +829,7 @@ def cmd_audit(args: list[str]) -> int:
     from eb_core.config import ConfigError
     from eb_core.plugins import PluginError, Registry
     from eb_core.runner import select_tasks
-    from eb_core.specs import load_entry_point
+    from eb_core.specs import MissingDependencyError, load_entry_point
 
     quick, only, overrides = False, [], []
     extra: dict[str, str] = {}
@@ -876,7 +876,7 @@ def cmd_audit(args: list[str]) -> int:
     try:
         spec = Registry.create().get("env", cfg.env.name)
         env_cls = spec.load()
-    except PluginError as exc:
+    except (PluginError, MissingDependencyError) as exc:
         raise CliError(str(exc)) from None
     try:
         all_tasks = env_cls.load_tasks(**cfg.env.params)
