@@ -9,7 +9,7 @@ from __future__ import annotations
 from eb_habitat.catalog import RECEPTACLES
 from eb_habitat.goals import Predicate
 from eb_habitat.skills import skill_id
-from eb_habitat.world import Item, World
+from eb_habitat.world import HAND, Item, World
 
 __all__ = ["OracleError", "expert_plan"]
 
@@ -56,22 +56,57 @@ class _Planner:
     def goal_targets(self) -> set[str]:
         return {p.target for p in self.goal if p.target is not None}
 
+    def blocked_places(self) -> set[str]:
+        """Where a put-down object must not go: goal receptacles, and where objects still to be moved lie (it
+        would block ``pick up`` there). A pure function of the state, so closed-loop replanning agrees."""
+        out = self.goal_targets()
+        locked = self.locked()
+        for p in self.placement_goals():
+            if not p.holds(self.w):
+                out |= {it.loc for it in self.w.items.values()
+                        if p.matches(it.name, it.type) and it.name not in locked and it.loc != HAND}
+        return out
+
     def stash(self, avoid: frozenset[str] = frozenset()) -> None:
         """Put the held object down where it harms no goal: here if possible, else the first free surface."""
         here = self.w.agent_at
-        targets = self.goal_targets() | avoid
-        if here is not None and self.w.is_open(here) and self.w.free_slot(here) is not None and here not in targets:
+        blocked = self.blocked_places() | avoid
+        if here is not None and self.w.is_open(here) and self.w.free_slot(here) is not None and here not in blocked:
             self.do("place", here)
             return
         for r in RECEPTACLES:
-            if r.kind == "surface" and r.key not in targets and self.w.free_slot(r.key) is not None:
+            if r.kind == "surface" and r.key not in blocked and self.w.free_slot(r.key) is not None:
                 self.goto(r.key)
                 self.do("place", r.key)
                 return
         raise OracleError("no free surface to put the held object on")
 
+    def clear_room(self, target: str) -> None:
+        """``target`` is full: with an empty hand, carry away one thing that no goal wants there."""
+        locked = self.locked()
+        here = self.w.items_at(target)
+        # `pick up` takes the leftmost of a kind: only the leftmost of its kind can be taken away directly.
+        blockers = [it for it in here if it.name not in locked
+                    and next(o for o in here if o.type == it.type).name == it.name]
+        if not blockers:
+            raise OracleError(f"the {target} is full and everything on it is needed there")
+        if self.w.held is not None:
+            self.stash(avoid=frozenset({target}))
+        self.ensure_open(target)
+        self.goto(target)
+        blocker = blockers[0]
+        self.do("pick", blocker.type)
+        elsewhere = [p for p in self.placement_goals() if not p.holds(self.w) and p.args[1] != target
+                     and p.matches(blocker.name, blocker.type)]
+        if elsewhere:  # it is wanted somewhere else anyway: take it there (what a replanning expert would do)
+            self.deliver(blocker, elsewhere[0].args[1])
+        else:
+            self.stash(avoid=frozenset({target}))
+
     def deliver(self, item: Item, target: str) -> None:
         """Bring ``item`` (held or lying somewhere) to ``target`` and put it there."""
+        if self.w.free_slot(target) is None:
+            self.clear_room(target)  # first, so that the plan is the same whichever step it is asked from
         if self.w.held != item.name:
             if self.w.held is not None:
                 self.stash()
@@ -91,26 +126,7 @@ class _Planner:
                 raise OracleError(f"could not pick {item.name}")
         self.ensure_open(target)
         self.goto(target)
-        if self.w.free_slot(target) is None:
-            self.make_room(target)  # ends with the held object delivered
-            return
         self.do("place", target)
-
-    def make_room(self, target: str) -> None:
-        """``target`` is full while the held object must go there: park it, carry away something no goal wants
-        there, then deliver the parked object."""
-        locked = self.locked()
-        blockers = [it for it in self.w.items_at(target)
-                    if it.name not in locked and getattr(self.w.pick_candidate(it.type), "name", None) == it.name]
-        if not blockers:
-            raise OracleError(f"the {target} is full and everything on it is needed there")
-        parked = self.w.held_item
-        assert parked is not None
-        self.stash(avoid=frozenset({target}))
-        self.goto(target)
-        self.do("pick", blockers[0].type)
-        self.stash(avoid=frozenset({target}))
-        self.deliver(parked, target)
 
     def choose(self, p: Predicate) -> Item:
         """The instance to bring for an unmet placement goal."""

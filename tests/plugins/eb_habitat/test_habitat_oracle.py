@@ -75,3 +75,20 @@ def test_expert_recovers_from_odd_states(env, tasks) -> None:
                 break
         steps, result = run_oracle(env, task, budget=60)
         assert result is None or result.task_success, task.id
+
+
+def test_closed_loop_follows_the_open_loop_plan(env, tasks) -> None:
+    """Asking the expert again after every single step gives the same actions as its first plan: the plan is a
+    function of the state, and each step moves along it (a closed-loop oracle cannot wander)."""
+    for task in tasks:
+        env.reset(task, 0)
+        first = env.expert_plan()
+        taken = []
+        for _ in range(len(first) + 2):
+            plan = env.expert_plan()
+            if not plan:
+                break
+            taken.append(plan[0])
+            if env.step(plan[0]).done:
+                break
+        assert taken == first, task.id
