@@ -91,7 +91,7 @@ class OracleBackend(_OfflineBackend):
             return self._response(text, t0, "oracle")
         expert = env.expert_plan()
         if expert is None:
-            why = env.expert_reason or "the environment gives no reason"
+            why = (env.expert_reason or "the environment gives no reason").rstrip(".")
             text = planner_answer(space, [], seen="(oracle)",
                                   reasoning=f"The expert has no plan from this state: {why}.")
             return self._response(text, t0, "oracle")
@@ -105,11 +105,16 @@ class OracleBackend(_OfflineBackend):
                 replaced += 1
             else:
                 plan.append(action)
-        what = "the first action of the expert plan" if n == 1 and plan else \
-            f"{len(plan)} of the expert plan's {len(expert)} actions"
-        noisy = f"; {replaced} replaced by random actions (noise={noise:g})" if noise > 0 else ""
+        if not plan:
+            reasoning = "The expert plan from the current state is empty."
+        elif n == 1:
+            reasoning = (f"A random valid action instead of the expert's next one (noise={noise:g})." if replaced
+                         else "The expert's next action from the current state.")
+        else:
+            reasoning = f"The first {len(plan)} of the expert plan's {len(expert)} actions from the current state"
+            reasoning += f"; {replaced} replaced by random actions (noise={noise:g})." if noise > 0 else "."
         text = planner_answer(space, plan, seen="(oracle: the simulator state is known exactly)",
-                              reasoning=f"Following the expert from the current state: {what}{noisy}.")
+                              reasoning=reasoning)
         return self._response(text, t0, "oracle")
 
 
