@@ -356,7 +356,8 @@ class VLMPlanner:
         content: list[Any] = []
         if self.visual_icl:
             content.append(TextPart(text=text))
-            content += self._visual_examples()
+            if full:  # a short chat-history turn does not repeat the examples
+                content += self._visual_examples()
             if images:
                 content.append(TextPart(text="Below is your current observation. Plan for it, learning from the "
                                              "strategy and the examples above, and answer only with the JSON "

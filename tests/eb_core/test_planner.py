@@ -354,3 +354,12 @@ def test_expert_labels_off_by_default_and_none_with_a_reason(tmp_path):
                 expert_labels=True)
     a = json.loads((tmp_path / "b" / "steps.jsonl").read_text().splitlines()[0])["actions"][0]
     assert a["expert_action"] is None and a["expert_reason"] == "no expert for this corridor"
+
+
+def test_visual_icl_with_chat_history_shows_the_examples_once():
+    _, b = play([plan(0), plan(1, 1)], parts={"visual_examples": VIS}, planner__visual_icl=True,
+                planner__chat_history=True)
+    req = b.requests[1]
+    example_images = [p for m in req.messages for p in images(m) if p.name.startswith("example-")]
+    assert len(example_images) == 3  # the first turn's, not repeated in the short turn
+    assert [p.name for p in images(req.messages[-1])] == ["top"]
