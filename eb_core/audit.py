@@ -125,19 +125,76 @@ class AuditSetup:
     """Episodes per task and noise level on the noisy-expert curve."""
     blind_policies: list["BlindPolicy"] | None = None
     """Extra named blind policies (default: the env class's ``audit_blind_policies()`` when it has one)."""
+    per_subset: int | None = None
+    """Tasks per subset for the probes that play many random actions (blind policies, noise curve, parallel
+    forms); None = all of them, unless a random step is slow (see :meth:`sampled_tasks`)."""
+    budget_s: float = 240.0
+    """Rough time those probes may take together when ``per_subset`` is None."""
     _cache: dict[Any, Any] = field(default_factory=dict, repr=False)
 
     def episode_tasks(self) -> list[Task]:
-        """The tasks the episode-driven probes play (all of them, or the first few per subset under quick)."""
-        if not self.quick:
-            return list(self.tasks)
-        seen: Counter[str] = Counter()
-        out = []
-        for t in self.tasks:
-            if seen[t.subset] < self.quick_per_subset:
-                out.append(t)
-                seen[t.subset] += 1
-        return out
+        """The tasks the closed-loop oracle plays: all of them, or the first few per subset under quick."""
+        return _spread(self.tasks, self.quick_per_subset) if self.quick else list(self.tasks)
+
+    def sampled_tasks(self, tasks: list[Task] | None = None) -> list[Task]:
+        """The tasks of the random-action probes: ``per_subset`` per subset, spread evenly over each subset's
+        order (task files are often ordered by family). With ``per_subset`` None the cap follows from the
+        measured cost of a random step and :attr:`budget_s` (all tasks when steps are cheap)."""
+        tasks = list(self.tasks if tasks is None else tasks)
+        k = self.cap()
+        return _spread(tasks, k) if k is not None else tasks
+
+    def cap(self) -> int | None:
+        if "cap" not in self._cache:
+            k = self.per_subset
+            if k is None:
+                groups = _by_subset(self.tasks)
+                cost = self.random_step_seconds()
+                blind = 12 if isinstance(self._cache.get("space"), DiscreteActionSpace) else 10
+                per_task = self.max_steps * cost * (blind + 4 * self.curve_repeats + self.parallel_repeats)
+                fit = int(self.budget_s / max(per_task * max(len(groups), 1), 1e-9))
+                k = max(5, fit)
+            if k >= max(len(ts) for ts in _by_subset(self.tasks).values()):
+                k = None
+            if self.quick:
+                k = min(k or self.quick_per_subset, self.quick_per_subset)
+            self._cache["cap"] = k
+        return self._cache["cap"]
+
+    def random_step_seconds(self) -> float:
+        """Median wall time of a random valid step (a few steps on three tasks), measured once."""
+        if "step_s" not in self._cache:
+            import time
+
+            rng = random.Random(f"eb-audit-calibrate:{self.seed}")
+            times: list[float] = []
+            env = self.make_env()
+            try:
+                for t in self.tasks[:: max(1, len(self.tasks) // 3)][:3]:
+                    try:
+                        env.reset(t, _reset_seed(self.seed, t.id))
+                        self._cache["space"] = env.action_space()
+                        for _ in range(6):
+                            a = random_action(env.action_space(), rng)
+                            t0 = time.perf_counter()
+                            done = env.step(a).done
+                            times.append(time.perf_counter() - t0)
+                            if done:
+                                break
+                    except Exception:  # noqa: BLE001 - the closed-loop probe reports env errors
+                        continue
+            finally:
+                env.close()
+            self._cache["step_s"] = float(np.median(times)) if times else 0.0
+        return self._cache["step_s"]
+
+    def sampling_note(self) -> str:
+        k = self.cap()
+        if k is None:
+            return "every task"
+        slow = "" if self.per_subset is not None or self.quick else \
+            f"; a random step takes {1000 * self.random_step_seconds():.0f} ms, per_subset=N to change"
+        return f"{k} tasks per subset, spread over each subset{slow}"
 
     def make_env(self, params: dict[str, Any] | None = None) -> Env:
         """The env without rendering when it accepts ``render=False`` (geometry or symbolic mode)."""
@@ -146,6 +203,17 @@ class AuditSetup:
             return self.env_cls(resolution=64, multi_view=False, **{**params, "render": False})
         except (TypeError, ValueError):  # the world has no render switch
             return self.env_cls(resolution=64, multi_view=False, **params)
+
+
+def _spread(tasks: Sequence[Task], k: int) -> list[Task]:
+    """``k`` tasks of each subset at evenly spaced positions of its order (all when it has no more)."""
+    out = []
+    for ts in _by_subset(tasks).values():
+        if len(ts) <= k:
+            out += ts
+        else:
+            out += [ts[(i * len(ts)) // k] for i in range(k)]
+    return out
 
 
 def _reset_seed(seed: int, task_id: str) -> int:
@@ -350,9 +418,9 @@ def _blind_policies(setup: AuditSetup, spaces: dict[str, ActionSpace]) -> list[B
     elif first is not None:  # vector space: a few fixed vectors and cycles of them
         vec_rng = random.Random(f"eb-audit-vectors:{setup.seed}")
         mid = tuple((lo + hi) // 2 for lo, hi in zip(first.low, first.high))
-        vectors = [mid] + [random_action(first, vec_rng) for _ in range(7)]
+        vectors = [mid] + [random_action(first, vec_rng) for _ in range(5)]
         policies += [BlindPolicy(f"always {list(v)}", (v,)) for v in vectors]
-        for j in range(n_cycles // 2):
+        for j in range(n_cycles // 4):
             k = 2 + j % 3
             c = tuple(random_action(first, vec_rng) for _ in range(k))
             policies.append(BlindPolicy(f"cycle of {k} fixed vectors #{j + 1}", c))
@@ -380,7 +448,7 @@ def _cycles(pool: list[str], k: int) -> list[tuple[str, ...]]:
 
 
 def probe_blind_policies(setup: AuditSetup) -> ProbeResult:
-    tasks = setup.episode_tasks()
+    tasks = setup.sampled_tasks()
     env = setup.make_env()
     try:
         spaces: dict[str, ActionSpace] = {}
@@ -573,20 +641,24 @@ def probe_grammar(setup: AuditSetup) -> ProbeResult:
 # -- the expert ---------------------------------------------------------------------------------------------
 
 
-def _curve_outcomes(setup: AuditSetup, noise: float, repeat: int) -> dict[str, EpisodeOutcome]:
-    key = ("curve", noise, repeat, tuple(t.id for t in setup.episode_tasks()))
-    if key not in setup._cache:
+def _curve_outcomes(setup: AuditSetup, noise: float, repeat: int,
+                    tasks: list[Task] | None = None) -> dict[str, EpisodeOutcome]:
+    tasks = setup.sampled_tasks() if tasks is None else tasks
+    key = ("curve", noise, repeat)
+    cached = setup._cache.setdefault(key, {})
+    todo = [t for t in tasks if t.id not in cached]
+    if todo:
         env = setup.make_env()
         try:
-            setup._cache[key] = {t.id: noisy_expert_episode(setup, env, t, noise, repeat)
-                                 for t in setup.episode_tasks()}
+            for t in todo:
+                cached[t.id] = noisy_expert_episode(setup, env, t, noise, repeat)
         finally:
             env.close()
-    return setup._cache[key]
+    return {t.id: cached[t.id] for t in tasks}
 
 
 def probe_closed_loop(setup: AuditSetup) -> ProbeResult:
-    outcomes = _curve_outcomes(setup, 0.0, 0)
+    outcomes = _curve_outcomes(setup, 0.0, 0, setup.episode_tasks())
     failed = [(tid, o) for tid, o in outcomes.items() if not o.success]
     rows = [{"task": tid, "end": o.end, "steps": o.steps, "detail": o.detail[:100]} for tid, o in failed[:10]]
     ends = Counter(o.end for _, o in failed)
@@ -600,7 +672,7 @@ def probe_closed_loop(setup: AuditSetup) -> ProbeResult:
 
 
 def probe_noise_curve(setup: AuditSetup) -> ProbeResult:
-    tasks = setup.episode_tasks()
+    tasks = setup.sampled_tasks()
     groups = _by_subset(tasks)
     reps = 1 if setup.quick else setup.curve_repeats
     wins: dict[float, Counter[str]] = {p: Counter() for p in NOISE_LEVELS}  # p -> task id -> successes
@@ -680,9 +752,10 @@ def probe_parallel_forms(setup: AuditSetup) -> ProbeResult:
         except LookupError as exc:
             return ProbeResult(name="parallel_forms", passed=True, skipped=True, value=f"n/a ({exc})",
                                threshold=threshold)
-        shipped_scores = _form_scores(setup, setup.tasks, setup.env_params)
-        fresh_scores = _form_scores(setup, fresh, params)
-    a_groups, b_groups = _by_subset(setup.tasks), _by_subset(fresh)
+        shipped_scores = _form_scores(setup, setup.sampled_tasks(), setup.env_params)
+        fresh_scores = _form_scores(setup, setup.sampled_tasks(fresh), params)
+    a_groups, b_groups = _by_subset(setup.sampled_tasks()), _by_subset(setup.sampled_tasks(fresh))
+    counts_a, counts_b = Counter(t.subset for t in setup.tasks), Counter(t.subset for t in fresh)
     rows, bad, failing = [], [], []
     for subset in list(dict.fromkeys([*a_groups, *b_groups])):
         a = [shipped_scores[t.id] for t in a_groups.get(subset, [])]
@@ -701,8 +774,8 @@ def probe_parallel_forms(setup: AuditSetup) -> ProbeResult:
             mb = _mean(b)
             far = sorted(a_groups[subset], key=lambda t: -abs(shipped_scores[t.id] - mb))
             failing += [t.id for t in far[:5]]
-        if len(a) != len(b):
-            bad.append(f"{subset} (counts differ: {len(a)} vs {len(b)})")
+        if counts_a[subset] != counts_b[subset]:
+            bad.append(f"{subset} (counts differ: {counts_a[subset]} vs {counts_b[subset]})")
     value = f"fresh form {how}; " + ("differs: " + "; ".join(bad) if bad else "every subset within task sampling")
     return ProbeResult(name="parallel_forms", passed=not bad, value=value, threshold=threshold,
                        failing_tasks=_listed(failing), rows=rows)
@@ -787,7 +860,8 @@ def _text_table(headers: list[str], rows: list[list[str]], widths: dict[int, int
     return out
 
 
-def format_audit(env_name: str, results: list[tuple[AuditProbe, ProbeResult]], n_tasks: int) -> str:
+def format_audit(env_name: str, results: list[tuple[AuditProbe, ProbeResult]], n_tasks: int,
+                 note: str = "") -> str:
     """The audit as plain text: one summary table, then each probe's detail rows and warnings."""
     rows = []
     for probe, res in results:
@@ -796,7 +870,7 @@ def format_audit(env_name: str, results: list[tuple[AuditProbe, ProbeResult]], n
         if more > 0:
             shown += f" (+{more} more)"
         rows.append([res.name, probe.description, res.value, res.threshold, _status(res), shown])
-    lines = [f"eb audit: {env_name}, {n_tasks} tasks", ""]
+    lines = [f"eb audit: {env_name}, {n_tasks} tasks" + (f" (random-action probes: {note})" if note else ""), ""]
     lines += _text_table(["probe", "guards against", "measured", "threshold", "status", "failing tasks"], rows,
                          widths={1: 36, 2: 56, 3: 34, 5: 44})
     for probe, res in results:
@@ -817,8 +891,8 @@ def format_audit(env_name: str, results: list[tuple[AuditProbe, ProbeResult]], n
 
 # -- the command --------------------------------------------------------------------------------------------
 
-AUDIT_USAGE = ("usage: eb audit env=NAME [task_file=PATH] [parallel=PATH] [key=value ...] [--quick] "
-               "[--probe NAME ...]")
+AUDIT_USAGE = ("usage: eb audit env=NAME [task_file=PATH] [parallel=PATH] [per_subset=N|all] [repeats=N] "
+               "[parallel_seed=N] [key=value ...] [--quick] [--probe NAME ...]")
 
 
 def cmd_audit(args: list[str]) -> int:
@@ -849,7 +923,7 @@ def cmd_audit(args: list[str]) -> int:
             return 0
         elif a.startswith("-"):
             raise CliError(f"unknown option {a!r} for audit; options: --quick, --probe NAME. {AUDIT_USAGE}")
-        elif a.split("=", 1)[0] in ("task_file", "parallel", "parallel_seed", "repeats"):
+        elif a.split("=", 1)[0] in ("task_file", "parallel", "parallel_seed", "repeats", "per_subset"):
             key, sep, value = a.partition("=")
             if not value:
                 raise CliError(f"{key}= needs a value, e.g. {key}=my_tasks.json")
@@ -890,21 +964,27 @@ def cmd_audit(args: list[str]) -> int:
         raise CliError(f"no tasks selected for env {cfg.env.name!r}; check subset=, limit= and tasks=")
     generator = load_entry_point(spec.task_generator, spec.install_hint) if spec.task_generator else None
     ints = {}
-    for key in ("parallel_seed", "repeats"):
+    if extra.get("per_subset") == "all":
+        extra["per_subset"] = str(max(len(tasks), 1))
+    for key, low in (("parallel_seed", 0), ("repeats", 10), ("per_subset", 1)):
         if key in extra:
             try:
                 ints[key] = int(extra[key])
             except ValueError:
                 raise CliError(f"{key}={extra[key]!r} is not an integer") from None
+            if ints[key] < low:
+                raise CliError(f"{key}={ints[key]} is too small; use {key}={low} or more")
+    if "parallel" in extra and not Path(extra["parallel"]).exists():
+        raise CliError(f"parallel={extra['parallel']} does not exist; give a task file or folder of the same world")
     setup = AuditSetup(env_name=cfg.env.name, env_cls=env_cls, tasks=tasks, max_steps=cfg.env.max_steps,
                        max_invalid_actions=cfg.env.max_invalid_actions, env_params=dict(cfg.env.params),
                        seed=cfg.seed, quick=quick, generator=generator, parallel_source=extra.get("parallel"),
                        parallel_seed=ints.get("parallel_seed", 2_718),
-                       parallel_repeats=max(10, ints.get("repeats", 10)))
+                       parallel_repeats=ints.get("repeats", 10), per_subset=ints.get("per_subset"))
     try:
         results = run_audit(setup, only or None,
                             progress=lambda name: print(f"eb audit: running {name} ...", file=sys.stderr, flush=True))
     except KeyError as exc:
         raise CliError(str(exc.args[0])) from None
-    print(format_audit(cfg.env.name, results, len(tasks)))
+    print(format_audit(cfg.env.name, results, len(tasks), setup.sampling_note() if "cap" in setup._cache else ""))
     return 1 if any(not r.passed for _, r in results) else 0

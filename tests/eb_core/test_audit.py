@@ -315,3 +315,20 @@ def test_run_audit_runs_generic_then_world_probes_and_prints_one_table(tmp_path)
         run_audit(setup, only=["nope"])
     only = run_audit(setup, only=["closed_loop_oracle"])
     assert [r.name for _, r in only] == ["closed_loop_oracle"] and only[0][1].passed
+
+
+def test_slow_worlds_play_an_even_spread_of_tasks_per_subset(tmp_path, monkeypatch):
+    setup = setup_for(tmp_path, lock_tasks(), per_subset=5)
+    picked = setup.sampled_tasks()
+    assert [t.id for t in picked if t.subset == "short"] == ["short-00", "short-06", "short-12", "short-18", "short-24"]
+    assert len(picked) == 10 and len(setup.episode_tasks()) == 60  # the closed loop still plays every task
+    curve = probe_noise_curve(setup)
+    assert "p50" in curve.value and setup._cache[("curve", 0.5, 0)].keys() == {t.id for t in picked}
+    # no cap given: it follows from the cost of a random step (measured once; faked here) and the budget
+    fast = setup_for(tmp_path, lock_tasks())
+    monkeypatch.setattr(AuditSetup, "random_step_seconds", lambda self: 0.0001)
+    assert fast.cap() is None and fast.sampling_note() == "every task"
+    slow = setup_for(tmp_path, lock_tasks())
+    monkeypatch.setattr(AuditSetup, "random_step_seconds", lambda self: 0.05)
+    assert slow.cap() == 5 and len(slow.sampled_tasks()) == 10
+    assert "5 tasks per subset" in slow.sampling_note() and "50 ms" in slow.sampling_note()
