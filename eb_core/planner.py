@@ -241,6 +241,8 @@ class VLMPlanner:
                 out.append((f"frame-{i}", f"{desc.get(obs.primary or '', 'your view')} ({when})"))
         else:
             out.append((obs.primary or "image", desc.get(obs.primary or "", "")))
+        if k == 1 and self.env_config.multi_view and not out[0][1]:
+            out[0] = (out[0][0], "the main view")
         if self.env_config.multi_view:
             for name in obs.images:
                 if name != obs.primary:
@@ -251,10 +253,14 @@ class VLMPlanner:
         names = self._image_names(obs)
         if not names:
             return None
+        def sentence(d: str) -> str:
+            d = d.strip()
+            return d if d.endswith((".", "!", "?")) else d + "."
+
         if len(names) == 1:
-            return f"## The image\nImage: {names[0][1]}." if names[0][1] else None
+            return f"## The image\nImage: {sentence(names[0][1])}" if names[0][1] else None
         lines = [f"## The images\nYou get {len(names)} images, in this order:"]
-        lines += [f"Image {i + 1}: {d}." for i, (_, d) in enumerate(names)]
+        lines += [f"Image {i + 1}: {sentence(d)}" for i, (_, d) in enumerate(names)]
         return "\n".join(lines)
 
     def _step_guidance(self) -> str:

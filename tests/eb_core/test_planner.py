@@ -363,3 +363,10 @@ def test_visual_icl_with_chat_history_shows_the_examples_once():
     example_images = [p for m in req.messages for p in images(m) if p.name.startswith("example-")]
     assert len(example_images) == 3  # the first turn's, not repeated in the short turn
     assert [p.name for p in images(req.messages[-1])] == ["top"]
+
+
+def test_multi_view_without_a_primary_description_and_with_full_sentences():
+    _, mv = play([plan(1, 1)], env__multi_view=True,
+                 parts={"view_descriptions": {"side": "The second image is the corridor upside down."}})
+    assert sections(mv.requests[0].messages[-1].text)["The images"].splitlines()[1:] == [
+        "Image 1: the main view.", "Image 2: The second image is the corridor upside down."]
