@@ -227,7 +227,8 @@ class _Progress:
             elapsed = time.perf_counter() - self.start
             eta = elapsed / self.done * (self.total - self.done)
             mark = "error" if rec.status == "error" else ("success" if rec.success else "fail")
-            print(f"[{self.done}/{self.total}] {rec.task_id}: {mark} ({rec.end_reason}, {rec.env_steps} steps) | "
+            name = rec.task_id + (f" (repeat {rec.repeat})" if rec.repeat else "")
+            print(f"[{self.done}/{self.total}] {name}: {mark} ({rec.end_reason}, {rec.env_steps} steps) | "
                   f"{stats} | eta {eta:.0f}s", file=sys.stderr, flush=True)
 
     def close(self) -> None:
