@@ -175,7 +175,8 @@ def word_matching_spatial(tasks: list[Task], env_params: dict[str, Any] | None =
         by_template[str(t.metadata.get("template", "?"))].append(s)
         if s >= 0.5:
             solved.append(t.id)
-    rows = [{"template": k, "tasks": len(v), "expected_solved": round(sum(v), 2)} for k, v in sorted(by_template.items())]
+    rows = [{"template": k, "tasks": len(v), "expected_solved": round(sum(v), 2)}
+            for k, v in sorted(by_template.items())]
     share = total / len(spatial) if spatial else 0.0
     return _result("word_matching_spatial", share, WORD_MATCH_LIMIT, len(spatial), solved, rows)
 

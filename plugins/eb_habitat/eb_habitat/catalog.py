@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 __all__ = [
     "COLORS",
     "FRIDGE_END",
+    "KITCHEN_ROWS",
     "KITCHEN_SIDE_CHAIR",
     "N_APARTMENTS",
     "OBJECT_TYPES",
@@ -25,10 +26,19 @@ __all__ = [
 N_APARTMENTS = 3
 """Apartment layouts (furniture placement, colours); the receptacle set and the skills are the same in all."""
 
-FRIDGE_END: tuple[str, ...] = ("left", "right", "left")
-"""Per apartment, the end of the kitchen row the fridge stands at, seen facing the row. The counters always flank
-the sink (the left counter is left of it), so "the counter nearer the fridge" differs between apartments;
+KITCHEN_ROWS: tuple[tuple[str, ...], ...] = (
+    ("fridge", "cabinet", "left_counter", "sink", "right_counter"),
+    ("left_counter", "sink", "right_counter", "cabinet", "fridge"),
+    ("fridge", "left_counter", "sink", "right_counter", "cabinet"),
+)
+"""Per apartment, the kitchen row from left to right as seen facing it. The order differs in every apartment;
+the counters always flank the sink (the left counter is left of it), so their names stay true.
 :mod:`eb_habitat.render` builds the rows from this."""
+
+FRIDGE_END: tuple[str, ...] = tuple("left" if row.index("fridge") < row.index("sink") else "right"
+                                    for row in KITCHEN_ROWS)
+"""Per apartment, the side of the sink the fridge is on: "the counter nearer to the fridge" is the left counter
+where this is ``left``."""
 
 KITCHEN_SIDE_CHAIR: tuple[str, ...] = ("left_chair", "right_chair", "left_chair")
 """Per apartment, the dining chair on the side of the table that faces the kitchen (the renderer checks it)."""

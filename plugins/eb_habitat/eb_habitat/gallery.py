@@ -1,6 +1,7 @@
 """Contact sheets of first-person views from real episodes, labelled with the ground truth to check by eye.
 
     python -m eb_habitat.gallery docs/img/habitat_views.png
+    python -m eb_habitat.gallery --spatial docs/img/habitat_spatial.png
 
 For twelve receptacles, finds the fullest view the expert reaches in the shipped tasks and renders it. Each
 label names the task, the apartment, the receptacle and what lies on/in it (and what is in the hand) according
@@ -17,7 +18,7 @@ import numpy as np
 from eb_habitat.catalog import receptacle
 from eb_habitat.world import item_label
 
-__all__ = ["collect_views", "main"]
+__all__ = ["collect_views", "main", "spatial_views"]
 
 
 #: Receptacles shown on the sheet, in order (12 of the 15).
@@ -80,13 +81,54 @@ def collect_views(n: int = 12, resolution: int = 500) -> list[tuple[np.ndarray, 
     return views
 
 
+#: Row templates whose answer is seen in the view of the source receptacle.
+_ROW_TEMPLATES = ("spatial.beside", "spatial.between", "spatial.ordinal", "spatial.end")
+
+
+def spatial_views(resolution: int = 500) -> list[tuple[np.ndarray, str]]:
+    """Per apartment: the overhead plan, the starting view, and the view of a spatial task's row, labelled with
+    the layout facts and the object the instruction means (ground truth from the symbolic world)."""
+    from eb_habitat.catalog import FRIDGE_END, KITCHEN_SIDE_CHAIR
+    from eb_habitat.env import HabitatEnv
+    from eb_habitat.skills import skill_id
+    from eb_habitat.tasks import spec_of
+
+    tasks = [t for t in HabitatEnv.load_tasks() if t.subset == "spatial_relationship"]
+    env = HabitatEnv(resolution=resolution, render=True, multi_view=True)
+    views: list[tuple[np.ndarray, str]] = []
+    try:
+        for apt in range(3):
+            task = next(t for t in tasks if t.metadata["apartment"] == apt
+                        and t.metadata["template"].startswith(_ROW_TEMPLATES))
+            obs = env.reset(task, 0)
+            chair = receptacle(KITCHEN_SIDE_CHAIR[apt]).name
+            views.append((obs.images["overhead"], f"apartment {apt} from above: fridge at the {FRIDGE_END[apt]} end "
+                                                  f"of the kitchen row; {chair} on the kitchen side"))
+            views.append((obs.images["first_person"], f"apartment {apt}: the starting view"))
+            spec = spec_of(task)
+            goal = spec.goal_predicates()[0]
+            src = next(o.at for o in spec.objects if o.name == goal.obj)
+            result = env.step(skill_id("navigate", src))
+            assert env._world is not None
+            row = ", ".join(item_label(it) for it in env._world.visible_items())
+            meant = item_label(env._world.items[goal.obj])
+            views.append((result.observation.images["first_person"],
+                          f"{task.id}: {receptacle(src).name} (left to right: {row}); meant: {meant}"))
+            print(f"{task.id}: {task.instruction}")
+    finally:
+        env.close()
+    return views
+
+
 def main(argv: list[str] | None = None) -> None:
     from eb_scenekit.render import contact_sheet, save_png
 
-    args = sys.argv[1:] if argv is None else argv
-    out = Path(args[0] if args else "docs/img/habitat_views.png")
-    views = collect_views()
-    sheet = contact_sheet([v[0] for v in views], [v[1] for v in views], cols=4, label_height=16)
+    args = list(sys.argv[1:] if argv is None else argv)
+    spatial = "--spatial" in args
+    args = [a for a in args if a != "--spatial"]
+    out = Path(args[0] if args else ("docs/img/habitat_spatial.png" if spatial else "docs/img/habitat_views.png"))
+    views = spatial_views() if spatial else collect_views()
+    sheet = contact_sheet([v[0] for v in views], [v[1] for v in views], cols=3 if spatial else 4, label_height=16)
     from PIL import Image
 
     img = Image.fromarray(sheet)

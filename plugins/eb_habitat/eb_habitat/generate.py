@@ -18,7 +18,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from eb_habitat.catalog import FRIDGE_END, KITCHEN_SIDE_CHAIR, N_APARTMENTS, OBJECT_TYPES, RECEPTACLES, ObjectType, object_type, receptacle
+from eb_habitat.catalog import (
+    FRIDGE_END,
+    KITCHEN_SIDE_CHAIR,
+    N_APARTMENTS,
+    OBJECT_TYPES,
+    RECEPTACLES,
+    ObjectType,
+    object_type,
+    receptacle,
+)
 from eb_habitat.goals import default_subgoals, parse_predicate
 from eb_habitat.oracle import OracleError, expert_plan
 from eb_habitat.tasks import FORMAT, SUBSETS, TASK_DIR, VERSION, load_task_file

@@ -18,8 +18,9 @@ import numpy as np
 from eb_scenekit import SceneBuilder, get_type, set_agent_pose, set_open, surface_position
 from eb_scenekit.gl import import_mujoco
 from eb_scenekit.render import SceneRenderer, camera_from_eye
+from eb_habitat._mirror import MIRRORED, mirrored_type
 from eb_habitat._ycb import KIT_TYPES, kit_or_ycb
-from eb_habitat.catalog import COLORS, FRIDGE_END, N_APARTMENTS, RECEPTACLES
+from eb_habitat.catalog import COLORS, KITCHEN_ROWS, N_APARTMENTS, RECEPTACLES
 from eb_habitat.world import HAND
 
 if TYPE_CHECKING:
@@ -70,21 +71,27 @@ worktop fills the gap to the wall behind it: (distance of the strip's centre beh
 depth), metres."""
 
 
-def _kitchen(x0: float, ywall: float, counter: str, fridge: str, fridge_end: str = "left") -> dict[str, Place]:
-    """The kitchen row along a north wall, left to right as seen facing it: fridge, cabinet, counter, sink, counter
-    (``fridge_end="left"``) or counter, sink, counter, cabinet, fridge (``"right"``). ``x0`` is the row's left
-    end piece. The counters always flank the sink, so their names stay true."""
-    if fridge_end == "left":
-        xs = {"fridge": 0.0, "cabinet": 0.7, "left_counter": 1.62, "sink": 2.53, "right_counter": 3.44}
-    else:
-        xs = {"left_counter": 0.0, "sink": 0.91, "right_counter": 1.82, "cabinet": 2.74, "fridge": 3.44}
-    return {
-        "fridge": Place("Fridge", (x0 + xs["fridge"], ywall - 0.38), -90, fridge),
-        "cabinet": Place("Cabinet", (x0 + xs["cabinet"], ywall - 0.25), -90, counter),
-        "left_counter": Place("CounterTop", (x0 + xs["left_counter"], ywall - 0.33), -90, counter),
-        "sink": Place("Sink", (x0 + xs["sink"], ywall - 0.355), -90, counter),
-        "right_counter": Place("CounterTop", (x0 + xs["right_counter"], ywall - 0.33), -90, counter),
-    }
+#: Half widths (metres, along the row) of the kitchen row's pieces, and the gap between neighbours.
+_ROW_HALF_WIDTH = {"fridge": 0.38, "cabinet": 0.3, "left_counter": 0.6, "sink": 0.3, "right_counter": 0.6}
+_ROW_GAP = 0.015
+_ROW_PIECES = {"fridge": ("Fridge", 0.38), "cabinet": ("Cabinet", 0.25), "left_counter": ("CounterTop", 0.33),
+               "sink": ("Sink", 0.355), "right_counter": ("CounterTop", 0.33)}
+"""Kit type and distance of the piece's centre from the wall, per kitchen receptacle."""
+
+
+def _kitchen(x0: float, ywall: float, counter: str, fridge: str, row: tuple[str, ...]) -> dict[str, Place]:
+    """The kitchen row along a north wall, ``row`` from left to right as seen facing it (``KITCHEN_ROWS``);
+    ``x0`` is the centre of the leftmost piece."""
+    out: dict[str, Place] = {}
+    x = x0
+    for i, key in enumerate(row):
+        if i:
+            x += _ROW_HALF_WIDTH[row[i - 1]] + _ROW_HALF_WIDTH[key] + _ROW_GAP
+        kit_type, depth = _ROW_PIECES[key]
+        if key in ("fridge", "cabinet") and i > row.index("sink"):
+            kit_type += MIRRORED  # hinged on the right: its door opens away from the counters
+        out[key] = Place(kit_type, (round(x, 3), ywall - depth), -90, fridge if key == "fridge" else counter)
+    return out
 
 
 def _living(cx: float, ysouth: float, sofa: str, coffee: str, tv: str) -> dict[str, Place]:
@@ -121,7 +128,8 @@ def _decor(living_x: float, ysouth: float, plant: tuple[float, float], painting:
 def _layout0() -> Layout:
     ysouth, ywall = -3.5, 3.5
     desk = Place("Desk", (4.13, -1.9), 180, "oak")
-    furniture = {**_kitchen(-4.08, ywall, "white", "white", FRIDGE_END[0]), **_living(-2.6, ysouth, "gray", "oak", "walnut"),
+    furniture = {**_kitchen(-4.08, ywall, "white", "white", KITCHEN_ROWS[0]),
+                 **_living(-2.6, ysouth, "gray", "oak", "walnut"),
                  **_dining(1.7, 0.9, "white", "black"), "desk": desk}
     decor = _decor(-2.6, ysouth, (4.1, 3.1), (4.45, -1.9, 1.6, 180.0))
     return Layout((9.0, 7.0), 3, furniture, decor, (0.3, -2.6, 1.6), (-1.2, 1.5, 0.7))
@@ -130,7 +138,8 @@ def _layout0() -> Layout:
 def _layout1() -> Layout:
     ysouth, ywall = -3.5, 3.5
     desk = Place("Desk", (-4.13, -2.0), 0, "white")
-    furniture = {**_kitchen(0.4, ywall, "wood", "silver", FRIDGE_END[1]), **_living(1.9, ysouth, "blue", "white", "black"),
+    furniture = {**_kitchen(0.4, ywall, "wood", "silver", KITCHEN_ROWS[1]),
+                 **_living(1.9, ysouth, "blue", "white", "black"),
                  **_dining(-2.2, 1.0, "oak", "wood"), "desk": desk}
     decor = _decor(1.9, ysouth, (-4.1, 3.1), (-4.45, -2.0, 1.6, 0.0))
     return Layout((9.0, 7.0), 11, furniture, decor, (-0.4, -2.5, 1.6), (1.5, 1.8, 0.7))
@@ -139,7 +148,8 @@ def _layout1() -> Layout:
 def _layout2() -> Layout:
     ysouth, ywall = -3.75, 3.75
     desk = Place("Desk", (3.9, ywall - 0.34), -90, "white")
-    furniture = {**_kitchen(-4.58, ywall, "gray", "black", FRIDGE_END[2]), **_living(2.6, ysouth, "green", "white", "white"),
+    furniture = {**_kitchen(-4.58, ywall, "gray", "black", KITCHEN_ROWS[2]),
+                 **_living(2.6, ysouth, "green", "white", "white"),
                  **_dining(-1.9, -1.4, "white", "white"), "desk": desk}
     decor = _decor(2.6, ysouth, (-4.6, -3.3), (3.9, ywall - 0.05, 1.75, -90.0))
     return Layout((10.0, 7.5), 23, furniture, decor, (0.9, -2.9, 1.6), (-1.0, 1.6, 0.7))
@@ -257,6 +267,13 @@ def _worktop_behind(b: SceneBuilder, sink: Place) -> None:
                       rgba=(0.8, 0.79, 0.76, 1.0), material="eb_stone")
 
 
+def _furniture_type(kit_type: str):
+    """The kit type of a piece of furniture, or our mirrored version of one (:mod:`eb_habitat._mirror`)."""
+    if kit_type.endswith(MIRRORED):
+        return mirrored_type(kit_type.removesuffix(MIRRORED))
+    return get_type(kit_type)
+
+
 def _kit_color(kit_type: str, color: str) -> str | tuple[float, float, float]:
     """A kit type's own variant when it has one of that name, else our RGB for the colour."""
     variants = get_type(kit_type).colors
@@ -295,6 +312,8 @@ class ApartmentRenderer:
         b.add_room("living_room", layout.size, seed=layout.seed, door=("south", 0.0),
                    windows=[("east", 0.4), ("west", 0.9)], rug=None)
         for name, place in layout.furniture.items():
+            if place.kit_type.endswith(MIRRORED):
+                b.register_type(mirrored_type(place.kit_type.removesuffix(MIRRORED)))
             b.add_object(place.kit_type, name, pos=place.pos, yaw=place.yaw, color=place.color)
         _worktop_behind(b, layout.furniture["sink"])
         self._furniture = {so.name: (so.position, so.yaw) for so in b.objects}
@@ -340,7 +359,7 @@ class ApartmentRenderer:
         come out with it)."""
         g = _GEOMETRY[key]
         surface, dx, dy = g.points[slot]
-        s = get_type(self._kit_type(g.instance)).surface(surface)
+        s = _furniture_type(self._kit_type(g.instance)).surface(surface)
         x, y, z = surface_position(self._model, self._data, g.instance, s, offset=(dx, dy))
         return float(x), float(y), float(z)
 

@@ -25,8 +25,8 @@ def _task(objects, goal, opened=(), tid="detour-00") -> Task:
     return Task(id=tid, subset="base", instruction="test", metadata=meta)
 
 
-SCENE = [("mug_1", "red", "dining_table", 0), ("apple_1", "red", "dining_table", 1), ("lemon_1", "yellow", "left_drawer", 0),
-         ("ball_1", "red", "sofa", 2)]
+SCENE = [("mug_1", "red", "dining_table", 0), ("apple_1", "red", "dining_table", 1),
+         ("lemon_1", "yellow", "left_drawer", 0), ("ball_1", "red", "sofa", 2)]
 GOAL = ["(inside ?lemon fridge)", "(closed fridge)"]
 
 

@@ -59,8 +59,8 @@ def _grammar_problems(text: str) -> list[str]:
         if art.lower() == "a" and vowel or art.lower() == "an" and not vowel:
             problems.append(f"'{art} {word}'")
     for plural in PLURAL:
-        if re.search(rf"\ba {plural}\b|\b{plural} (is|has|needs|lies|belongs|goes|was|sits|stands)\b|\b{plural} and (put|bring|leave) it\b",
-                     text):
+        verbs = "is|has|needs|lies|belongs|goes|was|sits|stands"
+        if re.search(rf"\ba {plural}\b|\b{plural} ({verbs})\b|\b{plural} and (put|bring|leave) it\b", text):
             problems.append(f"singular use of '{plural}'")
     if re.search(r"\b(the|a|an) (the|a|an)\b|  |\bin where\b|\bon the place\b", text):
         problems.append("doubled article, double space or a place used as a preposition's object")

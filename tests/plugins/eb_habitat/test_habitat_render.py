@@ -108,3 +108,27 @@ def test_bench_step_times_keys() -> None:
     out = step_times(3, resolution=64)
     assert {"step_s", "raw_render_s", "ratio", "reset_s"} <= set(out) and out["n"] == 3
     assert out["step_s"] > 0 and out["raw_render_s"] > 0 and out["reset_s"] > 0
+
+
+def test_layouts_build_the_kitchen_rows_and_chairs_the_tasks_describe() -> None:
+    """What spatial.layout instructions rely on holds in the built apartments: the kitchen row order differs in
+    every apartment (left to right = increasing x for a row along the north wall), the counters flank the sink,
+    and the chair named in KITCHEN_SIDE_CHAIR is the one nearer to the kitchen row."""
+    import math
+
+    from eb_habitat.catalog import FRIDGE_END, KITCHEN_ROWS, KITCHEN_SIDE_CHAIR
+    from eb_habitat.render import LAYOUTS
+
+    assert len(set(KITCHEN_ROWS)) == len(KITCHEN_ROWS) == len(LAYOUTS)
+    for apt, layout in enumerate(LAYOUTS):
+        f = layout.furniture
+        row = sorted(KITCHEN_ROWS[apt], key=lambda k: f[k].pos[0])
+        assert tuple(row) == KITCHEN_ROWS[apt], apt
+        assert f["left_counter"].pos[0] < f["sink"].pos[0] < f["right_counter"].pos[0]
+        assert (f["fridge"].pos[0] < f["sink"].pos[0]) == (FRIDGE_END[apt] == "left")
+        kx = sum(f[k].pos[0] for k in KITCHEN_ROWS[apt]) / 5
+        ky = f["sink"].pos[1]
+        dist = {c: math.hypot(f[c].pos[0] - kx, f[c].pos[1] - ky) for c in ("left_chair", "right_chair")}
+        assert min(dist, key=dist.get) == KITCHEN_SIDE_CHAIR[apt], (apt, dist)
+        half = layout.size[0] / 2
+        assert all(abs(f[k].pos[0]) + 0.4 < half for k in KITCHEN_ROWS[apt]), apt  # inside the room
