@@ -134,7 +134,7 @@ class Draft:
 #: Object types whose name is plural ("the scissors are"): articles, pronouns and verbs follow.
 PLURAL = frozenset({"scissors"})
 
-_VOWEL_EXCEPTIONS = ("one", "uni", "use", "usu")
+_VOWEL_EXCEPTIONS = ("one", "uni", "use", "usu", "uten", "util", "eu")
 
 
 def fix_articles(text: str) -> str:

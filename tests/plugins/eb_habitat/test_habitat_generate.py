@@ -49,7 +49,7 @@ def test_templates_cover_the_paper_subsets() -> None:
     assert all(t.metadata["oracle_steps"] <= 20 for t in long)
 
 
-_VOWEL_SOUND_EXCEPTIONS = ("one", "uni", "use", "usu")
+_VOWEL_SOUND_EXCEPTIONS = ("one", "uni", "use", "usu", "uten", "util", "eu")
 
 
 def _grammar_problems(text: str) -> list[str]:
@@ -78,10 +78,12 @@ def test_every_shipped_instruction_is_well_formed() -> None:
 def test_grammar_check_catches_bad_articles_and_agreement() -> None:
     assert _grammar_problems("Find a orange and bring it to the sofa.")
     assert _grammar_problems("Carry an banana over to the desk.")
+    assert _grammar_problems("Bring an utensil for flipping pancakes to the sofa.")
     assert _grammar_problems("The scissors is on the desk; move it.")
     assert _grammar_problems("The bowl goes where the scissors goes now.")
     assert _grammar_problems("Put the mug in where food stays cold.")
     assert fix_articles("Find a orange, an pear and a apple.") == "Find an orange, a pear and an apple."
+    assert fix_articles("Bring a utensil and a one-euro coin.") == "Bring a utensil and a one-euro coin."
 
 
 def test_layout_relations_follow_the_apartment() -> None:
