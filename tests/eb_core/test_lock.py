@@ -36,7 +36,7 @@ def wait_for_episodes(run_dir, n, proc, timeout=90):
 
 
 def test_a_second_eb_run_in_the_same_directory_exits_at_once_naming_the_holder(tmp_path):
-    first = subprocess.Popen(eb_run_cmd(tmp_path, "+env.params.sleep_s=0.2"), env=cli_env(),
+    first = subprocess.Popen(eb_run_cmd(tmp_path, "+env.params.sleep_s=1.0"), env=cli_env(),
                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         wait_for_episodes(tmp_path, 1, first)
@@ -45,7 +45,7 @@ def test_a_second_eb_run_in_the_same_directory_exits_at_once_naming_the_holder(t
         err = [ln for ln in second.stderr.splitlines() if ln.strip()]
         assert len(err) == 1 and err[0].startswith("eb: error: ")
         assert f"{tmp_path} is in use by another eb run (pid {first.pid})" in err[0]
-        assert first.poll() is None  # the holder was not disturbed
+        assert first.poll() is None, "the first run ended too early to test the lock"
         assert (tmp_path / "run.lock").read_text().strip() == str(first.pid)
     finally:
         first.kill()
