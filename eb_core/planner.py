@@ -150,7 +150,8 @@ class VLMPlanner:
         if self.visual_icl and not parts.visual_examples:
             raise PlannerConfigError(
                 f"ablation visual_icl needs visual in-context examples, and env {self.env_config.name!r} ships "
-                f"none; worlds with visual examples: {', '.join(VISUAL_ICL_WORLDS)} (env=...), or pick another ablation")
+                f"none; worlds with visual examples: {', '.join(VISUAL_ICL_WORLDS)} (env=...), or pick another "
+                f"ablation")
         self.task, self.parts, self.space = task, parts, space
         self.history.clear()
         self.turns.clear()

@@ -9,7 +9,7 @@ import pytest
 from PIL import Image
 
 from eb_core_testutil import make_config
-from eb_core.env import PromptParts, VisualExample
+from eb_core.env import VisualExample
 from eb_core.episode import run_episode
 from eb_core.model import ImagePart, ModelFatalError, TextPart
 from eb_core.planner import PlannerConfigError, VLMPlanner, encode_png, response_schema
