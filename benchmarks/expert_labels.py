@@ -3,7 +3,8 @@
 With expert labels on, every executed action first asks the world's expert for a plan from the current state
 (``env.expert_plan()``) and logs its first action as ``expert_action`` in steps.jsonl. This plays the same
 episodes twice through the real runner (``eb_core.runner.run``, one process), labels off then on, and prints
-the wall-time ratio on / off per world, plus how many actions were labelled and the expert's time per label.
+the wall-time ratio on / off per world, how many actions were labelled, the expert's time per label, and
+whether the labelled run took exactly the same actions with the same feedback (asking must not change the world).
 
 The agent is the ``random`` baseline (so the expert is asked from the varied states a weak model reaches)
 or ``--model oracle``.
@@ -62,6 +63,8 @@ def main() -> None:
                 else:
                     acts_off = acts
     off, on = min(walls[False]), min(walls[True])
+    # Asking the expert must not change the episode: the same seeded agent takes the same actions.
+    same = [(x["action"], x["feedback"]) for x in acts_off] == [(x["action"], x["feedback"]) for x in acts_on]
     labelled = [x for x in acts_on if "expert_action" in x]
     missing = sum(1 for x in labelled if x["expert_action"] is None)
     per_label = (on - off) / len(labelled) * 1000 if labelled else float("nan")
@@ -70,6 +73,7 @@ def main() -> None:
     print(f"  labels on : {on:7.2f} s, {len(acts_on)} actions, {len(labelled)} labelled "
           f"({missing} with no expert action)")
     print(f"  cost ratio on/off: {on / off:.2f}  (~{per_label:.1f} ms per label)")
+    print(f"  episodes unchanged by labelling: {'yes' if same else 'NO (the expert changes the world state)'}")
 
 
 if __name__ == "__main__":
