@@ -73,7 +73,7 @@ class AlfredEnv(Env):
             Task(id=r.id, subset=r.subset, instruction=r.instruction,
                  metadata={"task_type": r.task_type, "goal": r.goal.plain(),
                            "scene": r.scene.model_dump(exclude_defaults=True), "scene_seed": r.scene_seed,
-                           "oracle_steps": r.oracle_steps, "notes": r.notes})
+                           "oracle_steps": r.oracle_steps, "notes": r.notes, "template": r.template})
             for r in records
         ]
 
@@ -131,6 +131,13 @@ class AlfredEnv(Env):
             return None
         self.expert_reason = None
         return [space.actions.index(a) for a in plan]
+
+    @classmethod
+    def audit_probes(cls) -> list[Any]:
+        """ALFRED's probes: referring phrase present, attributes drawn, targets visible, relations visible."""
+        from eb_alfred.audit import probes
+
+        return probes()
 
     def close(self) -> None:
         if self._renderer is not None:

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["views", "main"]
+__all__ = ["views", "main", "audit_views", "audit_sheets"]
 
 # (task type or subset filter, room, action prefix whose frame to keep, label)
 _SHOTS = [
@@ -109,5 +109,75 @@ def main(out: str = "docs/img/alfred_views.png", resolution: int = 500, scale: f
     return save_png(out, contact_sheet(small, labels, cols=4, label_height=14))
 
 
+def audit_views(which: str, n: int = 8, resolution: int = 320) -> tuple[list[np.ndarray], list[str]]:
+    """Images behind the generator's checks (:mod:`eb_alfred.audit`), from the shipped tasks.
+
+    ``shapes``: visual tasks with a shape word, the view after finding the target (its look-alike is next to
+    it); ``dirty``: visual tasks whose target or look-alikes are dirty, after finding the target; ``spatial``:
+    spatial tasks, the image in which the relation the instruction names is seen.
+    """
+    from eb_alfred.audit import Views, candidate_phrases, world_of
+    from eb_alfred.catalog import TYPES
+    from eb_alfred.env import AlfredEnv
+    from eb_alfred.render import AlfredRenderer
+
+    tasks = AlfredEnv.load_tasks()
+    renderer = AlfredRenderer(resolution)
+    images, labels = [], []
+    try:
+        for t in tasks:
+            if len(images) >= n:
+                break
+            goal, world = t.metadata["goal"], world_of(t)
+            xt = goal["object"].get("type") or world.objects[goal["object"]["instance"]].type
+            if which in ("shapes", "dirty") and t.subset != "visual_appearance":
+                continue
+            if which == "shapes" and not any(f" {s} " in t.instruction for s in TYPES[xt].shapes):
+                continue
+            if which == "dirty" and not any(world.objects[x].is_dirty for x in world.of_type(xt)):
+                continue
+            if which == "spatial" and t.subset != "spatial_awareness":
+                continue
+            views = Views(world, renderer)
+            if which == "spatial":
+                role = "object" if "instance" in goal["object"] else "receptacle"
+                cands = [(p, r) for p, r in candidate_phrases(world, goal, role) if p in t.instruction]
+                if not cands:
+                    continue
+                phrase, refs = cands[0]
+                where = views.together(refs) if len(refs) > 1 else f"after find {refs[0]}"
+                if where is None:
+                    continue
+                shot = None if where == "start" else where.split()[-1]
+                label = f"{t.id}: '{phrase}' ({where})"
+            else:
+                shot = goal["object"].get("instance") or next(
+                    x for x in world.of_type(xt)
+                    if all(getattr(world.objects[x], k) == v for k, v in goal["object"].items() if k != "type"))
+                label = f"{t.id}: {t.instruction[:60]}"
+            w = views.world_after(shot)
+            images.append(renderer.render(w).images["first_person"])
+            labels.append(label)
+    finally:
+        renderer.close()
+    return images, labels
+
+
+def audit_sheets(out_dir: str = "docs/img", resolution: int = 320) -> list[Path]:
+    """Write ``alfred_shapes.png``, ``alfred_dirty.png`` and ``alfred_spatial.png``."""
+    from eb_scenekit.render import contact_sheet, save_png
+
+    out = []
+    for which in ("shapes", "dirty", "spatial"):
+        images, labels = audit_views(which, resolution=resolution)
+        out.append(save_png(Path(out_dir) / f"alfred_{which}.png", contact_sheet(images, labels, cols=4,
+                                                                                  label_height=14)))
+    return out
+
+
 if __name__ == "__main__":
-    print("wrote", main(*sys.argv[1:2]))
+    if sys.argv[1:2] == ["audit"]:
+        for p in audit_sheets():
+            print("wrote", p)
+    else:
+        print("wrote", main(*sys.argv[1:2]))

@@ -14,15 +14,16 @@ from pathlib import Path
 from typing import Any
 
 from eb_alfred.actions import scene_actions
-from eb_alfred.catalog import LAMPS, TYPES, fits, is_movable_receptacle
+from eb_alfred.catalog import KNIVES, LAMPS, TYPES, fits, is_movable_receptacle
 from eb_alfred.goals import GOAL_KINDS, evaluate
-from eb_alfred.instructions import instruction, noun, plural, relation_for_object, relation_for_receptacle
+from eb_alfred.audit import attribute_problems, phrase_problems, relation_problems, visibility_problems
+from eb_alfred.instructions import instruction_with_template, noun, object_relations, plural, receptacle_relations
 from eb_alfred.oracle import expert_plan
 from eb_alfred.scenes import _renumber, make_scene
 from eb_alfred.tasks import FORMAT, SUBSETS, TASK_DIR, VERSION
 from eb_alfred.world import World
 
-__all__ = ["generate", "make_tasks", "propose_goal"]
+__all__ = ["generate", "make_tasks", "propose_goal", "image_problems"]
 
 HEATABLE = ("Apple", "Bread", "Egg", "Potato", "Tomato", "Mug", "Cup", "Plate", "Bowl")
 COOLABLE = ("Apple", "Bread", "Lettuce", "Tomato", "Potato", "Egg", "Mug", "Cup", "Bowl", "Plate", "WineBottle")
@@ -112,8 +113,43 @@ def _prepare(world: World, goal: dict[str, Any]) -> None:
             world.objects[n].is_on = False
 
 
+_SHUT = ("Drawer", "Cabinet", "Safe", "Fridge", "Box")
+
+
+def _shut_away(rng: random.Random, world: World, goal: dict[str, Any]) -> bool:
+    """Long-horizon scenes: put every instance of the things the task needs (the object, the dish it goes in,
+    the knife) into closed drawers, cabinets, boxes or the fridge, so the agent has to search and open first.
+    False if some cannot be shut away."""
+    def t_of(ref: dict[str, str]) -> str:
+        return ref["type"] if "type" in ref else world.objects[ref["instance"]].type
+
+    need = [t_of(goal["object"])] + ([t_of(goal["movable"])] if "movable" in goal else [])
+    if goal.get("sliced"):
+        need += [k for k in KNIVES if world.of_type(k)]
+    dest = goal.get("receptacle", {})
+    dest_names = set(world.of_type(dest["type"])) if "type" in dest else {dest.get("instance")}
+    boxes = [n for n, o in world.objects.items() if o.type in _SHUT and n not in dest_names
+             and not any(world.objects[a].type in need for a in [n, *world.ancestors(n)])]
+    for t in need:
+        for n in world.of_type(t):
+            if world.closed_container(n) is not None:
+                continue
+            fits_in = [b for b in boxes if fits(t, world.objects[b].type) and len(world.children(b)) < 4
+                       and not (world.objects[b].type == "Fridge" and not TYPES[t].sliceable and t not in HEATABLE)]
+            if not fits_in:
+                return False
+            b = rng.choice(fits_in)
+            world.objects[n].parent = b
+            world.objects[n].floor_at = None
+    return True
+
+
 def _visual_variant(rng: random.Random, scene: dict[str, Any], goal: dict[str, Any]) -> tuple[dict, dict, str] | None:
-    """Give the goal object look-alike distractors of the same type that differ in colour or shape."""
+    """Give the goal object look-alike distractors of the same type that differ in colour or shape only.
+
+    Look-alikes start clean (dirt would change how their colour reads); a shape contrast keeps one colour
+    for all of them, so only the drawn shape tells them apart.
+    """
     xt = goal["object"]["type"]
     info = TYPES[xt]
     attrs = []
@@ -141,7 +177,10 @@ def _visual_variant(rng: random.Random, scene: dict[str, Any], goal: dict[str, A
     rng.shuffle(mine)
     chosen = [target] + [o for o in mine if o is not target][: need - 1]
     for o in mine:
+        o.pop("is_dirty", None)
         o[attr] = value if any(o is c for c in chosen) else rng.choice(others)
+        if attr == "shape":
+            o["color"] = target.get("color", info.colors[0])
     if need == 2:
         goal = dict(goal, object={"type": xt, attr: value})
         _renumber(objs)
@@ -153,45 +192,79 @@ def _visual_variant(rng: random.Random, scene: dict[str, Any], goal: dict[str, A
     return scene, goal, f"the {value} {noun(xt)}"
 
 
-def _spatial_variant(rng: random.Random, world: World, goal: dict[str, Any]) -> tuple[dict, dict[str, str], str] | None:
-    """Refer to the object and/or the destination by where they are."""
+def _spatial_variant(rng: random.Random, world: World, goal: dict[str, Any],
+                     views: Any = None) -> tuple[dict, dict[str, str], str] | None:
+    """Refer to the object and/or the destination by where they are.
+
+    With ``views`` (rendered images of the scene), only relations whose related things appear together in an
+    image the agent can get are used.
+    """
     phrases: dict[str, str] = {}
     notes = []
     goal = json.loads(json.dumps(goal))
     xt = goal["object"]["type"]
+
+    roles = {world.objects[goal[k]["instance"]].type if "instance" in goal[k] else goal[k]["type"]
+             for k in ("object", "receptacle", "movable", "lamp") if k in goal}
+
+    def usable(options: list[tuple[str, str, list[str]]]) -> list[tuple[str, str, list[str]]]:
+        # a landmark must not be another thing the task acts on ("the statue next to the box" into a box)
+        options = [o for o in options if all(world.objects[n].type not in roles or world.objects[n].type ==
+                                              world.objects[o[0]].type for n in o[2])]
+        rng.shuffle(options)
+        if views is None:
+            return options
+        out = []
+        for o in options:
+            where = views().together(o[2])
+            if where is not None:
+                out.append((o[0], f"{o[1]} (seen {where})", o[2]))
+        return out
+
     if goal["kind"] != "pick_two_and_place" and len(world.of_type(xt)) >= 2:
-        options = [(x, relation_for_object(world, x)) for x in world.of_type(xt)]
-        options = [(x, p) for x, p in options if p]
+        options = usable([(x, p, refs) for x in world.of_type(xt) for p, refs in object_relations(world, x)])
         if options:
-            x, phrase = rng.choice(options)
+            x, phrase, refs = options[0]
             goal["object"] = {"instance": x}
-            phrases["obj"] = phrase
+            phrases["obj"] = phrase.split(" (seen")[0]
             notes.append(f"object {x}: {phrase}")
     if "receptacle" in goal and "type" in goal["receptacle"]:
         rt = goal["receptacle"]["type"]
         if len(world.of_type(rt)) >= 2:
-            options = [(r, relation_for_receptacle(world, r)) for r in world.of_type(rt)]
-            options = [(r, p) for r, p in options if p]
+            options = usable([(r, p, refs) for r in world.of_type(rt) for p, refs in receptacle_relations(world, r)])
             if options:
-                r, phrase = rng.choice(options)
+                r, phrase, refs = options[0]
                 goal["receptacle"] = {"instance": r}
-                phrases["recep"] = phrase
+                phrases["recep"] = phrase.split(" (seen")[0]
                 notes.append(f"receptacle {r}: {phrase}")
     if not phrases:
         return None
     return goal, phrases, "; ".join(notes)
 
 
-def _make_one(subset: str, kind: str, seed: int, rng: random.Random) -> dict[str, Any] | None:
+def image_problems(rec: dict[str, Any], views: Any) -> list[str]:
+    """What the rendered start state of a generated task fails (see :mod:`eb_alfred.audit`); empty = keep it."""
+    return (visibility_problems(rec["goal"], views) + attribute_problems(rec["instruction"], rec["goal"], views)
+            + relation_problems(rec["instruction"], rec["goal"], views))
+
+
+def _make_one(subset: str, kind: str, seed: int, rng: random.Random,
+              views_for: Any = None) -> dict[str, Any] | None:
+    """One candidate task, or None. ``views_for(world)`` (optional) gives rendered views of a scene: then the
+    task is kept only if everything it refers to can be seen (:func:`image_problems`)."""
     room = rng.choice(KIND_ROOMS[kind])
     size = rng.random()
     if subset == "long_horizon":
         size = 0.4 + 0.6 * size
+        if kind in ("pick_and_place", "pick_two_and_place", "stack_and_place", "examine_in_light") \
+                and rng.random() < 0.5:  # long tasks outside the kitchen too
+            room = rng.choice(("living_room", "bedroom") if kind in ("stack_and_place", "examine_in_light")
+                              else ("living_room", "bedroom", "bathroom"))
     scene = make_scene(seed, room, size=size)
     world = World.from_scene(scene)
     if not MIN_ACTIONS <= len(scene_actions(world)) <= MAX_ACTIONS:
         return None
-    sliced = subset == "long_horizon" and rng.random() < 0.6
+    sliced = subset == "long_horizon" and room == "kitchen" and rng.random() < 0.75
     goal = propose_goal(rng, kind, world, sliced=sliced)
     if goal is None:
         return None
@@ -206,8 +279,18 @@ def _make_one(subset: str, kind: str, seed: int, rng: random.Random) -> dict[str
         phrases = {"obj": phrase} if "instance" in goal["object"] else {"objs": phrase}
         notes = f"object {json.dumps(goal['object'])}: {phrase}"
     _prepare(world, goal)
+    if subset == "long_horizon" and rng.random() < 0.85:
+        if not _shut_away(rng, world, goal):
+            return None
+    views_cache: list[Any] = []
+
+    def views() -> Any:
+        if not views_cache:
+            views_cache.append(views_for(world))
+        return views_cache[0]
+
     if subset == "spatial_awareness":
-        got2 = _spatial_variant(rng, world, goal)
+        got2 = _spatial_variant(rng, world, goal, views if views_for is not None else None)
         if got2 is None:
             return None
         goal, phrases, notes = got2
@@ -217,34 +300,70 @@ def _make_one(subset: str, kind: str, seed: int, rng: random.Random) -> dict[str
     plan = expert_plan(world, goal, limit=hi)
     if plan is None or not lo <= len(plan) <= hi:
         return None
-    text = instruction(subset, rng, goal, world, phrases)
-    return {"instruction": text, "task_type": kind, "goal": goal, "scene": world.to_scene(), "scene_seed": seed,
-            "oracle_steps": len(plan), "notes": notes}
+    template, text = instruction_with_template(subset, rng, goal, world, phrases)
+    if phrase_problems(text, goal, world):
+        return None
+    rec = {"instruction": text, "task_type": kind, "goal": goal, "scene": world.to_scene(), "scene_seed": seed,
+           "oracle_steps": len(plan), "notes": notes, "template": template}
+    if views_for is not None and subset in ("spatial_awareness", "visual_appearance") and image_problems(rec, views()):
+        return None
+    return rec
 
 
-def make_tasks(subset: str, seed: int = 0, n: int = 50) -> list[dict[str, Any]]:
-    """``n`` tasks of ``subset``, task types in turn, deterministic for ``seed``."""
+def _views_factory() -> tuple[Any, Any]:
+    """A ``views_for(world)`` callable sharing one offscreen renderer, and its closer."""
+    from eb_alfred.audit import Views
+    from eb_alfred.render import AlfredRenderer
+
+    renderer = AlfredRenderer(250)
+    return (lambda world: Views(world, renderer)), renderer.close
+
+
+def make_tasks(subset: str, seed: int = 0, n: int = 50, render_checks: bool = True) -> list[dict[str, Any]]:
+    """``n`` tasks of ``subset``, task types in turn, deterministic for ``seed``.
+
+    ``render_checks`` (spatial_awareness and visual_appearance) renders each candidate to check that what the
+    instruction refers to can be seen; it needs MuJoCo.
+    """
     rng = random.Random(f"eb-alfred/{seed}/{subset}")
     base_seed = 1000 * (SUBSETS.index(subset) + 1) + 100_000 * seed
     tasks: list[dict[str, Any]] = []
     scene_seed = base_seed
     count = {k: 0 for k in GOAL_KINDS}
     misses = {k: 0 for k in GOAL_KINDS}
-    while len(tasks) < n:
-        # The task type with the fewest tasks so far (types that keep failing are given up on).
-        open_kinds = [k for k in GOAL_KINDS if misses[k] < 400]
-        if not open_kinds:
-            raise RuntimeError(f"could not generate {n} {subset} tasks (got {len(tasks)})")
-        kind = min(open_kinds, key=lambda k: (count[k], GOAL_KINDS.index(k)))
-        scene_seed += 1
-        rec = _make_one(subset, kind, scene_seed, rng)
-        if rec is None:
-            misses[kind] += 1
-            continue
-        misses[kind] = 0
-        count[kind] += 1
-        tasks.append({"id": f"{subset}_{len(tasks):02d}", "subset": subset, **rec})
+    views_for, close = (None, lambda: None)
+    if render_checks and subset in ("spatial_awareness", "visual_appearance"):
+        views_for, close = _views_factory()
+    seen_text: set[str] = set()
+    try:
+        while len(tasks) < n:
+            # The task type with the fewest tasks so far (types that keep failing are given up on).
+            open_kinds = [k for k in GOAL_KINDS if misses[k] < 400]
+            if not open_kinds:
+                raise RuntimeError(f"could not generate {n} {subset} tasks (got {len(tasks)})")
+            kind = min(open_kinds, key=lambda k: (count[k], GOAL_KINDS.index(k)))
+            scene_seed += 1
+            rec = _make_one(subset, kind, scene_seed, rng, views_for)
+            if rec is None or rec["instruction"] in seen_text:
+                misses[kind] += 1
+                continue
+            if subset == "long_horizon" and _too_common(rec, tasks):
+                misses[kind] += 1
+                continue
+            seen_text.add(rec["instruction"])
+            misses[kind] = 0
+            count[kind] += 1
+            tasks.append({"id": f"{subset}_{len(tasks):02d}", "subset": subset, **rec})
+    finally:
+        close()
     return tasks
+
+
+def _too_common(rec: dict[str, Any], tasks: list[dict[str, Any]]) -> bool:
+    """Spread long-horizon plan lengths: no plan length in more than a third of the tasks."""
+    k = len(tasks) + 1
+    same_len = sum(t["oracle_steps"] == rec["oracle_steps"] for t in tasks)
+    return same_len + 1 > max(2, int(0.34 * k) + 1)
 
 
 def generate(out: str | None = None, seed: int = 0, n: int = 50, subset: str | None = None) -> list[str]:

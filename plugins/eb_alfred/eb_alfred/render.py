@@ -64,7 +64,8 @@ _PARTS_OF = {"SinkBasin": "Sink", "Faucet": "Sink", "BathtubBasin": "Bathtub"}
 """Types drawn as a part of their parent (the sink's basin and tap, the bathtub's basin)."""
 _FOOD_SLICEABLE = {"Apple", "Bread", "Lettuce", "Tomato", "Potato"}
 _HIDDEN = (0.0, 0.0, -5.0)
-_DIRT = np.array([0.36, 0.27, 0.14, 1.0])
+_DIRT_DARKEN = 0.72
+"""Dirty things are drawn darker with the same hue (a brown tint would hide a named colour: white -> tan)."""
 _EYE = 1.45
 _WARM = np.array([1.0, 0.78, 0.35, 1.0])
 _GLOW_PARTS = {"Microwave": ("window",), "DeskLamp": ("shade",), "FloorLamp": ("shade",)}
@@ -83,6 +84,13 @@ class _Pose:
     yaw: float
     normal: tuple[float, float] = (0.0, -1.0)
     """Inward wall normal (the way the furniture's front faces)."""
+
+
+def dirty_rgba(rgba: np.ndarray) -> np.ndarray:
+    """The colour of a dirty geom: the clean colour darkened, hue and alpha kept."""
+    out = np.array(rgba, dtype=float).copy()
+    out[:3] = out[:3] * _DIRT_DARKEN
+    return out
 
 
 def _rgb(color: str | None, fallback: str) -> tuple[float, float, float]:
@@ -160,7 +168,9 @@ class AlfredRenderer:
             if not TYPES[o.type].pickupable:
                 continue
             kt, sc = KIT[o.type]
-            b.add_object(kt, n, pos=_HIDDEN, color=_rgb(o.color, TYPES[o.type].colors[0]), scale=sc, movable=True)
+            shape = o.shape if o.shape in get_type(kt).shapes else None
+            b.add_object(kt, n, pos=_HIDDEN, color=_rgb(o.color, TYPES[o.type].colors[0]), scale=sc, movable=True,
+                         shape=shape)
             self.kit_name[n] = n
             if o.type in _FOOD_SLICEABLE:
                 b.add_object("Slices", f"{n}__slices", pos=_HIDDEN, color=_rgb(o.color, "red"), movable=True)
@@ -392,7 +402,7 @@ class AlfredRenderer:
             if t.dirtyable and self._changed((n, "dirty"), o.is_dirty):
                 for g in self._geoms.get(n, []):
                     orig = self._orig_rgba[g]
-                    m.geom_rgba[g] = orig * 0.45 + _DIRT * 0.55 if o.is_dirty else orig
+                    m.geom_rgba[g] = dirty_rgba(orig) if o.is_dirty else orig
                     m.geom_rgba[g][3] = orig[3]
         set_agent_pose(m, d, "agent", (float(eye[0]), float(eye[1]), float(eye[2])), yaw=yaw, pitch=pitch)
         images = {"first_person": self._renderer.rgb("agent")}
@@ -420,6 +430,46 @@ class AlfredRenderer:
             out.append({"name": base, "type": world.objects[base].type, "box": tuple(int(v) for v in box),
                         "position": tuple(round(v, 3) for v in pos[0]) if pos else None})
         return out
+
+    def visible_fraction(self, world: World, resolution: int = 250) -> dict[str, float]:
+        """Share of the agent's view (0..1) each instance covers in the current view (call after :meth:`render`).
+
+        Slices count for their food; sink basins and taps count for their sink (they are one kit object).
+        """
+        assert self._renderer is not None, "call load() first"
+        counts = self._renderer.visible_pixels("agent", resolution, resolution)
+        out: dict[str, float] = {}
+        for name, k in counts.items():
+            base = name[: -len("__slices")] if name.endswith("__slices") else name
+            if base in world.objects:
+                out[base] = out.get(base, 0.0) + k / (resolution * resolution)
+        return out
+
+    def looks(self, name: str) -> dict[str, Any]:
+        """What the compiled model draws for one instance: its mean colour (current, e.g. dirty) and its
+        axis-aligned size (dx, dy, dz) in metres, measured from the geoms."""
+        assert self.model is not None, "call load() first"
+        m, d = self.model, self.data
+        geoms = self._geoms.get(self.kit_name.get(name, name), [])
+        if not geoms:
+            raise KeyError(f"{name!r} has no geoms in this scene")
+        rgb = np.mean([m.geom_rgba[g][:3] for g in geoms], axis=0)
+        # the biggest geom's colour is the one a viewer names (trims and labels are small)
+        vols = [float(np.prod(m.geom_aabb[g][3:])) for g in geoms]
+        main = m.geom_rgba[geoms[int(np.argmax(vols))]][:3]
+        pts = []
+        for g in geoms:
+            c, h = m.geom_aabb[g][:3], m.geom_aabb[g][3:]
+            R = d.geom_xmat[g].reshape(3, 3)
+            for sx in (-1, 1):
+                for sy in (-1, 1):
+                    for sz in (-1, 1):
+                        pts.append(d.geom_xpos[g] + R @ (c + h * np.array([sx, sy, sz])))
+        p = np.array(pts)
+        ext = p.max(axis=0) - p.min(axis=0)
+        kinds = sorted(int(m.geom_type[g]) for g in geoms)
+        return {"rgb": tuple(float(v) for v in main), "mean_rgb": tuple(float(v) for v in rgb),
+                "size": tuple(float(v) for v in ext), "geoms": len(geoms), "geom_kinds": kinds}
 
     def _glow(self, kit: str, parts: tuple[str, ...], on: bool) -> None:
         """Make a running microwave's window and a lit lamp's shade glow warm (easier to see than the bulb)."""

@@ -21,7 +21,8 @@ __all__ = ["SUBSETS", "TASK_DIR", "TaskFileError", "TaskRecord", "load_task_file
 SUBSETS = ("base", "common_sense", "complex_instruction", "spatial_awareness", "visual_appearance", "long_horizon")
 TASK_DIR = Path(__file__).parent / "tasks"
 FORMAT = "eb-alfred-tasks"
-VERSION = 1
+VERSION = 2
+"""2: shape words drawn, referring phrases checked, objects and relations visible, template ids."""
 
 
 class TaskFileError(ValueError):
@@ -127,11 +128,13 @@ class TaskRecord(_Strict):
     oracle_steps: int = Field(ge=1)
     notes: str = ""
     """How the instruction refers to things (e.g. which relation or colour), for readers of the file."""
+    template: str = ""
+    """Id of the instruction template (``<subset>.<kind>[.sliced].<n>``), so audits can count templates."""
 
 
 class TaskFile(_Strict):
     format: Literal["eb-alfred-tasks"]
-    version: Literal[1]
+    version: Literal[2]
     subset: Literal[SUBSETS]  # type: ignore[valid-type]
     generator: dict[str, Any] = Field(default_factory=dict)
     tasks: list[TaskRecord]
@@ -180,6 +183,9 @@ def load_task_file(path: str | Path) -> list[TaskRecord]:
         raise TaskFileError(f"{path}: task file not found") from None
     except json.JSONDecodeError as exc:
         raise TaskFileError(f"{fname}: not valid JSON (line {exc.lineno}, column {exc.colno}): {exc.msg}") from None
+    if isinstance(raw, dict) and "version" in raw and raw["version"] != VERSION:
+        raise TaskFileError(f"{fname}: file version {raw['version']!r} but this eb-alfred reads version {VERSION}; "
+                            f"regenerate it with `eb tasks generate env=alfred`")
     if isinstance(raw, dict) and isinstance(raw.get("tasks"), list):
         for i, t in enumerate(raw["tasks"]):
             tid = t.get("id", f"#{i}") if isinstance(t, dict) else f"#{i}"

@@ -104,3 +104,56 @@ def test_bench_step_times_keys() -> None:
     out = step_times(3, resolution=64)
     assert {"step_s", "raw_render_s", "ratio", "reset_s", "symbolic_step_s"} <= set(out) and out["n"] == 3
     assert out["step_s"] > 0 and out["raw_render_s"] > 0 and out["reset_s"] > 0
+
+
+def _two_of(type_name: str, first: dict, second: dict) -> dict:
+    """A tiny kitchen scene with two instances of ``type_name`` on one counter."""
+    return {"room": "kitchen", "objects": [
+        {"name": "CounterTop", "type": "CounterTop", "slot": 0},
+        {"name": "Cabinet", "type": "Cabinet", "slot": 1},
+        {"name": type_name, "type": type_name, "parent": "CounterTop", **first},
+        {"name": f"{type_name}_2", "type": type_name, "parent": "CounterTop", **second}]}
+
+
+@pytest.mark.parametrize("type_name,a,b,axis", [("Mug", "tall", "short", 2), ("Vase", "tall", "short", 2),
+                                                 ("Book", "thick", "thin", 2), ("Bowl", "deep", "shallow", 2),
+                                                 ("Statue", "tall", "short", 2), ("Plate", "round", "square", None)])
+def test_every_shape_word_changes_the_drawn_mesh(type_name: str, a: str, b: str, axis) -> None:
+    from eb_alfred.catalog import TYPES
+    from eb_alfred.render import AlfredRenderer
+    from eb_alfred.world import World
+
+    assert {a, b} == set(TYPES[type_name].shapes)
+    r = AlfredRenderer(96)
+    try:
+        w = World.from_scene(_two_of(type_name, {"shape": a}, {"shape": b}))
+        r.load(w)
+        r.render(w)
+        la, lb = r.looks(type_name), r.looks(f"{type_name}_2")
+    finally:
+        r.close()
+    assert la["rgb"] == lb["rgb"]  # same colour: only the shape differs
+    if axis is None:  # round vs square: different geoms, not just a size change
+        assert la["geom_kinds"] != lb["geom_kinds"]
+    else:
+        assert la["size"][axis] > 1.4 * lb["size"][axis]
+
+
+def test_dirt_darkens_but_keeps_the_named_colour() -> None:
+    import colorsys
+
+    from eb_alfred.catalog import COLORS
+    from eb_alfred.render import AlfredRenderer
+    from eb_alfred.world import World
+
+    r = AlfredRenderer(96)
+    try:
+        w = World.from_scene(_two_of("Mug", {"color": "red", "is_dirty": True}, {"color": "red"}))
+        r.load(w)
+        r.render(w)
+        dirty, clean = r.looks("Mug")["rgb"], r.looks("Mug_2")["rgb"]
+    finally:
+        r.close()
+    assert sum(dirty) < 0.85 * sum(clean)  # dirty is visibly darker
+    hue = lambda c: colorsys.rgb_to_hsv(*c)[0]  # noqa: E731
+    assert abs(hue(dirty) - hue(clean)) < 0.02 and abs(hue(clean) - hue(COLORS["red"])) < 0.02

@@ -1,0 +1,326 @@
+"""EB-ALFRED's own checks that a task needs the image and says what it means (``eb audit``, and the generator).
+
+The generator runs the same checks on every candidate task and keeps only the ones that pass; the
+probes behind :meth:`eb_alfred.env.AlfredEnv.audit_probes` run them again over a shipped (or given) task set:
+
+* ``referring_phrase`` -- a goal that names one instance among look-alikes must say which one in the
+  instruction (its colour, shape or relation), not drop the phrase ("put a heated egg ..." for one egg of two);
+* ``attribute_rendered`` -- every colour or shape word the instruction uses for the target must be drawn: the
+  target's rendered colour is nearest to the named colour, and a named shape changes the rendered mesh against
+  every same-type look-alike that does not share the word;
+* ``visible_area`` -- every object the goal names covers at least :data:`MIN_AREA` of the image after the action
+  that brings it into view (``find``, and ``open`` of a closed container it is in);
+* ``relation_visible`` -- the things a spatial phrase relates (the mug and the toaster it sits next to, all the
+  counters of "the leftmost counter") are all in one image the agent can get: the start view or the view after
+  finding one of them.
+
+The rendering checks need MuJoCo (they build the scene with :class:`eb_alfred.render.AlfredRenderer`).
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+from eb_alfred.catalog import COLORS, TYPES
+from eb_alfred.instructions import noun, object_relations, plural, prep, receptacle_relations
+from eb_alfred.world import VERBS, World
+
+__all__ = ["MIN_AREA", "Views", "attribute_problems", "candidate_phrases", "phrase_problems", "probes",
+           "relation_problems", "visibility_problems", "world_of"]
+
+MIN_AREA = 0.001
+"""Smallest share of the image (0.1 %, 250 pixels at 500x500) a referenced object must cover once in view."""
+_RES = 250
+_SHAPE_CHANGE = 0.2
+"""A shape word must change the drawn object's size by at least 20 % along some axis, or its geoms."""
+
+
+def world_of(task_or_scene: Any) -> World:
+    """The start world of a :class:`eb_core.Task` (its metadata) or of a plain scene dict."""
+    scene = task_or_scene.metadata["scene"] if hasattr(task_or_scene, "metadata") else task_or_scene
+    return World.from_scene(scene)
+
+
+def _type(world: World, ref: dict[str, str]) -> str:
+    return ref["type"] if "type" in ref else world.objects[ref["instance"]].type
+
+
+def candidate_phrases(world: World, goal: dict[str, Any], role: str) -> list[tuple[str, list[str]]]:
+    """Phrases that single out the goal's ``role`` ("object", "receptacle") instance, with what they relate.
+
+    Empty when the role names a type (any instance does) or the instance is the only one of its type.
+    """
+    ref = goal.get(role)
+    if not ref or "instance" not in ref:
+        return []
+    x = ref["instance"]
+    xt = world.objects[x].type
+    if len(world.of_type(xt)) < 2:
+        return []
+    o = world.objects[x]
+    out: list[tuple[str, list[str]]] = []
+    for attr in ("color", "shape"):
+        v = getattr(o, attr)
+        if v and all(getattr(world.objects[y], attr) != v for y in world.of_type(xt) if y != x):
+            out.append((f"the {v} {noun(xt)}", [x]))
+    out += object_relations(world, x) if TYPES[xt].pickupable else receptacle_relations(world, x)
+    parent = o.parent
+    if TYPES[xt].pickupable and parent is not None:
+        # nested: "the mug that is in the drawer just to the left of the side table"
+        pt = world.objects[parent].type
+        others = [y for y in world.of_type(xt) if y != x]
+        if all(world.objects[y].parent != parent for y in others):
+            for phrase, refs in receptacle_relations(world, parent):
+                out.append((f"the {noun(xt)} that is {'in' if prep(pt) == 'in' else 'on'} {phrase}", [x, *refs]))
+    return out
+
+
+def phrase_problems(instruction: str, goal: dict[str, Any], world: World) -> list[str]:
+    """What the instruction fails to say about the instances the goal singles out (empty = fine)."""
+    low = instruction.lower()
+    problems = []
+    for role in ("object", "receptacle", "movable", "lamp"):
+        ref = goal.get(role)
+        if not ref:
+            continue
+        if "instance" in ref:
+            x = ref["instance"]
+            if len(world.of_type(world.objects[x].type)) < 2:
+                continue
+            cands = candidate_phrases(world, goal, role)
+            if not any(p.lower() in low for p, _ in cands):
+                problems.append(f"goal.{role} is {x}, one of {len(world.of_type(world.objects[x].type))}, but "
+                                f"the instruction does not single it out")
+        else:
+            t = ref["type"]
+            for attr in ("color", "shape"):
+                v = ref.get(attr)
+                if v and not re.search(rf"\b{re.escape(v)} {re.escape(plural(t))}\b", low) and \
+                        not re.search(rf"\b{re.escape(v)} {re.escape(noun(t))}\b", low):
+                    problems.append(f"goal.{role} needs {attr} {v!r}, but the instruction does not say it")
+    return problems
+
+
+def _named_attributes(instruction: str, xt: str) -> dict[str, str]:
+    """The colour/shape words the instruction puts right before the target's noun (or plural)."""
+    low = instruction.lower()
+    out = {}
+    for attr, values in (("color", TYPES[xt].colors), ("shape", TYPES[xt].shapes)):
+        for v in values:
+            if re.search(rf"\b{re.escape(v)} ({re.escape(noun(xt))}|{re.escape(plural(xt))})\b", low):
+                out[attr] = v
+    return out
+
+
+def _targets(goal: dict[str, Any], world: World) -> list[str]:
+    ref = goal["object"]
+    if "instance" in ref:
+        return [ref["instance"]]
+    return [n for n in world.of_type(ref["type"])
+            if all(getattr(world.objects[n], k) == v for k, v in ref.items() if k in ("color", "shape"))]
+
+
+class Views:
+    """The images an agent can get in one task's start state, rendered once each and remembered.
+
+    ``view(None)`` is the start view; ``view(name)`` the view right after ``find`` of ``name`` (and ``open`` of
+    the closed container it is in, if any). Each view is a map instance -> share of the image it covers.
+    """
+
+    def __init__(self, world: World, renderer: Any = None) -> None:
+        if renderer is None:
+            from eb_alfred.render import AlfredRenderer
+
+            renderer = AlfredRenderer(_RES)
+        self.world = world
+        self.renderer = renderer
+        self.renderer.load(world)
+        self._cache: dict[str | None, dict[str, float]] = {}
+        self._worlds: dict[str | None, World] = {}
+
+    def view(self, name: str | None) -> dict[str, float]:
+        if name not in self._cache:
+            w = self.world.copy()
+            if name is not None:
+                w.step(VERBS["find"].format(name))
+                for _ in range(3):  # open the closed containers around it, outermost first
+                    box = w.closed_container(name)
+                    if box is None or box == name:
+                        break
+                    w.step(VERBS["find"].format(box))
+                    w.step(VERBS["open"].format(box))
+                    w.step(VERBS["find"].format(name))
+            self.renderer.render(w)
+            self._cache[name] = self.renderer.visible_fraction(w, _RES)
+            self._worlds[name] = w
+        return self._cache[name]
+
+    def world_after(self, name: str | None) -> World:
+        """The state behind :meth:`view` (start, or after finding ``name`` and opening what hides it)."""
+        self.view(name)
+        return self._worlds[name]
+
+    def area(self, name: str) -> float:
+        """Share of the image ``name`` covers after the action that brings it into view."""
+        return self.view(name).get(name, 0.0)
+
+    def together(self, names: list[str], min_area: float = MIN_AREA) -> str | None:
+        """A view (``"start"`` or ``"after find <name>"``) showing all ``names`` at once, or None."""
+        for v in [None, *names]:
+            got = self.view(v)
+            if all(got.get(n, 0.0) >= min_area for n in names):
+                return "start" if v is None else f"after find {v}"
+        return None
+
+    def looks(self, name: str) -> dict[str, Any]:
+        return self.renderer.looks(name)
+
+    def close(self) -> None:
+        self.renderer.close()
+
+
+def visibility_problems(goal: dict[str, Any], views: Views) -> list[str]:
+    """Objects the goal names that are too small or hidden after the action that brings them into view."""
+    world = views.world
+    problems = []
+    for role in ("object", "receptacle", "movable", "lamp"):
+        ref = goal.get(role)
+        if not ref:
+            continue
+        names = [ref["instance"]] if "instance" in ref else (
+            _targets(goal, world) if role == "object" else world.of_type(ref["type"]))
+        areas = {n: views.area(n) for n in names}
+        if "instance" in ref or (role == "object" and any(k in ref for k in ("color", "shape"))):
+            bad = [n for n, a in areas.items() if a < MIN_AREA]
+        else:  # any instance of the type will do: one must be visible
+            bad = [] if any(a >= MIN_AREA for a in areas.values()) else list(areas)
+        for n in bad:
+            problems.append(f"{n} covers {100 * areas[n]:.3f} % of the image after it is brought into view "
+                            f"(< {100 * MIN_AREA:.1f} %)")
+    return problems
+
+
+def _color_name(rgb: tuple[float, ...], allowed: tuple[str, ...], dirty: bool) -> str:
+    from eb_alfred.render import dirty_rgba
+
+    def ref(c: str) -> Any:
+        base = (*COLORS[c], 1.0)
+        return dirty_rgba(base)[:3] if dirty else base[:3]
+
+    return min(allowed, key=lambda c: sum((a - b) ** 2 for a, b in zip(rgb, ref(c))))
+
+
+def attribute_problems(instruction: str, goal: dict[str, Any], views: Views) -> list[str]:
+    """Colour/shape words for the target that the rendered scene does not show."""
+    world = views.world
+    xt = _type(world, goal["object"])
+    named = _named_attributes(instruction, xt)
+    if not named:
+        return []
+    targets = _targets(goal, world)
+    others = [n for n in world.of_type(xt) if n not in targets]
+    problems = []
+    for attr, value in named.items():
+        for t in targets:
+            look = views.looks(t)
+            if attr == "color":
+                seen = _color_name(look["rgb"], TYPES[xt].colors, world.objects[t].is_dirty)
+                if seen != value:
+                    problems.append(f"{t} is called {value} but is drawn closest to {seen}")
+            for o in others:
+                if getattr(world.objects[o], attr) == value:
+                    continue  # a distractor that shares the word is told apart by something else
+                lo = views.looks(o)
+                if attr == "color":
+                    diff = max(abs(a - b) for a, b in zip(look["rgb"], lo["rgb"]))
+                    if diff < 0.15:
+                        problems.append(f"{t} ({value}) and {o} are drawn in nearly the same colour")
+                else:
+                    sizes = [abs(a - b) / max(a, b, 1e-6) for a, b in zip(sorted(look["size"][:2]) + [look["size"][2]],
+                                                                         sorted(lo["size"][:2]) + [lo["size"][2]])]
+                    if max(sizes) < _SHAPE_CHANGE and look["geom_kinds"] == lo["geom_kinds"]:
+                        problems.append(f"{t} is called {value} but is drawn like {o} "
+                                        f"({world.objects[o].shape or 'no shape'})")
+    return problems
+
+
+def relation_problems(instruction: str, goal: dict[str, Any], views: Views) -> list[str]:
+    """Spatial phrases in the instruction whose related things are never in one image together."""
+    world = views.world
+    low = instruction.lower()
+    problems = []
+    for role in ("object", "receptacle"):
+        for phrase, refs in candidate_phrases(world, goal, role):
+            if len(refs) < 2 or phrase.lower() not in low:
+                continue
+            if views.together(refs) is None:
+                problems.append(f"'{phrase}' relates {', '.join(refs)}, never all in one image")
+    return problems
+
+
+# ----------------------------------------------------------------------------------------------- probes
+def _needs_image(task: Any) -> bool:
+    goal = task.metadata["goal"]
+    return task.subset in ("spatial_awareness", "visual_appearance") or any(
+        "instance" in goal.get(k, {}) or "color" in goal.get(k, {}) or "shape" in goal.get(k, {})
+        for k in ("object", "receptacle"))
+
+
+def _result(name: str, failing: dict[str, str], checked: int, threshold: str) -> Any:
+    from eb_core.audit import ProbeResult
+
+    return ProbeResult(name=name, passed=not failing, value=f"{len(failing)} of {checked} tasks fail",
+                       threshold=threshold, failing_tasks=sorted(failing),
+                       rows=[{"task": k, "problem": v} for k, v in sorted(failing.items())][:40])
+
+
+def _run_phrase(tasks: list[Any], env_params: dict[str, Any]) -> Any:
+    failing = {}
+    for t in tasks:
+        got = phrase_problems(t.instruction, t.metadata["goal"], world_of(t))
+        if got:
+            failing[t.id] = got[0]
+    return _result("referring_phrase", failing, len(tasks), "0 tasks")
+
+
+def _render_probe(name: str, check) -> Any:  # noqa: ANN001
+    def run(tasks: list[Any], env_params: dict[str, Any]) -> Any:
+        from eb_alfred.render import AlfredRenderer
+
+        renderer = AlfredRenderer(_RES)
+        failing, checked = {}, 0
+        try:
+            for t in tasks:
+                if not _needs_image(t):
+                    continue
+                checked += 1
+                views = Views(world_of(t), renderer)
+                got = check(t, views)
+                if got:
+                    failing[t.id] = got[0]
+        finally:
+            renderer.close()
+        return _result(name, failing, checked, "0 tasks")
+    return run
+
+
+def probes() -> list[Any]:
+    """The ALFRED probes for :meth:`AlfredEnv.audit_probes`."""
+    from eb_core.audit import AuditProbe
+
+    return [
+        AuditProbe("referring_phrase", "A goal that picks one instance among look-alikes must say which one in "
+                   "the instruction (colour, shape or place), so the words and not luck decide.", _run_phrase),
+        AuditProbe("attribute_rendered", "Every colour or shape word used for the target is drawn: the colour "
+                   "reads as named and a shape word changes the mesh against the look-alikes.",
+                   _render_probe("attribute_rendered",
+                                 lambda t, v: attribute_problems(t.instruction, t.metadata["goal"], v))),
+        AuditProbe("visible_area", f"Every object the goal names covers at least {100 * MIN_AREA:.1f} % of the "
+                   "image after the action that brings it into view.",
+                   _render_probe("visible_area", lambda t, v: visibility_problems(t.metadata["goal"], v))),
+        AuditProbe("relation_visible", "The things a spatial phrase relates are all in one image the agent "
+                   "can get (the start view or the view after finding one of them).",
+                   _render_probe("relation_visible",
+                                 lambda t, v: relation_problems(t.instruction, t.metadata["goal"], v))),
+    ]
