@@ -160,8 +160,10 @@ def word_matching_score(task: Task) -> float:
 
 def _result(name: str, share: float, limit: float, n: int, failing: list[str],
             rows: list[dict[str, Any]]) -> ProbeResult:
-    return ProbeResult(name=name, passed=share <= limit, value=f"{100 * share:.1f} % of {n} tasks",
-                       threshold=f"<= {100 * limit:.0f} %", failing_tasks=failing[:40], rows=rows)
+    passed = share <= limit
+    # The solved tasks are named only when the share is too high: then they are what to rewrite.
+    return ProbeResult(name=name, passed=passed, value=f"{100 * share:.1f} % of {n} tasks",
+                       threshold=f"<= {100 * limit:.0f} %", failing_tasks=[] if passed else failing[:40], rows=rows)
 
 
 def word_matching_spatial(tasks: list[Task], env_params: dict[str, Any] | None = None) -> ProbeResult:
