@@ -45,11 +45,12 @@ def main() -> None:
     ap.add_argument("--env", default="habitat")
     ap.add_argument("--limit", type=int, default=10)
     ap.add_argument("--model", default="random")
-    ap.add_argument("--render", default="true", choices=["true", "false"])
+    ap.add_argument("--render", default=None, choices=["true", "false"],
+                    help="env.params.render, for the worlds that have it (default: the world's own)")
     ap.add_argument("--repeats", type=int, default=2)
     a = ap.parse_args()
     base = [f"env={a.env}", f"model={a.model}", f"limit={a.limit}", "runner.quiet=true",
-            "runner.save_images=false", f"env.params.render={a.render}"]
+            "runner.save_images=false"] + ([f"env.params.render={a.render}"] if a.render else [])
     walls: dict[bool, list[float]] = {False: [], True: []}
     with tempfile.TemporaryDirectory() as tmp:
         _play(base + ["++runner.expert_labels=false"], Path(tmp) / "warm-up")  # imports, first scene builds
@@ -68,7 +69,7 @@ def main() -> None:
     labelled = [x for x in acts_on if "expert_action" in x]
     missing = sum(1 for x in labelled if x["expert_action"] is None)
     per_label = (on - off) / len(labelled) * 1000 if labelled else float("nan")
-    print(f"env={a.env} model={a.model} render={a.render} episodes={a.limit}")
+    print(f"env={a.env} model={a.model} render={a.render or 'default'} episodes={a.limit}")
     print(f"  labels off: {off:7.2f} s, {len(acts_off)} actions")
     print(f"  labels on : {on:7.2f} s, {len(acts_on)} actions, {len(labelled)} labelled "
           f"({missing} with no expert action)")
