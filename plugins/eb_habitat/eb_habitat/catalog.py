@@ -58,9 +58,6 @@ class Receptacle:
     """How many small objects fit (one per slot, slots ordered left to right as seen by the agent)."""
     room: str
     """``kitchen``, ``living``, ``dining`` or ``study``."""
-    spatial: tuple[str, ...] = ()
-    """Ways to refer to it by where it stands. Not used by the task generator since tasks v2: a fixed position
-    in a row that is the same everywhere can be resolved from the words alone (see ``eb_habitat.audit``)."""
     prep: str = ""
     """Preposition for things lying there, when not the kind's default (``in`` the sink)."""
 
@@ -75,36 +72,21 @@ class Receptacle:
 
 #: The 15 receptacles, in skill order. Containers (fridge, drawers, cabinet) are articulated.
 RECEPTACLES: tuple[Receptacle, ...] = (
-    Receptacle("left_counter", "left counter", "surface", 4, "kitchen",
-               ("the kitchen counter to the left of the sink", "the counter that sits above the left drawer")),
-    Receptacle("right_counter", "right counter", "surface", 4, "kitchen",
-               ("the kitchen counter to the right of the sink", "the counter that sits above the right drawer")),
-    Receptacle("sink", "sink", "surface", 2, "kitchen",
-               ("the basin between the two kitchen counters",), prep="in"),
-    Receptacle("fridge", "fridge", "container", 4, "kitchen",
-               ("the tall appliance at the far left end of the kitchen",)),
-    Receptacle("left_drawer", "left drawer", "container", 3, "kitchen",
-               ("the drawer under the left counter", "the drawer to the left of the sink")),
-    Receptacle("right_drawer", "right drawer", "container", 3, "kitchen",
-               ("the drawer under the right counter", "the drawer to the right of the sink")),
-    Receptacle("cabinet", "kitchen cabinet", "container", 4, "kitchen",
-               ("the cupboard standing beside the fridge", "the tall cupboard between the fridge and the counters")),
-    Receptacle("sofa", "sofa", "surface", 3, "living",
-               ("the seat facing the TV", "the long seat behind the coffee table")),
-    Receptacle("tv_stand", "TV stand", "surface", 3, "living",
-               ("the low unit under the television", "the piece of furniture across from the sofa")),
-    Receptacle("coffee_table", "coffee table", "surface", 3, "living",
-               ("the low table between the sofa and the TV", "the table right in front of the sofa")),
-    Receptacle("dining_table", "dining table", "surface", 4, "dining",
-               ("the table with a chair on each side", "the table between the two chairs")),
-    Receptacle("left_chair", "left chair", "surface", 1, "dining",
-               ("the chair on the left side of the dining table",)),
-    Receptacle("right_chair", "right chair", "surface", 1, "dining",
-               ("the chair on the right side of the dining table",)),
-    Receptacle("brown_table", "brown table", "surface", 3, "living",
-               ("the small wooden table at the end of the sofa", "the side table next to the sofa")),
-    Receptacle("desk", "desk", "surface", 3, "study",
-               ("the work table with the lamp on it", "the table in the study corner")),
+    Receptacle("left_counter", "left counter", "surface", 4, "kitchen"),
+    Receptacle("right_counter", "right counter", "surface", 4, "kitchen"),
+    Receptacle("sink", "sink", "surface", 2, "kitchen", prep="in"),
+    Receptacle("fridge", "fridge", "container", 4, "kitchen"),
+    Receptacle("left_drawer", "left drawer", "container", 3, "kitchen"),
+    Receptacle("right_drawer", "right drawer", "container", 3, "kitchen"),
+    Receptacle("cabinet", "kitchen cabinet", "container", 4, "kitchen"),
+    Receptacle("sofa", "sofa", "surface", 3, "living"),
+    Receptacle("tv_stand", "TV stand", "surface", 3, "living"),
+    Receptacle("coffee_table", "coffee table", "surface", 3, "living"),
+    Receptacle("dining_table", "dining table", "surface", 4, "dining"),
+    Receptacle("left_chair", "left chair", "surface", 1, "dining"),
+    Receptacle("right_chair", "right chair", "surface", 1, "dining"),
+    Receptacle("brown_table", "brown table", "surface", 3, "living"),
+    Receptacle("desk", "desk", "surface", 3, "study"),
 )
 
 _RECEPTACLE_BY_KEY = {r.key: r for r in RECEPTACLES}
