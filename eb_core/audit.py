@@ -128,6 +128,8 @@ class AuditSetup:
     per_subset: int | None = None
     """Tasks per subset for the probes that play many random actions (blind policies, noise curve, parallel
     forms); None = all of them, unless a random step is slow (see :meth:`sampled_tasks`)."""
+    workers: int = 1
+    """Processes that play episodes (forked; each builds its own env)."""
     budget_s: float = 240.0
     """Rough time those probes may take together when ``per_subset`` is None."""
     _cache: dict[Any, Any] = field(default_factory=dict, repr=False)
@@ -150,9 +152,9 @@ class AuditSetup:
             if k is None:
                 groups = _by_subset(self.tasks)
                 cost = self.random_step_seconds()
-                blind = 12 if isinstance(self._cache.get("space"), DiscreteActionSpace) else 10
+                blind = 40 if isinstance(self._cache.get("space"), DiscreteActionSpace) else 12
                 per_task = self.max_steps * cost * (blind + 4 * self.curve_repeats + self.parallel_repeats)
-                fit = int(self.budget_s / max(per_task * max(len(groups), 1), 1e-9))
+                fit = int(self.budget_s * max(1, self.workers) / max(per_task * max(len(groups), 1), 1e-9))
                 k = max(5, fit)
             if k >= max(len(ts) for ts in _by_subset(self.tasks).values()):
                 k = None
@@ -283,6 +285,62 @@ def noisy_expert_episode(setup: AuditSetup, env: Env, task: Task, noise: float, 
 
     return play(env, task, policy, max_steps=setup.max_steps, max_invalid_actions=setup.max_invalid_actions,
                 seed=_reset_seed(setup.seed, task.id))
+
+
+@dataclass(frozen=True)
+class _Job:
+    """One episode to play: a blind policy, or the noisy expert at ``noise`` (repeat ``repeat``)."""
+
+    task: Task
+    policy: "BlindPolicy | None" = None
+    noise: float = 0.0
+    repeat: int = 0
+    params: str = ""
+    """JSON of other env params (a fresh form's task file); empty = the setup's."""
+
+
+_POOL_SETUP: AuditSetup | None = None
+_POOL_ENVS: dict[str, Env] = {}
+
+
+def _play_job(setup: AuditSetup, envs: dict[str, Env], job: _Job) -> EpisodeOutcome:
+    if job.params not in envs:
+        import json
+
+        envs[job.params] = setup.make_env(json.loads(job.params) if job.params else None)
+    env = envs[job.params]
+    if job.policy is not None:
+        return play(env, job.task, job.policy.policy(), max_steps=setup.max_steps,
+                    max_invalid_actions=setup.max_invalid_actions, seed=_reset_seed(setup.seed, job.task.id))
+    return noisy_expert_episode(setup, env, job.task, job.noise, job.repeat)
+
+
+def _play_chunk(chunk: list[_Job]) -> list[EpisodeOutcome]:
+    assert _POOL_SETUP is not None
+    return [_play_job(_POOL_SETUP, _POOL_ENVS, job) for job in chunk]
+
+
+def play_jobs(setup: AuditSetup, jobs: list[_Job]) -> list[EpisodeOutcome]:
+    """Play ``jobs`` in order, in ``setup.workers`` forked processes (each with its own env) when there are
+    enough of them. Results do not depend on the number of workers: every episode seeds itself."""
+    global _POOL_SETUP
+    if setup.workers <= 1 or len(jobs) < 40:
+        envs: dict[str, Env] = {}
+        try:
+            return [_play_job(setup, envs, job) for job in jobs]
+        finally:
+            for env in envs.values():
+                env.close()
+    import multiprocessing
+
+    size = max(1, len(jobs) // (setup.workers * 8))
+    chunks = [jobs[i:i + size] for i in range(0, len(jobs), size)]
+    _POOL_SETUP = setup
+    try:
+        with multiprocessing.get_context("fork").Pool(setup.workers) as pool:
+            return [o for part in pool.map(_play_chunk, chunks, chunksize=1) for o in part]
+    finally:
+        _POOL_SETUP = None
 
 
 # -- statistics ---------------------------------------------------------------------------------------------
@@ -458,16 +516,14 @@ def probe_blind_policies(setup: AuditSetup) -> ProbeResult:
                 spaces[t.id] = env.action_space()
             except Exception:  # noqa: BLE001 - the closed-loop probe reports env errors
                 continue
-        policies = _blind_policies(setup, spaces)
-        solved: dict[str, list[str]] = defaultdict(list)  # policy name -> solved task ids
-        for t in tasks:
-            for pol in policies:
-                out = play(env, t, pol.policy(), max_steps=setup.max_steps,
-                           max_invalid_actions=setup.max_invalid_actions, seed=_reset_seed(setup.seed, t.id))
-                if out.success:
-                    solved[pol.name].append(t.id)
     finally:
         env.close()
+    policies = _blind_policies(setup, spaces)
+    jobs = [_Job(t, policy=pol) for t in tasks for pol in policies]
+    solved: dict[str, list[str]] = defaultdict(list)  # policy name -> solved task ids
+    for job, out in zip(jobs, play_jobs(setup, jobs)):
+        if out.success:
+            solved[job.policy.name].append(job.task.id)  # type: ignore[union-attr]
     groups = _by_subset(tasks)
     rows = []
     failing: list[str] = []
@@ -641,24 +697,19 @@ def probe_grammar(setup: AuditSetup) -> ProbeResult:
 # -- the expert ---------------------------------------------------------------------------------------------
 
 
-def _curve_outcomes(setup: AuditSetup, noise: float, repeat: int,
-                    tasks: list[Task] | None = None) -> dict[str, EpisodeOutcome]:
+def _curve_outcomes(setup: AuditSetup, levels: list[tuple[float, int]],
+                    tasks: list[Task] | None = None) -> dict[tuple[float, int], dict[str, EpisodeOutcome]]:
+    """Noisy-expert outcomes per (noise, repeat) and task, played in one batch and cached on the setup."""
     tasks = setup.sampled_tasks() if tasks is None else tasks
-    key = ("curve", noise, repeat)
-    cached = setup._cache.setdefault(key, {})
-    todo = [t for t in tasks if t.id not in cached]
-    if todo:
-        env = setup.make_env()
-        try:
-            for t in todo:
-                cached[t.id] = noisy_expert_episode(setup, env, t, noise, repeat)
-        finally:
-            env.close()
-    return {t.id: cached[t.id] for t in tasks}
+    todo = [_Job(t, noise=noise, repeat=rep) for noise, rep in levels for t in tasks
+            if t.id not in setup._cache.get(("curve", noise, rep), {})]
+    for job, out in zip(todo, play_jobs(setup, todo)):
+        setup._cache.setdefault(("curve", job.noise, job.repeat), {})[job.task.id] = out
+    return {lv: {t.id: setup._cache[("curve", *lv)][t.id] for t in tasks} for lv in levels}
 
 
 def probe_closed_loop(setup: AuditSetup) -> ProbeResult:
-    outcomes = _curve_outcomes(setup, 0.0, 0, setup.episode_tasks())
+    outcomes = _curve_outcomes(setup, [(0.0, 0)], setup.episode_tasks())[(0.0, 0)]
     failed = [(tid, o) for tid, o in outcomes.items() if not o.success]
     rows = [{"task": tid, "end": o.end, "steps": o.steps, "detail": o.detail[:100]} for tid, o in failed[:10]]
     ends = Counter(o.end for _, o in failed)
@@ -676,10 +727,10 @@ def probe_noise_curve(setup: AuditSetup) -> ProbeResult:
     groups = _by_subset(tasks)
     reps = 1 if setup.quick else setup.curve_repeats
     wins: dict[float, Counter[str]] = {p: Counter() for p in NOISE_LEVELS}  # p -> task id -> successes
-    for p in NOISE_LEVELS:
-        for r in range(reps):
-            for tid, o in _curve_outcomes(setup, p, r).items():
-                wins[p][tid] += int(o.success)
+    levels = [(p, r) for p in NOISE_LEVELS for r in range(reps)]
+    for (p, _), outcomes in _curve_outcomes(setup, levels, tasks).items():
+        for tid, o in outcomes.items():
+            wins[p][tid] += int(o.success)
     rows, rises, warns, failing = [], [], [], []
     p50s = {}
     for subset, ts in groups.items():
@@ -782,12 +833,15 @@ def probe_parallel_forms(setup: AuditSetup) -> ProbeResult:
 
 
 def _form_scores(setup: AuditSetup, tasks: list[Task], params: dict[str, Any]) -> dict[str, float]:
-    env = setup.make_env(params)
-    try:
-        return {t.id: _mean([float(noisy_expert_episode(setup, env, t, PARALLEL_NOISE, 100 + r).success)
-                             for r in range(setup.parallel_repeats)]) for t in tasks}
-    finally:
-        env.close()
+    import json
+
+    key = "" if params == setup.env_params else json.dumps(params, sort_keys=True)
+    jobs = [_Job(t, noise=PARALLEL_NOISE, repeat=100 + r, params=key) for t in tasks
+            for r in range(setup.parallel_repeats)]
+    wins: dict[str, list[float]] = defaultdict(list)
+    for job, out in zip(jobs, play_jobs(setup, jobs)):
+        wins[job.task.id].append(float(out.success))
+    return {t.id: _mean(wins[t.id]) for t in tasks}
 
 
 # -- running ------------------------------------------------------------------------------------------------
@@ -891,12 +945,13 @@ def format_audit(env_name: str, results: list[tuple[AuditProbe, ProbeResult]], n
 
 # -- the command --------------------------------------------------------------------------------------------
 
-AUDIT_USAGE = ("usage: eb audit env=NAME [task_file=PATH] [parallel=PATH] [per_subset=N|all] [repeats=N] "
-               "[parallel_seed=N] [key=value ...] [--quick] [--probe NAME ...]")
+AUDIT_USAGE = ("usage: eb audit env=NAME [task_file=PATH] [parallel=PATH] [per_subset=N|all] [workers=N] "
+               "[repeats=N] [parallel_seed=N] [key=value ...] [--quick] [--probe NAME ...]")
 
 
 def cmd_audit(args: list[str]) -> int:
     """``eb audit``: compose the config like ``eb run``, run the probes, print one table; 1 if a probe fails."""
+    import os
     import sys
 
     from eb_core.cli import CliError, _validate, compose
@@ -923,7 +978,7 @@ def cmd_audit(args: list[str]) -> int:
             return 0
         elif a.startswith("-"):
             raise CliError(f"unknown option {a!r} for audit; options: --quick, --probe NAME. {AUDIT_USAGE}")
-        elif a.split("=", 1)[0] in ("task_file", "parallel", "parallel_seed", "repeats", "per_subset"):
+        elif a.split("=", 1)[0] in ("task_file", "parallel", "parallel_seed", "repeats", "per_subset", "workers"):
             key, sep, value = a.partition("=")
             if not value:
                 raise CliError(f"{key}= needs a value, e.g. {key}=my_tasks.json")
@@ -966,7 +1021,7 @@ def cmd_audit(args: list[str]) -> int:
     ints = {}
     if extra.get("per_subset") == "all":
         extra["per_subset"] = str(max(len(tasks), 1))
-    for key, low in (("parallel_seed", 0), ("repeats", 10), ("per_subset", 1)):
+    for key, low in (("parallel_seed", 0), ("repeats", 10), ("per_subset", 1), ("workers", 1)):
         if key in extra:
             try:
                 ints[key] = int(extra[key])
@@ -980,7 +1035,8 @@ def cmd_audit(args: list[str]) -> int:
                        max_invalid_actions=cfg.env.max_invalid_actions, env_params=dict(cfg.env.params),
                        seed=cfg.seed, quick=quick, generator=generator, parallel_source=extra.get("parallel"),
                        parallel_seed=ints.get("parallel_seed", 2_718),
-                       parallel_repeats=ints.get("repeats", 10), per_subset=ints.get("per_subset"))
+                       parallel_repeats=ints.get("repeats", 10), per_subset=ints.get("per_subset"),
+                       workers=ints.get("workers", min(2, os.cpu_count() or 1)))
     try:
         results = run_audit(setup, only or None,
                             progress=lambda name: print(f"eb audit: running {name} ...", file=sys.stderr, flush=True))

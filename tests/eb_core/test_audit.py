@@ -332,3 +332,12 @@ def test_slow_worlds_play_an_even_spread_of_tasks_per_subset(tmp_path, monkeypat
     monkeypatch.setattr(AuditSetup, "random_step_seconds", lambda self: 0.05)
     assert slow.cap() == 5 and len(slow.sampled_tasks()) == 10
     assert "5 tasks per subset" in slow.sampling_note() and "50 ms" in slow.sampling_note()
+
+
+def test_two_workers_give_the_same_results_as_one(tmp_path):
+    tasks = lock_tasks(per_subset=10)
+    one = setup_for(tmp_path, tasks, params={"loop_expert": ("short-02",)})
+    two = setup_for(tmp_path, tasks, params={"loop_expert": ("short-02",)}, workers=2)
+    for probe in (probe_blind_policies, probe_closed_loop, probe_noise_curve):
+        assert probe(one) == probe(two)
+    assert probe_closed_loop(two).failing_tasks == ["short-02"]
