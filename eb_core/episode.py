@@ -5,7 +5,8 @@ Rules (from the paper, with our documented deviation on output errors):
 * Run the plan in order, cut to the remaining step budget.
 * Stop at the first failed action and re-plan (``env.replan_on_failure``; manipulation runs the whole plan).
 * An empty plan ends the episode (``env.empty_plan_ends``); elsewhere it counts as an output error.
-* A plan item that is not a valid action cuts the plan there; if nothing is left it is an invalid action.
+* A plan item that is not a valid action cuts the plan there; if nothing is left it is an invalid action
+  (using a step of the budget where ``env.output_error_uses_step``, so every episode ends).
 * An unusable answer is an output error: it counts as an invalid action and the next prompt says why it was
   rejected. Where ``env.output_error_uses_step`` (Navigation, Manipulation) it also uses one step of the
   budget (the original executed a random action instead); elsewhere (ALFRED, Habitat) it uses none, as the
@@ -120,8 +121,10 @@ def run_episode(
     if invalid_cap is None and not uses_step:
         invalid_cap = env_config.max_steps
 
+    charged = 0  # answers that executed nothing but use a step of the budget (where uses_step)
+
     def budget_left() -> int:
-        return env_config.max_steps - env_steps - (output_errors if uses_step else 0)
+        return env_config.max_steps - env_steps - charged
 
     def augment(o: Observation) -> Observation:
         for aug in augmenters:
@@ -129,10 +132,12 @@ def run_episode(
         return o
 
     def output_error(reason: str, count_invalid: bool = True) -> None:
-        nonlocal output_errors, invalid
+        nonlocal output_errors, invalid, charged
         output_errors += 1
         if count_invalid or not uses_step:
             invalid += 1
+        if uses_step:
+            charged += 1
         planner.record_output_error(reason)
 
     try:
@@ -189,8 +194,10 @@ def run_episode(
                 else:
                     # navigation's original executed a random action: a step, not an invalid action
                     output_error("the plan was empty but the task is not finished", count_invalid=False)
-            elif not parsed.actions:
+            elif not parsed.actions:  # the first plan item is not a valid action: nothing to execute
                 invalid += 1
+                if uses_step:  # the original executed something here too (navigation: "Done"; random actions)
+                    charged += 1
                 planner.record_output_error(parsed.plan_error or "the first plan item was invalid")
             else:
                 space = env.action_space()

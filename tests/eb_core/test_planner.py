@@ -370,3 +370,11 @@ def test_multi_view_without_a_primary_description_and_with_full_sentences():
                  parts={"view_descriptions": {"side": "The second image is the corridor upside down."}})
     assert sections(mv.requests[0].messages[-1].text)["The images"].splitlines()[1:] == [
         "Image 1: the main view.", "Image 2: The second image is the corridor upside down."]
+
+
+def test_an_invalid_first_item_without_a_cap_still_ends_where_errors_use_steps():
+    bad = json.dumps({"executable_plan": [{"action_id": 9, "action_name": "x"}]})
+    rec, _ = play([bad], env__output_error_uses_step=True, env__max_invalid_actions=None, env__max_steps=4)
+    assert (rec.env_steps, rec.invalid_actions, rec.output_errors, rec.planner_steps) == (0, 4, 0, 4)
+    rec, _ = play([bad], env__output_error_uses_step=False, env__max_invalid_actions=3, env__max_steps=4)
+    assert (rec.env_steps, rec.invalid_actions, rec.planner_steps, rec.end_reason) == (0, 3, 3, "invalid_cap")
