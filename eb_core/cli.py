@@ -6,6 +6,7 @@ Bad input ends with one line on stderr that says what was wrong, what is allowed
 from __future__ import annotations
 
 import difflib
+import os
 import sys
 from collections.abc import Sequence
 from typing import Any
@@ -227,7 +228,41 @@ def cmd_run(args: list[str]) -> int:
             registry.get("augmenter", aug["name"])
     except PluginError as exc:
         raise CliError(str(exc)) from None
+    if not info_only and not ({"-m", "--multirun"} & set(args)):
+        _check_run_dir_writable(_run_dir_of(args))
     return _hydra_main(args)
+
+
+def _run_dir_of(args: list[str]) -> str:
+    """The run directory Hydra will use for a single run with ``args``."""
+    from hydra import compose as hydra_compose
+
+    with _hydra_context():
+        checked = _check_overrides([a for a in args if not a.startswith("-")])
+        cfg = hydra_compose(config_name="config", overrides=checked, return_hydra_config=True)
+        return str(cfg.hydra.run.dir)
+
+
+def _check_run_dir_writable(run_dir: str) -> None:
+    """Fail with one line, before anything is written, when the run directory cannot take files
+    (read-only file system, no permission, no space or a file-size limit). Nothing finished is touched."""
+    path = os.path.abspath(run_dir)
+    probe = os.path.join(path, f".eb_write_probe.{os.getpid()}")
+    try:
+        os.makedirs(path, exist_ok=True)
+        with open(probe, "wb") as fh:
+            fh.write(b"\0" * 16384)  # larger than any file Hydra writes before the run starts
+            fh.flush()
+            os.fsync(fh.fileno())
+    except OSError as exc:
+        raise CliError(f"cannot write to the run directory {path}: {exc.strerror or exc}. Finished episodes "
+                       f"there are kept: fix it (space, permissions, a read-only mount) and run the same "
+                       f"command again to resume, or choose another directory with hydra.run.dir=...") from None
+    finally:
+        try:
+            os.unlink(probe)
+        except OSError:
+            pass
 
 
 def _hydra_main(args: list[str]) -> int:
@@ -265,6 +300,11 @@ def _hydra_task(cfg: Any) -> None:
         summary = run(rc, run_dir, cfg_dict=cfg_dict)
     except (CliError, ConfigError, PluginError, RunError, MissingDependencyError) as exc:
         print(f"eb: error: {exc}", file=sys.stderr)
+        raise SystemExit(2) from None
+    except OSError as exc:  # the disk filled up or the directory became unwritable during the run
+        where = exc.filename or run_dir
+        print(f"eb: error: cannot write {where}: {exc.strerror or exc}. Episodes already in episodes.jsonl are "
+              f"kept; fix it and run the same command again to resume.", file=sys.stderr)
         raise SystemExit(2) from None
     from eb_core.report import print_summary
 
