@@ -169,7 +169,7 @@ class VLMPlanner:
         self.space = space
 
     def record_action(self, env_step: int, action_name: str, action_repr: str, success: bool, feedback: str) -> None:
-        line = f"Step {env_step}: {action_repr} ({action_name})"
+        line = f"Step {env_step}: {action_repr}" + ("" if action_name in action_repr else f" ({action_name})")
         if self.config.feedback:
             line += f" -> {'succeeded' if success else 'failed'}. Feedback: {feedback}"
         self.history.append(line)
