@@ -11,7 +11,13 @@ Faults never loop forever and never pass silently:
   then :class:`~eb_core.model.ModelTransientError` (the runner records the episode as ``error``).
 * 401 / 403 / 404 (bad key, no access, unknown model) raise :class:`~eb_core.model.ModelFatalError` with
   one line; :meth:`LiteLLMBackend.preflight` makes one tiny call so this happens before the first episode.
-* Any other 4xx (prompt too long, content refused) is not retried: ``ModelTransientError`` at once.
+* Any other 4xx (prompt too long, content refused), and a 5xx whose body is a validation error naming a
+  request field (FastAPI servers word some refusals so), is not retried: ``ModelTransientError`` at once,
+  naming the field and the fix. At preflight such a refusal is fatal.
+* At preflight, a refused connection to a local ``api_base`` fails at once with the URL named.
+
+``structured_output`` picks how the planner's JSON schema is sent (see :mod:`eb_models.structured`);
+``auto`` probes the server at preflight and every backend of the run then uses the mode it settled on.
 
 API keys are read only from the environment variable named by ``api_key_env``; they are scrubbed from
 every message this module raises or logs and never written anywhere.
@@ -19,13 +25,18 @@ every message this module raises or logs and never written anywhere.
 
 from __future__ import annotations
 
+import hashlib
+import json
 import logging
 import os
 import random
 import re
+import socket
 import time
 import warnings
+from pathlib import Path
 from typing import Any
+from urllib.parse import urlparse
 
 from pydantic import Field, field_validator
 
@@ -41,10 +52,21 @@ from eb_core.model import (
 from eb_models._secrets import Scrubber, Secret, secret_values
 from eb_models._settings import BackendSettings, ModelConfigError, validate_settings
 from eb_models.cache import ResponseCache, request_fingerprint
-from eb_models.limits import RequestLimiter
+from eb_models.limits import RequestLimiter, default_limits_dir
 from eb_models.retry import ErrorKind, RetryPolicy, classify_status, retry_after_seconds
+from eb_models.structured import (
+    PROBE_ORDER,
+    PROBE_PROMPT,
+    StructuredOutput,
+    field_fix,
+    probe_answer_ok,
+    probe_request_format,
+    rejected_field,
+    response_format,
+    sends_schema,
+)
 
-__all__ = ["LiteLLMBackend", "LiteLLMSettings"]
+__all__ = ["LOCAL_MAX_TOKENS", "LiteLLMBackend", "LiteLLMSettings", "is_local_url"]
 
 log = logging.getLogger("eb_models.litellm")
 
@@ -53,6 +75,20 @@ log = logging.getLogger("eb_models.litellm")
 NO_KEY = "no-key"
 
 _SECRET_PARAM_WORDS = ("key", "secret", "token", "password", "credential")
+
+#: Output limit when ``max_tokens`` is unset: hosted APIs get the planner's 2048 (the original's), a local
+#: server this many, so a small model that rambles costs seconds per call, not minutes.
+LOCAL_MAX_TOKENS = 1024
+HOSTED_MAX_TOKENS = 2048
+_LOCAL_HOSTS = {"127.0.0.1", "localhost", "::1", "0.0.0.0", "[::1]"}
+
+
+def is_local_url(url: str | None) -> bool:
+    """Whether ``url`` points at this machine."""
+    if not url:
+        return False
+    host = (urlparse(url).hostname or "").lower()
+    return host in _LOCAL_HOSTS or host.startswith("127.")
 
 
 #: litellm repeats the class name: "litellm.RateLimitError: RateLimitError: OpenAIException - ...".
@@ -75,13 +111,18 @@ class LiteLLMSettings(BackendSettings):
     """Human-readable model name and where it comes from (not sent anywhere)."""
     supports_images: bool = True
     """Whether the model takes images; language-only models get the observation's text instead."""
-    supports_json_schema: bool = False
-    """Send the planner's JSON schema as ``response_format`` (else the prompt carries a textual format)."""
+    structured_output: StructuredOutput | None = None
+    """How the planner's JSON schema reaches the server: ``json_schema`` (OpenAI), ``json_object_schema``
+    (llama-cpp-python, Fireworks), ``json_object`` (plain JSON mode, schema in the prompt), ``none`` (textual
+    format in the prompt), or ``auto`` (probe at preflight). Unset = ``none``, as the boolean's default was."""
+    supports_json_schema: bool | None = None
+    """Deprecated alias (one release): true = ``structured_output: json_schema``, false = ``none``."""
     json_schema_strict: bool | None = False
     """OpenAI ``strict`` flag for the schema: false as the original (which sent none); null = on when the
     schema fits strict mode's rules."""
-    max_tokens: int = Field(default=2048, ge=1)
-    """Output limit requested per call (the planner asks for 2048; the smaller of the two is sent)."""
+    max_tokens: int | None = Field(default=None, ge=1)
+    """Output limit requested per call (the planner asks for 2048; the smaller of the two is sent). Unset =
+    2048 for a hosted API, 1024 for a server on this machine."""
     temperature: float | None = Field(default=None, ge=0)
     """Overrides the planner's temperature (0) when set."""
     timeout_s: float = Field(default=120.0, gt=0)
@@ -161,13 +202,72 @@ def _fits_strict(schema: Any) -> bool:
     return all(_fits_strict(v) for v in subs)
 
 
+class _Refused(Exception):
+    """A deterministic refusal met while probing (not an error of the run)."""
+
+    def __init__(self, status: int | None, field: str | None) -> None:
+        super().__init__(field or str(status))
+        self.status, self.field = status, field
+
+
+# -- the mode ``auto`` settled on, shared with the run's other backends -----------------------------
+# The runner's preflight backend probes; the episode backends (same process, or worker processes it
+# started) read the answer instead of probing again. Keyed by model and endpoint and by the run's process.
+
+_SETTLED: dict[str, tuple[str, str]] = {}
+_WARNED_ALIAS = False
+
+
+def _settled_file(key: str, pid: int, limits_dir: str | None) -> Path:
+    digest = hashlib.sha256(key.encode()).hexdigest()[:16]
+    return Path(limits_dir or default_limits_dir()) / f"structured-{digest}-{pid}.json"
+
+
+def _store_settled(key: str, mode: str, why: str, limits_dir: str | None = None) -> None:
+    _SETTLED[key] = (mode, why)
+    path = _settled_file(key, os.getpid(), limits_dir)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(json.dumps({"key": key, "mode": mode, "why": why, "time": time.time()}))
+        os.replace(tmp, path)
+    except OSError:
+        pass  # worker processes then probe for themselves
+
+
+def _load_settled(key: str, limits_dir: str | None = None) -> tuple[str, str] | None:
+    if key in _SETTLED:
+        return _SETTLED[key]
+    path = _settled_file(key, os.getppid(), limits_dir)  # written by the runner that started this worker
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    if data.get("key") != key or time.time() - float(data.get("time", 0)) > 24 * 3600:
+        return None
+    _SETTLED[key] = (str(data["mode"]), str(data["why"]))
+    return _SETTLED[key]
+
+
 class LiteLLMBackend(ModelBackend):
     """One model reached through litellm. Constructed with the preset's keys as keyword arguments."""
 
     def __init__(self, **kwargs: Any) -> None:
         self.settings = s = validate_settings(LiteLLMSettings, "litellm", kwargs)
         self.supports_images = s.supports_images
-        self.supports_json_schema = s.supports_json_schema
+        mode: str = s.structured_output or "none"
+        if s.supports_json_schema is not None:
+            alias = "json_schema" if s.supports_json_schema else "none"
+            global _WARNED_ALIAS
+            if not _WARNED_ALIAS:
+                _WARNED_ALIAS = True
+                log.warning("model.supports_json_schema is deprecated: use model.structured_output=%s "
+                            "(taken as that now)", alias)
+            mode = alias
+        self.structured_output: str = mode
+        """The configured mode (``auto`` until :meth:`settle` has run)."""
+        self.structured_output_why = "set by model.structured_output" if mode != "auto" else ""
+        self.max_tokens = s.max_tokens or (LOCAL_MAX_TOKENS if is_local_url(s.api_base) else HOSTED_MAX_TOKENS)
         self._litellm = _import_litellm()
         try:
             _, self.provider, _, _ = self._litellm.get_llm_provider(s.model_id, api_base=s.api_base)
@@ -223,23 +323,79 @@ class LiteLLMBackend(ModelBackend):
             out.append({"role": m.role, "content": parts})
         return out
 
+    # -- structured output --------------------------------------------------------------------
+
+    @property
+    def supports_json_schema(self) -> bool:  # type: ignore[override]
+        """Whether the schema reaches the server (the planner then leaves the textual format out)."""
+        return sends_schema(self.settle())
+
+    def settle(self) -> str:
+        """The structured-output mode in use; under ``auto`` the one preflight settled on (probed now if this
+        process and the run's preflight have not probed yet)."""
+        if self.structured_output == "auto":
+            found = _load_settled(self._settle_key(), self.settings.limits_dir)
+            if found is None:
+                self._probe()
+            else:
+                self.structured_output, self.structured_output_why = found
+        return self.structured_output
+
+    def info(self) -> dict[str, Any]:
+        """What a run should record about this backend (the settled mode and why, the output limit)."""
+        return {"backend": "litellm", "model_id": self.settings.model_id, "api_base": self.settings.api_base,
+                "structured_output": self.settle(), "structured_output_why": self.structured_output_why,
+                "max_tokens": self.max_tokens}
+
+    def _settle_key(self) -> str:
+        return f"{self.settings.model_id}@{self.settings.api_base or self.provider}"
+
+    def _probe(self) -> Usage:
+        """Try each mode in :data:`PROBE_ORDER` with a tiny request; keep the first accepted and obeyed."""
+        s = self.settings
+        total = Usage()
+        notes: list[str] = []
+        for mode in PROBE_ORDER:
+            params: dict[str, Any] = {"max_tokens": 24, "temperature": 0.0}
+            fmt = probe_request_format(mode)
+            if fmt is not None:
+                params["response_format"] = fmt
+            params.update(s.extra_params)
+            t0 = time.perf_counter()
+            try:
+                resp = self._call([{"role": "user", "content": PROBE_PROMPT}], params, probing=True)
+            except _Refused as exc:
+                notes.append(f"{mode}: refused ({exc.field or 'HTTP ' + str(exc.status)})")
+                continue
+            usage = self._usage(resp, t0)
+            total = total + usage
+            text = self._text(resp)
+            if mode == "none" or probe_answer_ok(mode, text):
+                why = "; ".join(notes + [f"{mode}: accepted and obeyed" if mode != "none" else
+                                         "none: no response_format (textual format in the prompt)"])
+                self.structured_output, self.structured_output_why = mode, why
+                break
+            shown = " ".join(text.split())[:40]
+            notes.append(f"{mode}: accepted but not obeyed (answer {shown!r})")
+        _store_settled(self._settle_key(), self.structured_output, self.structured_output_why, s.limits_dir)
+        log.info("model %s: structured output %s (%s)", s.model_id, self.structured_output,
+                 self.structured_output_why)
+        print(f"structured output: {self.structured_output} ({self.structured_output_why})", flush=True)
+        return total
+
     def _response_format(self, schema: dict[str, Any] | None) -> dict[str, Any] | None:
-        if schema is None or not self.supports_json_schema:
-            return None
-        if isinstance(schema.get("schema"), dict):
-            name, body = str(schema.get("name") or "response"), schema["schema"]
-        else:
-            name, body = "response", schema
+        mode = self.settle()
         strict = self.settings.json_schema_strict
-        if strict is None:
+        if mode == "json_schema" and schema is not None and strict is None:
+            body = schema["schema"] if isinstance(schema.get("schema"), dict) else schema
             strict = _fits_strict(body)
-        return {"type": "json_schema", "json_schema": {"name": name, "schema": body, "strict": bool(strict)}}
+        return response_format(mode, schema, bool(strict))
 
     def _settings_payload(self, request: ModelRequest) -> dict[str, Any]:
         """Everything sent besides the messages (also part of the cache key)."""
         s = self.settings
         payload: dict[str, Any] = {
-            "max_tokens": min(request.max_tokens, s.max_tokens),
+            "max_tokens": min(request.max_tokens, self.max_tokens),
             "temperature": s.temperature if s.temperature is not None else request.temperature,
         }
         if request.seed is not None:
@@ -250,8 +406,10 @@ class LiteLLMBackend(ModelBackend):
         payload.update(s.extra_params)
         return payload
 
-    def _call(self, messages: list[dict[str, Any]], params: dict[str, Any]) -> Any:
-        """One completion with retries; returns litellm's response or raises a model error."""
+    def _call(self, messages: list[dict[str, Any]], params: dict[str, Any], probing: bool = False) -> Any:
+        """One completion with retries; returns litellm's response or raises a model error.
+
+        ``probing``: a deterministic refusal raises :class:`_Refused` (the probe tries the next mode)."""
         s = self.settings
         start = time.monotonic()
         attempt = 0
@@ -274,11 +432,20 @@ class LiteLLMBackend(ModelBackend):
             except Exception as exc:  # classified below; programming errors are not retried
                 kind, status, headers = self._classify(exc)
                 detail = self._describe(exc, status)
+                field = rejected_field(str(exc)) if kind != "fatal" else None
+                if kind == "retry" and field is not None and isinstance(status, int) and status >= 500:
+                    kind = "reject"  # a validation error worded as a 500: the same request fails every time
+                if kind == "fatal" and probing and status == 404 and field is not None:
+                    kind = "reject"
                 if kind == "fatal":
                     raise ModelFatalError(self._fatal_message(status, detail)) from None
                 if kind == "reject":
+                    if probing:
+                        raise _Refused(status, field) from None
+                    what = (f"the server refuses the request field '{field}': "
+                            f"{field_fix(field, self.structured_output)}. " if field else "")
                     raise ModelTransientError(
-                        f"model {s.model_id}: request rejected, not retried: {detail}"
+                        f"model {s.model_id}: request rejected, not retried: {what}{detail}"
                     ) from None
                 elapsed = time.monotonic() - start
                 wait = self._policy.next_wait(attempt, retry_after_seconds(headers), elapsed, self._rng)
@@ -338,23 +505,69 @@ class LiteLLMBackend(ModelBackend):
 
     # -- ModelBackend -------------------------------------------------------------------------
 
-    def preflight(self) -> None:
-        """One tiny call (with the JSON schema when the preset uses it): bad keys and models fail here."""
-        params: dict[str, Any] = {"max_tokens": 8, "temperature": 0.0}
-        if self.supports_json_schema:
-            params["response_format"] = self._response_format({
-                "name": "preflight",
-                "schema": {"type": "object", "properties": {"ok": {"type": "boolean"}}, "required": ["ok"],
-                           "additionalProperties": False},
-            })
-        params.update(self.settings.extra_params)
+    def preflight(self) -> Usage:
+        """Fail fast on a bad key, model or URL, and settle the structured-output mode.
+
+        A fixed mode makes one tiny call (with a probe schema when the mode sends one); ``auto`` probes the
+        modes in turn. Returns the calls' :class:`~eb_core.model.Usage` (counted in the run's budget).
+        """
+        s = self.settings
+        self._check_local_server()
         try:
-            self._call([{"role": "user", "content": "Reply with OK."}], params)
+            if self.structured_output == "auto":
+                return self._probe()
+            params: dict[str, Any] = {"max_tokens": 8, "temperature": 0.0}
+            fmt = probe_request_format(self.structured_output)
+            if fmt is not None:
+                params["response_format"] = fmt
+            params.update(s.extra_params)
+            t0 = time.perf_counter()
+            try:
+                resp = self._call([{"role": "user", "content": "Reply with OK."}], params, probing=True)
+            except _Refused as exc:
+                what = f"the request field '{exc.field}'" if exc.field else f"the request (HTTP {exc.status})"
+                fix = field_fix(exc.field or "response_format", self.structured_output) if (
+                    exc.field or fmt is not None) else "check model.extra_params"
+                raise ModelFatalError(
+                    f"preflight failed: model {s.model_id}{' at ' + s.api_base if s.api_base else ''} refuses "
+                    f"{what} (structured_output={self.structured_output}); {fix}"
+                ) from None
+            return self._usage(resp, t0)
         except ModelTransientError as exc:
-            hint = ""
-            if "rejected" in str(exc) and self.supports_json_schema:
-                hint = " If the server has no JSON-schema output, set model.supports_json_schema=false."
-            raise ModelFatalError(f"preflight failed: {exc}.{hint}") from None
+            raise ModelFatalError(f"preflight failed: {exc}") from None
+
+    def _check_local_server(self) -> None:
+        """A local ``api_base`` nobody listens on fails now, not after a minute of retries."""
+        url = self.settings.api_base
+        if not is_local_url(url):
+            return
+        parsed = urlparse(url)
+        port = parsed.port or (443 if parsed.scheme == "https" else 80)
+        host = (parsed.hostname or "127.0.0.1").strip("[]")
+        try:
+            with socket.create_connection((host, port), timeout=min(5.0, self.settings.timeout_s)):
+                pass
+        except OSError as exc:
+            reason = exc.strerror or type(exc).__name__
+            raise ModelFatalError(
+                f"preflight failed: nothing answers at {url} ({reason}); start the model server there or point "
+                f"model.api_base at it"
+            ) from None
+
+    def _usage(self, resp: Any, t0: float) -> Usage:
+        u = getattr(resp, "usage", None)
+        pt = int(getattr(u, "prompt_tokens", 0) or 0)
+        ct = int(getattr(u, "completion_tokens", 0) or 0)
+        return Usage(prompt_tokens=pt, completion_tokens=ct, cost_usd=self._cost(resp, pt, ct),
+                     latency_s=time.perf_counter() - t0, calls=1)
+
+    def _text(self, resp: Any) -> str:
+        try:
+            text = resp.choices[0].message.content or ""
+        except (AttributeError, IndexError, TypeError):
+            raise ModelTransientError(f"model {self.settings.model_id}: the response held no answer "
+                                      f"(no choices)") from None
+        return text if isinstance(text, str) else str(text)
 
     def complete(self, request: ModelRequest) -> ModelResponse:
         t0 = time.perf_counter()
@@ -373,18 +586,10 @@ class LiteLLMBackend(ModelBackend):
                 return ModelResponse(text=hit["text"], usage=usage, model=str(hit.get("model", s.model_id)),
                                      cached=True)
         resp = self._call(messages, params)
-        try:
-            choice = resp.choices[0]
-            text = choice.message.content or ""
-        except (AttributeError, IndexError, TypeError):
-            raise ModelTransientError(f"model {s.model_id}: the response held no answer (no choices)") from None
-        if not isinstance(text, str):
-            text = str(text)
-        u = getattr(resp, "usage", None)
-        pt = int(getattr(u, "prompt_tokens", 0) or 0)
-        ct = int(getattr(u, "completion_tokens", 0) or 0)
-        usage = Usage(prompt_tokens=pt, completion_tokens=ct, cost_usd=self._cost(resp, pt, ct),
-                      latency_s=time.perf_counter() - t0, calls=1)
+        text = self._text(resp)
+        usage = self._usage(resp, t0)
+        pt, ct = usage.prompt_tokens, usage.completion_tokens
+        usage.latency_s = time.perf_counter() - t0
         model = str(getattr(resp, "model", "") or s.model_id)
         if self._cache is not None and key is not None:
             self._cache.put(key, {"text": text, "prompt_tokens": pt, "completion_tokens": ct, "model": model,

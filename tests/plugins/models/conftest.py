@@ -33,7 +33,7 @@ def make_backend(server, planted_key, tmp_path):
     def make(**over):
         kwargs = dict(model_id="openai/stub-model", api_base=server.url, api_key_env=KEY_ENV, timeout_s=2.0,
                       backoff_base_s=0.01, backoff_max_s=0.05, retry_max_seconds=20, limits_dir=str(tmp_path / "limits"),
-                      input_cost_per_token=1e-6, output_cost_per_token=2e-6, supports_json_schema=True)
+                      input_cost_per_token=1e-6, output_cost_per_token=2e-6, structured_output="json_schema")
         kwargs.update(over)
         backend = LiteLLMBackend(**kwargs)
         made.append(backend)

@@ -64,7 +64,7 @@ def test_table4_presets_are_complete(monkeypatch, tmp_path):
         data = presets()[stem]
         assert data["model_id"] == model_id
         assert data["max_tokens"] == 2048 and data["supports_images"] is True
-        assert isinstance(data["supports_json_schema"], bool)
+        assert data["structured_output"] in ("json_schema", "none") and data["supports_json_schema"] is None
         assert data["input_cost_per_token"] is not None and data["output_cost_per_token"] is not None
         if stem in API:
             assert data["api_key_env"].endswith("_API_KEY") and data["input_cost_per_token"] > 0
@@ -74,8 +74,12 @@ def test_table4_presets_are_complete(monkeypatch, tmp_path):
         kwargs = ModelConfig.model_validate(data).backend_kwargs()
         backend = LiteLLMBackend(**kwargs)  # validates every key; never calls the network
         assert backend.settings.model_id == model_id
-    assert presets()["gpt-4o"]["supports_json_schema"] is True
-    assert presets()["claude-3.7"]["supports_json_schema"] is False
+    # the original's per-family choice: the schema for GPT / Gemini / Qwen / Llama..., text for Claude / InternVL
+    assert presets()["gpt-4o"]["structured_output"] == "json_schema"
+    assert presets()["qwen2.5-vl-7b"]["structured_output"] == "json_schema"
+    assert presets()["claude-3.7"]["structured_output"] == "none"
+    assert presets()["internvl3-8b"]["structured_output"] == "none"
+    assert presets()["openai-compatible"]["structured_output"] == "auto"
 
 
 def test_hydra_finds_the_presets_and_overrides_work(tmp_path):
