@@ -115,6 +115,19 @@ class _Sim:
         if w.held != x:
             raise _Fail(f"picked the wrong {w.objects[x].type}")
 
+    def pick_knife(self, knife: str) -> None:
+        """Take ``knife`` or any knife of its kind within reach (all of them slice)."""
+        w = self.w
+        self.free_hand()
+        if not w.near(knife):
+            self.do(VERBS["find"].format(knife))
+        self.uncover(knife)
+        kind = w.objects[knife].type
+        got = w.resolve("pickup", kind)
+        if w.objects[got].type != kind or w.closed_container(got) is not None or w.is_held(got):
+            self.do(VERBS["find"].format(knife))
+        self.do(VERBS["pickup"].format(kind))
+
     def put_into(self, r: str) -> None:
         w = self.w
         held = w.held
@@ -203,7 +216,9 @@ class _Sim:
         if w.held is None or w.objects[w.held].type not in KNIVES:
             if knife is None:
                 raise _Fail("no knife")
-            self.pick(knife)
+            if w.place_of(knife) == w.place_of(x) and not w.near(x) and not w.is_held(x):
+                self.do(VERBS["find"].format(x))  # knife and food at one place: face the food, take the knife
+            self.pick_knife(knife)
         if not w.near(x):
             self.do(VERBS["find"].format(x))
         self.uncover(x)
@@ -323,8 +338,9 @@ def _sequences(world: World, goal: dict[str, Any]) -> Iterable[tuple[Step, ...]]
             fit = [x for x in xs if fits(world.objects[x].type, world.objects[r].type)]
             for (x1, x2), knife in itertools.product(itertools.permutations(fit, 2), knives):
                 yield (*cut(x1, knife), ("place", x1, r), *cut(x2, knife), ("place", x2, r))
-                if sliced:
+                if sliced:  # cut both, then place both (either order: the last one cut is at hand)
                     yield (*cut(x1, knife), *cut(x2, knife), ("place", x1, r), ("place", x2, r))
+                    yield (*cut(x1, knife), *cut(x2, knife), ("place", x2, r), ("place", x1, r))
                     yield (("place", x1, r), ("place", x2, r), *cut(x1, knife), *cut(x2, knife))
         return
 
@@ -397,6 +413,13 @@ def why_unreachable(world: World, goal: dict[str, Any], limit: int = DEFAULT_LIM
             return (f"the task needs {'two whole ' if need == 2 else 'a whole '}{name}, but "
                     + (f"only {left} is left unsliced" if left else f"every {name} here has been sliced"))
         return f"the task needs {need} {name} and only {len(xs)} is here"
+    for key in ("receptacle", "movable", "lamp"):
+        if key in goal and not candidates(world, goal[key]):
+            other = goal[key].get("instance") or goal[key]["type"]
+            return f"there is no {other} in this room"
+    prop = PROPERTY_OF_KIND.get(goal["kind"])
+    if prop is not None and not _helpers(world, prop, set()):
+        return f"nothing in this room can make the {name} {prop}"
     if goal.get("sliced") and not _knives(world):
         return "the task needs a slice, and there is no knife in this room"
     return f"no plan of at most {limit} actions reaches the goal from this state"

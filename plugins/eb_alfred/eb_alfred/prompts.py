@@ -1,8 +1,9 @@
 """Prompt parts for EB-ALFRED (our wording, the paper's structure): role, skill rules, guidelines, examples.
 
-The in-context examples are full worked episodes written from oracle traces on scenes that are not among the
-300 tasks (see :mod:`eb_alfred.examples`); they are shipped in ``examples.json``. The general set (10) is used
-for every subset except long_horizon, which has its own set (7 shown by default).
+The in-context examples have the original's form (instruction, then a language plan and an executable plan)
+and are written from expert plans on scenes that are not among the 300 tasks (see :mod:`eb_alfred.examples`);
+they are shipped in ``examples.json`` together with the scene each was written from. The general set (10) is
+used for every subset except long_horizon, which has its own set (7), as in the original.
 """
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ from pathlib import Path
 
 from eb_core import PromptParts
 
-__all__ = ["ROLE", "ACTION_RULES", "GUIDELINES", "prompt_parts", "load_examples", "EXAMPLES_PATH"]
+__all__ = ["ROLE", "ACTION_RULES", "GUIDELINES", "prompt_parts", "load_examples", "load_example_records",
+           "EXAMPLES_PATH"]
 
 EXAMPLES_PATH = Path(__file__).parent / "examples.json"
 
@@ -31,7 +33,7 @@ ACTION_RULES = """- "find a X": walk to X and face it. You can only act on thing
 - "turn on the X" / "turn off the X": for microwaves, faucets, desk lamps and floor lamps. A microwave only runs when closed, and must be off before you open it.
 - "slice the X": cut X into slices; you need a knife or butter knife in your hand.
 Effects: an object is heated when the microwave it is in is switched on; cooled when the fridge it is in gets closed; washed when the faucet runs over the sink basin it is in. To examine an object in light, hold it while standing at a lamp that is on.
-When a room has several things of one kind they carry number suffixes: "Cabinet" is the first cabinet, "Cabinet_2" the second, and so on."""
+When a room has several things of one kind they carry number suffixes: "Cabinet" is the first cabinet, "Cabinet_2" the second, and so on. Extra instances only have their own "find" (and "open"/"close" for things that open). Every other action uses the plain name and acts on the nearest one of that kind: the one you are facing, else one you can see where you stand. So to pick up "Apple_2", use "find a Apple_2" and then "pick up the Apple"."""
 
 GUIDELINES = (
     "Always give a non-empty plan; an empty plan ends the episode as if you were finished.",
@@ -46,7 +48,12 @@ GUIDELINES = (
 @lru_cache(maxsize=1)
 def load_examples() -> dict[str, tuple[str, ...]]:
     data = json.loads(EXAMPLES_PATH.read_text(encoding="utf-8"))
-    return {key: tuple(data[key]) for key in ("general", "long_horizon")}
+    return {key: tuple(ex["text"] for ex in data[key]) for key in ("general", "long_horizon")}
+
+
+def load_example_records() -> dict[str, list[dict]]:
+    """The examples with the scene and goal each was written from (for replaying them)."""
+    return json.loads(EXAMPLES_PATH.read_text(encoding="utf-8"))
 
 
 def prompt_parts(subset: str) -> PromptParts:
@@ -57,7 +64,6 @@ def prompt_parts(subset: str) -> PromptParts:
         action_rules=ACTION_RULES,
         guidelines=GUIDELINES,
         examples=chosen,
-        output_notes=("Take action ids from the current action list. The ids of unnumbered names (find a Fridge) are the "
-                      "same in every room; numbered names (Cabinet_3) get room-specific ids, so ids in the examples "
-                      "may differ from yours."),
+        output_notes=("Take action ids from the current action list. The ids of plain names (find a Fridge) are the "
+                      "same in every room; numbered names (find a Cabinet_3) get room-specific ids."),
     )
