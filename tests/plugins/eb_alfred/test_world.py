@@ -139,3 +139,68 @@ def test_failed_action_changes_nothing() -> None:
     w.step("pick up the Apple")
     w.step("open the Fridge")
     assert w.to_scene() == before
+
+
+def living_room() -> World:
+    return World.from_scene({"room": "living_room", "objects": [
+        {"name": "Sofa", "type": "Sofa", "slot": 0},
+        {"name": "Desk", "type": "Desk", "slot": 1},
+        {"name": "SideTable", "type": "SideTable", "slot": 2},
+        {"name": "Drawer", "type": "Drawer", "slot": 3},
+        {"name": "Drawer_2", "type": "Drawer", "slot": 4},
+        {"name": "DeskLamp", "type": "DeskLamp", "parent": "Desk"},
+        {"name": "DeskLamp_2", "type": "DeskLamp", "parent": "SideTable"},
+        {"name": "RemoteControl", "type": "RemoteControl", "parent": "Sofa"},
+        {"name": "RemoteControl_2", "type": "RemoteControl", "parent": "SideTable"},
+        {"name": "RemoteControl_3", "type": "RemoteControl", "parent": "SideTable"},
+        {"name": "KeyChain", "type": "KeyChain", "parent": "Drawer_2"},
+    ]})
+
+
+def test_plain_name_acts_on_the_instance_you_are_at() -> None:
+    """Issue 11: 'find a RemoteControl_2' then 'pick up the RemoteControl' takes RemoteControl_2."""
+    w = living_room()
+    run(w, "find a RemoteControl_2")
+    ok, fb = w.step("pick up the RemoteControl")
+    assert ok and w.held == "RemoteControl_2", fb
+    run(w, "find a SideTable", "put down the object in hand")
+    # The lamp, the drawer: the plain name means the one here, not the first one in the room.
+    ok, _ = w.step("turn on the DeskLamp")
+    assert ok and w.objects["DeskLamp_2"].is_on and not w.objects["DeskLamp"].is_on
+    run(w, "find a Drawer_2")
+    ok, fb = w.step("open the Drawer")
+    assert ok and w.objects["Drawer_2"].is_open and not w.objects["Drawer"].is_open and "KeyChain" in fb
+
+
+def test_nearest_prefers_the_faced_then_the_lowest_visible_instance() -> None:
+    w = living_room()
+    run(w, "find a RemoteControl_3", "pick up the RemoteControl")
+    assert w.held == "RemoteControl_3"  # faced, although RemoteControl_2 lies on the same table
+    run(w, "put down the object in hand", "find a SideTable", "pick up the RemoteControl")
+    assert w.held == "RemoteControl_2"  # facing the table: the lowest-numbered one in view
+
+
+def test_plain_name_with_none_in_reach_says_so() -> None:
+    w = living_room()
+    run(w, "find a Desk")
+    ok, fb = w.step("pick up the RemoteControl")
+    assert not ok and "no RemoteControl is within reach" in fb and "you are at the Desk" in fb
+    ok, fb = w.step("close the Drawer")
+    assert not ok and "Drawer" in fb
+
+
+def test_slice_with_plain_name_cuts_the_one_here() -> None:
+    w = kitchen()
+    run(w, "find a Cabinet_2", "open the Cabinet_2", "pick up the Knife", "find a Apple_2")
+    ok, _ = w.step("slice the Apple")
+    assert ok and w.objects["Apple_2"].is_sliced and not w.objects["Apple"].is_sliced
+
+
+def test_extra_instances_only_get_find_open_close() -> None:
+    from eb_alfred.actions import GLOBAL_ACTIONS, scene_actions
+
+    acts = scene_actions(living_room())
+    extra = acts[len(GLOBAL_ACTIONS):]
+    assert acts[:len(GLOBAL_ACTIONS)] == GLOBAL_ACTIONS
+    assert set(extra) == {"find a DeskLamp_2", "find a Drawer_2", "open the Drawer_2", "close the Drawer_2",
+                          "find a RemoteControl_2", "find a RemoteControl_3"}
