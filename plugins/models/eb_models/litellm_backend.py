@@ -41,6 +41,7 @@ from urllib.parse import urlparse
 from pydantic import Field, field_validator
 
 from eb_core.model import (
+    EpisodeContext,
     ImagePart,
     ModelBackend,
     ModelFatalError,
@@ -50,6 +51,7 @@ from eb_core.model import (
     Usage,
 )
 from eb_models._secrets import Scrubber, Secret, secret_values
+from eb_models._info import write_model_info
 from eb_models._settings import BackendSettings, ModelConfigError, validate_settings
 from eb_models.cache import ResponseCache, request_fingerprint
 from eb_models.limits import RequestLimiter, default_limits_dir
@@ -296,6 +298,7 @@ class LiteLLMBackend(ModelBackend):
         self._cache = ResponseCache(s.cache_dir) if s.cache_dir else None
         self._rng = random.Random()
         self._warned_cost = False
+        self._info_written = False
 
     def __repr__(self) -> str:
         return f"LiteLLMBackend(model_id={self.settings.model_id!r}, api_base={self.settings.api_base!r})"
@@ -568,6 +571,11 @@ class LiteLLMBackend(ModelBackend):
             raise ModelTransientError(f"model {self.settings.model_id}: the response held no answer "
                                       f"(no choices)") from None
         return text if isinstance(text, str) else str(text)
+
+    def start_episode(self, ctx: EpisodeContext) -> None:
+        if not self._info_written:
+            self._info_written = True
+            write_model_info(ctx.run_dir, self.info())
 
     def complete(self, request: ModelRequest) -> ModelResponse:
         t0 = time.perf_counter()

@@ -8,6 +8,7 @@ from __future__ import annotations
 from eb_core import ModelBackendSpec, hookimpl
 
 LITELLM_INSTALL = "pip install 'litellm==1.110.2'"
+LLAMACPP_INSTALL = "pip install 'eb-models[local]'  (or: pip install 'llama-cpp-python[server]==0.3.36')"
 
 
 @hookimpl
@@ -19,6 +20,13 @@ def eb_register_model_backends() -> list[ModelBackendSpec]:
             description="Any API model (OpenAI, Anthropic, Gemini, Azure, Bedrock) or OpenAI-compatible server "
             "(vLLM, lmdeploy, SGLang, Ollama) through litellm",
             install_hint=LITELLM_INSTALL,
+        ),
+        ModelBackendSpec(
+            name="llamacpp",
+            entry_point="eb_models.llamacpp_backend:LlamaCppBackend",
+            description="A GGUF model run in this process by llama-cpp-python (text, or vision with its projector); "
+            "grammar-constrained JSON",
+            install_hint=LLAMACPP_INSTALL,
         ),
         ModelBackendSpec(
             name="oracle",

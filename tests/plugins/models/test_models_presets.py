@@ -31,7 +31,7 @@ TABLE4 = {
     "ovis2-34b": "openai/AIDC-AI/Ovis2-34B", "ovis2-16b": "openai/AIDC-AI/Ovis2-16B",
     "gemma-3-27b": "openai/google/gemma-3-27b-it", "gemma-3-12b": "openai/google/gemma-3-12b-it",
 }
-OFFLINE = {"oracle", "random", "replay", "human", "openai-compatible"}
+OFFLINE = {"oracle", "random", "replay", "human", "openai-compatible", "smollm2-135m"}
 API = {"gpt-4o", "gpt-4o-mini", "claude-3.7", "claude-3.5", "gemini-1.5-pro", "gemini-2.0-flash",
        "gemini-1.5-flash", "qwen-vl-max"}
 
@@ -51,7 +51,7 @@ def test_one_preset_per_table4_model_plus_the_offline_ones():
 
 
 def test_every_preset_names_itself_and_a_registered_backend(registry):
-    assert set(registry.model_backends) == {"litellm", "oracle", "random", "replay", "human"}
+    assert set(registry.model_backends) == {"litellm", "llamacpp", "oracle", "random", "replay", "human"}
     for stem, data in presets().items():
         assert data["name"] == stem
         assert data["backend"] in registry.model_backends, stem
@@ -115,6 +115,7 @@ def test_registration_and_backend_classes_import_no_sdk():
         "r = Registry(get_plugin_manager(load_entrypoints=False, plugins=[eb_models.plugin]))\n"
         "[s.load() for s in r.model_backends.values()]\n"
         "assert 'litellm' not in sys.modules and 'openai' not in sys.modules, 'SDK imported'\n"
+        "assert 'llama_cpp' not in sys.modules, 'llama_cpp imported'\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True, timeout=60)
 

