@@ -146,8 +146,13 @@ class ModelBackend(ABC):
     #: Whether the backend honours :attr:`ModelRequest.response_schema`.
     supports_json_schema: bool = False
 
-    def preflight(self) -> None:
-        """One cheap call before the first episode; raise :class:`ModelFatalError` on a bad key or model."""
+    def preflight(self) -> "Usage | None":
+        """One cheap call before the first episode; raise :class:`ModelFatalError` on a bad key or model.
+
+        Return the call's :class:`Usage` when it made one (the runner logs it in ``preflight.jsonl`` and
+        counts its cost in ``model.max_cost_usd``); ``None`` when nothing billable happened.
+        """
+        return None
 
     def start_episode(self, ctx: EpisodeContext) -> None:
         """Called before each episode's first request."""
