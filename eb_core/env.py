@@ -120,6 +120,15 @@ class StepResult(BaseModel):
     progress: float = Field(default=0.0, ge=0.0, le=1.0)
     """Fraction of goal conditions met so far (the paper's subgoal success); 1.0 when solved."""
     info: dict[str, Any] = Field(default_factory=dict)
+    """Free-form world state. Keys the core reads (docs/error_analysis.md):
+
+    * ``failure``: why a failed action failed, one of ``"affordance"`` (the object does not support the
+      action), ``"precondition"`` (right action, wrong state: closed, hand full, not near), ``"wrong_target"``
+      (a look-alike or wrong instance), ``"collision"``, ``"grasp"`` (manipulation); None or absent when the
+      action succeeded or the world cannot tell. Recorded per action in ``steps.jsonl``.
+    * ``distance_to_goal``: metres (or the world's unit) from the agent to its goal after the action, for the
+      navigation-drift label.
+    """
 
 
 class DiscreteActionSpace(BaseModel):

@@ -156,6 +156,8 @@ def run_episode(
             planner_steps += 1
             step_rec: dict[str, Any] = {"planner_step": planner_steps, "env_step_before": env_steps,
                                         "prompt": request.messages[-1].text}
+            # what the image the model saw shows (objects with a box), for the perception check (eb_core.errors)
+            step_rec["visible_objects"] = [{"name": o.name, "type": o.type} for o in obs.objects if o.box is not None]
             if save_images and step_dir is not None and obs.primary_image is not None:
                 name = f"step{planner_steps:03d}_{obs.primary}.png"
                 png = getattr(planner, "last_primary_png", None) or encode_png(obs.primary_image)
@@ -216,7 +218,7 @@ def run_episode(
                                           result.action_success, result.feedback)
                     actions_log.append({"env_step": env_steps, "action": _jsonable(action), "action_name": name,
                                         "success": result.action_success, "feedback": result.feedback,
-                                        "progress": progress, **label})
+                                        "progress": progress, "failure": result.info.get("failure"), **label})
                     if hook is not None:
                         hook.eb_on_step_end(event=StepEndEvent(
                             run_dir=run_dir, task_id=task.id, env_step=env_steps, planner_step=planner_steps,

@@ -2,7 +2,8 @@
 
 Metrics are computed over measured episodes (status ``ok``); ``errors`` also counts the others.
 :func:`compute_summary` adds a 95 % interval to every success and subgoal rate (``<metric>_ci``), computed
-over tasks (and their repeats) by :mod:`eb_core.stats`.
+over tasks (and their repeats) by :mod:`eb_core.stats`, and the automatic error analysis
+(``error_analysis``, :func:`error_analysis`) when the episodes carry error labels.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from collections.abc import Callable, Sequence
 from eb_core import stats
 from eb_core.records import EpisodeRecord
 
-__all__ = ["INTERVAL_METRICS", "compute_summary", "errors", "outcomes", "paper_progress", "steps",
+__all__ = ["INTERVAL_METRICS", "compute_summary", "error_analysis", "errors", "outcomes", "paper_progress", "steps",
            "subgoal_success", "success_rate", "usage"]
 
 #: Per-episode scores that get an interval in every summary block: name -> (score of a record, binary?).
@@ -83,6 +84,34 @@ def errors(eps: Sequence[EpisodeRecord]) -> dict[str, float]:
     }
 
 
+def error_analysis(eps: Sequence[EpisodeRecord]) -> dict[str, object]:
+    """Automatic error labels (:mod:`eb_core.errors`) of the measured, labelled episodes: per category the
+    count, the rate per planner step and the share of episodes with at least one; per paper group (perception,
+    reasoning, planning) its share of all labels; and the mean perception score. Empty when none is labelled."""
+    from eb_core.errors import CATEGORIES
+
+    labelled = [e for e in _ok(eps) if e.error_counts is not None]
+    if not labelled:
+        return {}
+    planner_steps = max(1, sum(e.planner_steps for e in labelled))
+    categories: dict[str, dict[str, float]] = {}
+    for key in CATEGORIES:
+        counts = [(e.error_counts or {}).get(key, 0) for e in labelled]
+        categories[key] = {"count": float(sum(counts)), "per_step": sum(counts) / planner_steps,
+                           "episode_rate": sum(1 for c in counts if c) / len(labelled)}
+    total = sum(c["count"] for c in categories.values())
+    groups: dict[str, float] = {}
+    for key, cat in CATEGORIES.items():
+        groups[cat.group] = groups.get(cat.group, 0.0) + categories[key]["count"]
+    scores = [e.perception_score for e in labelled if e.perception_score is not None]
+    return {"episodes": float(len(labelled)), "labels": total, "categories": categories,
+            "group_share": {g: (n / total if total else 0.0) for g, n in groups.items()},
+            "perception_score": _mean(scores) if scores else None,
+            "failed_episodes_with_label": _mean([1.0 if any((e.error_counts or {}).values()) else 0.0
+                                                 for e in labelled if not e.success]) if any(
+                not e.success for e in labelled) else None}
+
+
 def usage(eps: Sequence[EpisodeRecord]) -> dict[str, float]:
     return {
         "prompt_tokens": float(sum(e.prompt_tokens for e in eps)),
@@ -106,6 +135,9 @@ def compute_summary(eps: Sequence[EpisodeRecord], metrics: dict[str, Metric],
             if name in out:
                 _, m = stats.outcome_matrix(outcomes(group, score))
                 out[f"{name}_ci"] = stats.rate_interval(m, binary)
+        analysis = error_analysis(group)
+        if analysis:
+            out["error_analysis"] = analysis
         return out
 
     names = list(subsets) if subsets else sorted({e.subset for e in eps})

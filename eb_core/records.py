@@ -58,6 +58,10 @@ class EpisodeRecord(BaseModel):
     repeat: int = 0
     """Which repeat of the task this is (``runner.repeats``); 0 for the first and for single-repeat runs."""
     error: str | None = None
+    error_counts: dict[str, int] | None = None
+    """Automatic error labels of the episode, counted per category (:mod:`eb_core.errors`); None if not labelled."""
+    perception_score: float | None = None
+    """Mean F1 of the objects the visual-state descriptions named against those in view; None if not measurable."""
 
     @property
     def key(self) -> tuple[str, int]:

@@ -381,7 +381,12 @@ def _preflight_usage(files: RunFiles) -> dict[str, Any]:
 
 
 def _finish(files: RunFiles, rec: EpisodeRecord, progress: _Progress, hook: Any) -> None:
-    files.finalize_episode_dir(rec.task_id, rec.repeat)
+    final = files.finalize_episode_dir(rec.task_id, rec.repeat)
+    if rec.status == "ok":  # automatic error labels from the step records (docs/error_analysis.md)
+        from eb_core.errors import label_episode, load_steps
+
+        labels = label_episode(load_steps(final), rec.model_dump())
+        rec = rec.model_copy(update={"error_counts": labels["counts"], "perception_score": labels["perception_score"]})
     files.append_episode(rec)
     progress.update(rec)
     hook.eb_on_episode_end(event=EpisodeEndEvent(run_dir=str(files.root), record=rec.model_dump()))
