@@ -18,7 +18,7 @@ import random
 from typing import Any
 
 from eb_alfred.actions import scene_actions
-from eb_alfred.catalog import TYPES
+from eb_alfred.catalog import KNIVES, TYPES
 from eb_alfred.goals import GOAL_KINDS
 from eb_alfred.oracle import expert_plan
 from eb_alfred.prompts import EXAMPLES_PATH
@@ -32,23 +32,27 @@ _ORDINAL = {2: "second", 3: "third", 4: "fourth", 5: "fifth", 6: "sixth", 7: "se
 def _name(instance: str) -> str:
     base, idx = instance_index(instance)
     noun = TYPES[base].noun if base in TYPES else base
-    return f"the {_ORDINAL.get(idx, f'number {idx}')} {noun}" if idx > 1 else f"the {noun}"
+    if idx == 1:
+        return f"the {noun}"
+    return f"the {_ORDINAL[idx]} {noun}" if idx in _ORDINAL else f"{noun} number {idx}"
 
 
-def _phrase(verb: str, target: str | None, last_found: str | None, world: World) -> str:
+def _phrase(verb: str, target: str | None, world: World) -> str:
+    """Our words for one action in ``world`` (the state just before it)."""
     what = _name(target) if target else ""
     if verb == "find":
         return f"go to {what}"
     if verb == "pickup":
         return f"pick up {what}"
+    held = _name(world.held) if world.held else "it"
     if verb == "put":
-        if last_found is None:
-            return "put it down"
-        recep = world.put_target_for(last_found) or last_found
+        recep = world.target_recep
+        if recep is None:
+            return f"put {held} down"
         word = "in" if TYPES[world.objects[recep].type].openable or world.objects[recep].type in _INTO else "on"
-        return f"put it {word} {_name(recep)}"
+        return f"put {held} {word} {_name(recep)}"
     if verb == "drop":
-        return "drop what I am holding"
+        return f"drop {held}"
     if verb == "open":
         return f"open {what}"
     if verb == "close":
@@ -66,12 +70,13 @@ _INTO = {"SinkBasin", "BathtubBasin", "GarbageCan", "Bowl", "Cup", "Mug", "Pot",
 def language_plan(plan: list[str], world: World) -> str:
     """A short prose version of ``plan`` in ``world``: sentences of up to three steps, in our own words."""
     phrases: list[str] = []
-    last_found: str | None = None
+    sim = world.copy()
     for action in plan:
         verb, target = parse_action(action)
-        phrases.append(_phrase(verb, target, last_found, world))
-        if verb == "find":
-            last_found = target
+        if target is not None and verb != "find":
+            target = sim.resolve(verb, target)  # say which one the plain name acts on
+        phrases.append(_phrase(verb, target, sim))
+        sim.step(action)
     chunks = [phrases[i:i + 3] for i in range(0, len(phrases), 3)]
     sentences = []
     for i, chunk in enumerate(chunks):
@@ -94,6 +99,19 @@ def example_text(instruction: str, world: World, plan: list[str]) -> str:
 def _plain(plan: list[str]) -> bool:
     """True if every action is un-suffixed (its id is then the same in every room)."""
     return all("_" not in a.split()[-1] for a in plan)
+
+
+def _knife_in_appliance(world: World, plan: list[str]) -> bool:
+    """True if the plan parks a knife in a microwave or fridge (valid, but a poor thing to teach)."""
+    sim = world.copy()
+    for action in plan:
+        held = sim.held
+        sim.step(action)
+        if action == "put down the object in hand" and held and sim.objects[held].type in KNIVES:
+            parent = sim.objects[held].parent
+            if parent and sim.objects[parent].type in ("Microwave", "Fridge"):
+                return True
+    return False
 
 
 def build_examples(seed: int = 7) -> dict[str, list[dict[str, Any]]]:
@@ -119,7 +137,7 @@ def build_examples(seed: int = 7) -> dict[str, list[dict[str, Any]]]:
                     continue
                 world = World.from_scene(rec["scene"])
                 plan = expert_plan(world, rec["goal"])
-                if not plan or (not _plain(plan) and tries < 40):
+                if not plan or (not _plain(plan) and tries < 40) or _knife_in_appliance(world, plan):
                     continue
                 out[key].append({"text": example_text(rec["instruction"], world, plan), "scene": rec["scene"],
                                  "goal": rec["goal"], "scene_seed": scene_seed})

@@ -39,7 +39,7 @@ GUIDELINES = (
     "Always give a non-empty plan; an empty plan ends the episode as if you were finished.",
     "Find an object before interacting with it, and open closed containers before taking things out or putting things in.",
     "You hold one object at a time: put down or drop what you hold before picking up something else.",
-    "Pay attention to number suffixes (Cabinet_2, Apple_3): each one is a different instance; pick the one the task means.",
+    "Pay attention to number suffixes (Cabinet_2, Apple_3): each one is a different instance. To act on a numbered one, find it first; the plain name then acts on it.",
     "Read the action history and the feedback on failed actions, work out what went wrong, and do not repeat a failing action unchanged.",
     "The task is checked in the end state only: for example, a heated object must still be where the task says once you are done.",
 )
