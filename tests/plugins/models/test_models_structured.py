@@ -220,3 +220,32 @@ def test_response_format_of_each_mode():
     assert probe_answer_ok("json_object_schema", '{"ok": false}')
     assert not probe_answer_ok("json_object_schema", '{"ok": "yes"}')
     assert not probe_answer_ok("json_object", "OK")
+
+
+def _worker_settle(url: str, model_id: str, limits_dir: str, out: str) -> None:
+    import os
+
+    from eb_models.litellm_backend import LiteLLMBackend, _SETTLED
+
+    _SETTLED.clear()  # a spawned worker starts empty; only the file written by its parent can tell it
+    os.environ[KEY_ENV] = "sk-worker"
+    b = LiteLLMBackend(model_id=model_id, api_base=url, api_key_env=KEY_ENV, limits_dir=limits_dir,
+                       structured_output="auto")
+    with open(out, "w") as fh:
+        fh.write(b.settle())
+
+
+def test_worker_processes_read_the_mode_their_runner_settled(make, server, tmp_path):
+    import multiprocessing as mp
+
+    server.default = llama_cpp_like
+    runner_side = make()
+    runner_side.preflight()
+    n = len(chat(server))
+    out = tmp_path / "mode.txt"
+    p = mp.get_context("fork").Process(target=_worker_settle, args=(server.url, runner_side.settings.model_id,
+                                                                     str(tmp_path / "limits"), str(out)))
+    p.start()
+    p.join(60)
+    assert p.exitcode == 0 and out.read_text() == "json_object_schema"
+    assert len(chat(server)) == n  # the worker did not probe again
