@@ -18,8 +18,10 @@ commands:
                              e.g. eb run env=navigation model=oracle limit=10
   list                       installed envs (subsets, task counts), models, planners, augmenters,
                              metrics and ablations, each with its plugin
-  report RUN_DIR [...]       paper-style table of runs with 95% intervals [--format rich|markdown|csv]
-                             [--out FILE]; `report A B --paired`: is B's difference to A real?
+  report RUN_DIR [...]       paper-style tables of runs with 95% intervals, ablation deltas and the
+                             automatic error analysis [--format rich|markdown|csv|latex|html] [--out FILE]
+                             [--plot FILE.png|.svg] [--errors: relabel from the step files, per subset];
+                             `report A B --paired`: is B's difference to A real?
   show RUN_DIR               write RUN_DIR/index.html: every episode, step, image, answer and feedback
   prompt env=NAME task=ID [step=N] [ablation=NAME] [out=DIR]   print what the model receives at planner
                              call N (the expert plays the earlier ones); images saved as PNG beside prompt.txt
@@ -383,11 +385,19 @@ def _load_option(repo: Any, group: str, name: str) -> dict[str, Any]:
 def cmd_report(args: list[str]) -> int:
     from eb_core.report import render_paired, render_report
 
-    fmt, out, dirs, paired = "rich", None, [], False
+    fmt, out, dirs, paired, plot, errors = "rich", None, [], False, None, False
     it = iter(args)
     for a in it:
         if a == "--paired":
             paired = True
+        elif a == "--errors":
+            errors = True
+        elif a == "--plot":
+            plot = next(it, "")
+            if not plot or plot.startswith("-"):
+                raise CliError("--plot needs a file name ending in .png or .svg, e.g. --plot report.png")
+        elif a.startswith("--plot="):
+            plot = a.split("=", 1)[1]
         elif a == "--format":
             fmt = next(it, "")
         elif a.startswith("--format="):
@@ -397,18 +407,24 @@ def cmd_report(args: list[str]) -> int:
         elif a.startswith("--out="):
             out = a.split("=", 1)[1]
         elif a.startswith("-"):
-            raise CliError(f"unknown option {a!r} for report; options: --format rich|markdown|csv, --out FILE, "
-                           f"--paired")
+            raise CliError(f"unknown option {a!r} for report; options: --format rich|markdown|csv|latex|html, "
+                           f"--out FILE, --plot FILE.png|.svg, --errors, --paired")
         else:
             dirs.append(a)
-    if fmt not in ("rich", "markdown", "csv"):
-        raise CliError(f"unknown --format {fmt!r}; use rich, markdown or csv")
+    if fmt not in ("rich", "markdown", "csv", "latex", "html"):
+        raise CliError(f"unknown --format {fmt!r}; use rich, markdown, csv, latex or html")
+    if plot is not None and not plot.lower().endswith((".png", ".svg")):
+        raise CliError(f"--plot {plot!r}: the file must end in .png or .svg, e.g. --plot report.png")
     if not dirs:
         raise CliError("report needs at least one run directory, e.g. eb report runs/navigation/oracle/none/default")
     if paired:
+        if fmt in ("latex", "html"):
+            raise CliError(f"--paired prints rich, markdown or csv (got --format {fmt})")
         render_paired(dirs, fmt, out)
     else:
-        render_report(dirs, fmt, out)
+        render_report(dirs, fmt, out, plot=plot, errors=errors)
+        if plot:
+            print(f"plot -> {plot}", file=sys.stderr)
     return 0
 
 

@@ -1,5 +1,6 @@
-"""Paper-style result tables (per-subset success with 95 % intervals, average) as rich, Markdown or CSV,
-and the paired comparison of two runs on the same tasks (``eb report A B --paired``)."""
+"""Paper-style result tables (per-subset success with 95 % intervals, average, ablation deltas, the automatic
+error breakdown) as rich, Markdown, CSV, LaTeX or HTML, plots (``--plot``, :mod:`eb_core.report_plot`) and the
+paired comparison of two runs on the same tasks (``eb report A B --paired``)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-__all__ = ["load_run", "print_summary", "render_paired", "render_report"]
+__all__ = ["FORMATS", "load_run", "print_summary", "relabel", "render_paired", "render_report"]
 
 
 def _pct(x: float | None) -> str:
@@ -112,16 +113,37 @@ def load_records(run_dir: str | Path) -> list[Any]:
     return records
 
 
-def load_run(run_dir: str | Path) -> dict[str, Any]:
+def relabel(records: list[Any], root: Path, force: bool = False) -> list[Any]:
+    """Episode records with automatic error labels: those written by the runner are kept, the others (old runs)
+    are labelled from the step files; ``force`` relabels every episode (``eb report --errors``)."""
+    from eb_core.errors import label_episode, load_steps, run_vocabulary
+    from eb_core.records import episode_dir_name
+
+    todo = [r for r in records if r.status == "ok" and (force or r.error_counts is None)]
+    if not todo:
+        return records
+    steps = {r.key: load_steps(root / "episodes" / episode_dir_name(*r.key)) for r in records if r.status == "ok"}
+    vocab = run_vocabulary(steps.values())
+    out = []
+    for r in records:
+        if r in todo and steps.get(r.key):
+            lab = label_episode(steps[r.key], r.model_dump(), vocab)
+            r = r.model_copy(update={"error_counts": lab["counts"], "perception_score": lab["perception_score"]})
+        out.append(r)
+    return out
+
+
+def load_run(run_dir: str | Path, relabel_errors: bool = False) -> dict[str, Any]:
     """Summary of a run directory, recomputed from ``episodes.jsonl`` with the built-in metrics.
 
     Works on a run that was stopped before its end (no ``summary.json``): names come from ``config.yaml``
-    and ``complete`` is False.
+    and ``complete`` is False. Episodes without error labels (runs older than the labeller) are labelled from
+    their step files; ``relabel_errors`` relabels all of them.
     """
     from eb_core.metrics import compute_summary, errors, steps, subgoal_success, success_rate, usage
 
     root = Path(run_dir)
-    records = load_records(root)
+    records = relabel(load_records(root), root, force=relabel_errors)
     meta: dict[str, Any] = {}
     if (root / "summary.json").exists():
         meta = json.loads((root / "summary.json").read_text())
@@ -140,7 +162,7 @@ def load_run(run_dir: str | Path) -> dict[str, Any]:
     repeats = int(meta.get("repeats") or (conf.get("runner") or {}).get("repeats") or 1)
     return {"dir": str(root), "env": name("env"), "model": name("model"), "ablation": name("ablation"),
             "repeats": repeats, "complete": bool(meta.get("complete", False)), "has_summary": bool(meta),
-            "records": records, **summary}
+            "records": records, "config": conf, "meta": meta, **summary}
 
 
 def _subset_names(runs: list[dict[str, Any]]) -> list[str]:
@@ -150,23 +172,150 @@ def _subset_names(runs: list[dict[str, Any]]) -> list[str]:
     return names
 
 
-def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None) -> str:
+FORMATS = ("rich", "markdown", "csv", "latex", "html")
+
+Table = tuple[str, list[str], list[list[str]]]
+
+
+def _error_tables(env: str, env_runs: list[dict[str, Any]], detailed: bool) -> list[Table]:
+    """The error breakdown: per run, each category's share of episodes with it (and its count), the paper's
+    three groups and the perception score; ``detailed`` adds one table per subset."""
+    from eb_core.errors import CATEGORIES
+
+    analysed = [r for r in env_runs if r["overall"].get("error_analysis")]
+    if not analysed:
+        return []
+    used = [k for k in CATEGORIES if any(r["overall"]["error_analysis"]["categories"][k]["count"] for r in analysed)]
+    used = used or list(CATEGORIES)[:3]
+    tables: list[Table] = []
+    groups = ["perception", "reasoning", "planning"]
+    blocks: list[tuple[str, str | None]] = [("all subsets", None)]
+    if detailed:
+        blocks += [(f"subset {s}", s) for s in _subset_names(analysed)]
+    for label, subset in blocks:
+        header = ["env", "model", "ablation", "episodes", "labels", *[CATEGORIES[k].title for k in used],
+                  *[f"{g} share" for g in groups], "perception score"]
+        rows = []
+        for r in analysed:
+            block = r["overall"] if subset is None else r["subsets"].get(subset) or {}
+            ea = block.get("error_analysis")
+            if not ea:
+                continue
+            cats = ea["categories"]
+            ps = ea.get("perception_score")
+            rows.append([env, r["model"], r["ablation"], f"{ea['episodes']:.0f}", f"{ea['labels']:.0f}",
+                         *[f"{_pct(cats[k]['episode_rate'])} ({cats[k]['count']:.0f})" for k in used],
+                         *[_pct(ea["group_share"].get(g, 0.0)) for g in groups],
+                         "-" if ps is None else f"{ps:.2f}"])
+        tables.append((f"Automatic error analysis, {label} — {env}: % of episodes with the error (count); "
+                       f"group share = % of all labels", header, rows))
+    return tables
+
+
+def _ablation_tables(env: str, env_runs: list[dict[str, Any]]) -> list[Table]:
+    """Ablation deltas (the paper's figures): per model, each ablation's success minus the baseline's (the
+    run with ablation ``none``, else the first run of that model), per subset, in points."""
+    by_model: dict[str, list[dict[str, Any]]] = {}
+    for r in env_runs:
+        by_model.setdefault(r["model"], []).append(r)
+    tables: list[Table] = []
+    for model, runs in by_model.items():
+        if len({r["ablation"] for r in runs}) < 2:
+            continue
+        base = next((r for r in runs if r["ablation"] == "none"), runs[0])
+        subsets = _subset_names(runs)
+        header = ["env", "model", "ablation", "vs", "all", *subsets]
+        rows = []
+        for r in runs:
+            if r is base:
+                continue
+
+            def delta(block_a: dict[str, Any] | None, block_b: dict[str, Any] | None) -> str:
+                if not block_a or not block_b or not block_a.get("episodes") or not block_b.get("episodes"):
+                    return "-"
+                return f"{100 * (block_a['success_rate'] - block_b['success_rate']):+.1f}"
+
+            rows.append([env, model, r["ablation"], base["ablation"], delta(r["overall"], base["overall"]),
+                         *[delta(r["subsets"].get(s), base["subsets"].get(s)) for s in subsets]])
+        tables.append((f"Ablation deltas — {env} / {model}: success rate minus the {base['ablation']!r} run "
+                       f"(points)", header, rows))
+    return tables
+
+
+def _latex_escape(text: str) -> str:
+    repl = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
+            "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}",
+            "\u2014": "---", "\u2013": "--", "\u2212": "-"}
+    return "".join(repl.get(ch, ch) for ch in str(text))
+
+
+def _render_tables(tables: list[Table], fmt: str, out: str | None, note: str) -> str:
+    import html as _html
+
+    parts: list[str] = []
+    for title, header, rows in tables:
+        if fmt == "markdown":
+            md = [f"**{title}**", "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+            md += ["| " + " | ".join(row) + " |" for row in rows]
+            parts.append("\n".join(md))
+        elif fmt == "latex":
+            cols = "l" * 3 + "r" * (len(header) - 3)
+            tex = [f"% {_latex_escape(title)}", "\\begin{table}[t]", "\\centering", "\\small",
+                   f"\\caption{{{_latex_escape(title)}}}", f"\\begin{{tabular}}{{{cols}}}", "\\toprule",
+                   " & ".join(_latex_escape(h) for h in header) + " \\\\", "\\midrule"]
+            tex += [" & ".join(_latex_escape(c) for c in row) + " \\\\" for row in rows]
+            tex += ["\\bottomrule", "\\end{tabular}", "\\end{table}"]
+            parts.append("\n".join(tex))
+        elif fmt == "html":
+            e = _html.escape
+            head = "".join(f"<th>{e(h)}</th>" for h in header)
+            body = "".join("<tr>" + "".join(f"<td>{e(c)}</td>" for c in row) + "</tr>" for row in rows)
+            parts.append(f"<h2>{e(title)}</h2><table><tr>{head}</tr>{body}</table>")
+        else:
+            from rich.console import Console
+            from rich.table import Table as RichTable
+
+            t = RichTable(title=title)
+            for col in header:
+                t.add_column(col, justify="left" if col in ("env", "model", "ablation", "vs") else "right")
+            for row in rows:
+                t.add_row(*row)
+            buf = io.StringIO()
+            Console(file=buf, width=220, force_terminal=out is None and sys.stdout.isatty()).print(t)
+            parts.append(buf.getvalue().rstrip("\n"))
+    if fmt == "latex":
+        return ("% needs \\usepackage{booktabs}\n" + "\n\n".join(parts) + f"\n% {_latex_escape(note)}\n")
+    if fmt == "html":
+        css = ("body{font-family:system-ui,sans-serif;margin:24px}table{border-collapse:collapse;font-size:13px;"
+               "margin-bottom:12px}th,td{border:1px solid #dde1e6;padding:4px 8px;text-align:right}"
+               "th{background:#eef1f4}td:nth-child(-n+3){text-align:left}")
+        return (f"<!doctype html><html lang=en><head><meta charset=utf-8><title>eb report</title><style>{css}"
+                f"</style></head><body>{''.join(parts)}<p>{_html.escape(note)}</p></body></html>\n")
+    return "\n\n".join([*parts, note]) + "\n"
+
+
+def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None, plot: str | None = None,
+                  errors: bool = False) -> str:
+    """``eb report``: runs side by side (models x subsets, like the paper's tables), ablation deltas and the
+    automatic error breakdown, in ``fmt``; ``plot`` also draws them to an image; ``errors`` relabels every
+    episode from its step files and adds the per-subset error tables."""
     from eb_core.cli import CliError
 
     runs = []
     for d in dirs:
         try:
-            runs.append(load_run(d))
+            runs.append(load_run(d, relabel_errors=errors))
         except FileNotFoundError as exc:
             raise CliError(str(exc)) from None
     by_env: dict[str, list[dict[str, Any]]] = {}
     for r in runs:
         by_env.setdefault(r["env"], []).append(r)
     rows_out: list[list[str]] = []
-    text_parts: list[str] = []
+    tables: list[Table] = []
+    from eb_core.errors import CATEGORIES
+
     for env, env_runs in by_env.items():
         subsets = _subset_names(env_runs)
-        tables: list[tuple[str, list[str], list[list[str]]]] = []
         for title, key in (("Success rate (%)", "success_rate"), ("Subgoal success (%)", "subgoal_success"),
                            ("Subgoal success, the original's rule (%)", "subgoal_success_paper")):
             header = ["env", "model", "ablation"]
@@ -184,6 +333,8 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None) ->
                         str(r["repeats"]), _sd(o, key), f"{o['episodes']:.0f}"]
                 rows.append(row)
             tables.append((f"{title} — {env}", header, rows))
+        tables += _ablation_tables(env, env_runs)
+        tables += _error_tables(env, env_runs, detailed=errors)
         if fmt == "csv":
             header = ["env", "model", "ablation", "avg", "repeats", "episodes", "complete"]
             for key, short in (("success_rate", "success"), ("subgoal_success", "subgoal"),
@@ -191,6 +342,8 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None) ->
                 for s in ["all", *subsets]:
                     header += [f"{short}:{s}", f"{short}:{s}:ci_low", f"{short}:{s}:ci_high"]
                 header.append(f"{short}:repeat_sd")
+            header += [f"errors:{k}" for k in CATEGORIES] + [f"errors:{k}:episode_rate" for k in CATEGORIES]
+            header.append("perception_score")
             if not rows_out or rows_out[0] != header:
                 rows_out.append(header)
             for r in env_runs:
@@ -205,35 +358,102 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None) ->
                                 _pct(ci.get("ci_high"))]
                     sd = (o.get(f"{key}_ci") or {}).get("repeat_sd")
                     row.append("" if sd is None else f"{100 * sd:.2f}")
+                ea = o.get("error_analysis") or {}
+                cats = ea.get("categories") or {}
+                row += [f"{cats[k]['count']:.0f}" if k in cats else "" for k in CATEGORIES]
+                row += [f"{100 * cats[k]['episode_rate']:.1f}" if k in cats else "" for k in CATEGORIES]
+                ps = ea.get("perception_score")
+                row.append("" if ps is None else f"{ps:.3f}")
                 rows_out.append(row)
-        elif fmt == "markdown":
-            for title, header, rows in tables:
-                md = [f"**{title}**", "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-                md += ["| " + " | ".join(row) + " |" for row in rows]
-                text_parts.append("\n".join(md))
-        else:
-            from rich.console import Console
-            from rich.table import Table
-
-            for title, header, rows in tables:
-                t = Table(title=title)
-                for col in header:
-                    t.add_column(col, justify="left" if col in ("env", "model", "ablation") else "right")
-                for row in rows:
-                    t.add_row(*row)
-                buf = io.StringIO()
-                Console(file=buf, width=200, force_terminal=out is None and sys.stdout.isatty()).print(t)
-                text_parts.append(buf.getvalue().rstrip("\n"))
     if fmt == "csv":
         buf = io.StringIO()
         csv.writer(buf, lineterminator="\n").writerows(rows_out)
         text = buf.getvalue()
     else:
-        text_parts.append("Intervals: 95 %, over tasks (Wilson for a success rate with one repeat, else a cluster "
-                          "bootstrap keeping each task's repeats together); see docs/statistics.md.")
-        text = "\n\n".join(text_parts) + "\n"
+        note = ("Intervals: 95 %, over tasks (Wilson for a success rate with one repeat, else a cluster "
+                "bootstrap keeping each task's repeats together); see docs/statistics.md. Error labels are "
+                "computed from the run's records; see docs/error_analysis.md.")
+        text = _render_tables(tables, fmt, out, note)
     _emit(text, out)
+    if plot:
+        plot_runs(runs, plot)
     return text
+
+
+def plot_runs(runs: list[dict[str, Any]], path: str | Path) -> Path:
+    """Draw the runs to ``path`` (.png or .svg): success per subset as grouped bars with the 95 % intervals as
+    error bars, and, when the runs are labelled, the share of episodes with each error category.
+    matplotlib is imported here only (Agg backend, no display)."""
+    from eb_core.cli import CliError
+
+    path = Path(path)
+    if path.suffix.lower() not in (".png", ".svg"):
+        raise CliError(f"--plot {path}: the file must end in .png or .svg (e.g. --plot report.png)")
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise CliError("--plot needs matplotlib: pip install 'embodiedbench-embedded[report]' "
+                       "(or pip install -r requirements.txt)") from None
+    from eb_core.errors import CATEGORIES
+
+    subsets = [*_subset_names(runs), "all"]
+    labelled = [r for r in runs if r["overall"].get("error_analysis")]
+    used = [k for k in CATEGORIES if any(r["overall"]["error_analysis"]["categories"][k]["count"] for r in labelled)]
+    ncols = 2 if used else 1
+    fig, axes = plt.subplots(1, ncols, figsize=(6.5 * ncols + 0.5, 4.6), squeeze=False,
+                             gridspec_kw={"width_ratios": [1.3, 1][:ncols]})
+    colours = plt.get_cmap("tab10").colors
+    names = [f"{r['model']} / {r['ablation']}" + ("" if len({x['env'] for x in runs}) == 1 else f" ({r['env']})")
+             for r in runs]
+    ax = axes[0][0]
+    width = 0.8 / max(1, len(runs))
+    for i, (r, name) in enumerate(zip(runs, names)):
+        xs, ys, lo, hi = [], [], [], []
+        for j, s in enumerate(subsets):
+            block = r["overall"] if s == "all" else r["subsets"].get(s)
+            if not block or not block.get("episodes"):
+                continue
+            value = 100 * float(block["success_rate"])
+            ci = block.get("success_rate_ci") or {}
+            xs.append(j - 0.4 + width * (i + 0.5))
+            ys.append(value)
+            lo.append(value - 100 * ci["ci_low"] if ci.get("ci_low") is not None else 0.0)
+            hi.append(100 * ci["ci_high"] - value if ci.get("ci_high") is not None else 0.0)
+        ax.bar(xs, ys, width=width * 0.92, color=colours[i % len(colours)], label=name,
+               yerr=[lo, hi], capsize=3, error_kw={"elinewidth": 1, "ecolor": "#333333"})
+        for x, y in zip(xs, ys):
+            ax.text(x, y + 1, f"{y:.0f}", ha="center", va="bottom", fontsize=7, color="#222222")
+    ax.set_xticks(range(len(subsets)))
+    ax.set_xticklabels(subsets, rotation=20 if len(subsets) > 5 else 0)
+    ax.set_ylim(0, 110)
+    ax.set_ylabel("success rate (%)")
+    envs = ", ".join(dict.fromkeys(r["env"] for r in runs))
+    ax.set_title(f"Success per subset — {envs} (bars: 95% CI over tasks)", fontsize=10)
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=min(3, len(runs)), frameon=False)
+    if used:
+        ax2 = axes[0][1]
+        h = 0.8 / max(1, len(labelled))
+        for i, r in enumerate(labelled):
+            cats = r["overall"]["error_analysis"]["categories"]
+            ys = [k - 0.4 + h * (i + 0.5) for k in range(len(used))]
+            ax2.barh(ys, [100 * cats[c]["episode_rate"] for c in used], height=h * 0.92,
+                     color=colours[runs.index(r) % len(colours)], label=names[runs.index(r)])
+        ax2.set_yticks(range(len(used)))
+        ax2.set_yticklabels([f"{CATEGORIES[c].title}\n({CATEGORIES[c].group})" for c in used], fontsize=8)
+        ax2.invert_yaxis()
+        ax2.set_xlim(0, 100)
+        ax2.set_xlabel("episodes with the error (%)")
+        ax2.set_title("Automatic error analysis (all subsets)", fontsize=10)
+        ax2.grid(axis="x", alpha=0.3)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return path
 
 
 def _emit(text: str, out: str | None) -> None:
