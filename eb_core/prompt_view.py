@@ -91,7 +91,10 @@ def capture_prompt(cfg: Any, registry: Any, task_id: str, step: int) -> tuple[Mo
     from eb_core.runner import Components, episode_seed
 
     comps = Components(cfg, registry)
-    tasks = {t.id: t for t in comps.load_tasks()}
+    try:
+        tasks = {t.id: t for t in comps.load_tasks()}
+    except Exception as exc:  # a missing or stale task file: the plugin's message names it
+        raise ConfigError(f"cannot load the tasks of env {cfg.env.name!r}: {str(exc).splitlines()[0]}") from None
     if task_id not in tasks:
         some = ", ".join(list(tasks)[:3])
         raise ConfigError(f"unknown task id {task_id!r} for env {cfg.env.name!r}; ids look like {some} "
