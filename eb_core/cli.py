@@ -22,7 +22,10 @@ commands:
                              automatic error analysis [--format rich|markdown|csv|latex|html] [--out FILE]
                              [--plot FILE.png|.svg] [--errors: relabel from the step files, per subset];
                              `report A B --paired`: is B's difference to A real?
-  show RUN_DIR               write RUN_DIR/index.html: every episode, step, image, answer and feedback
+  show RUN_DIR [RUN_DIR ...] write RUN_DIR/index.html: every episode, step, image, answer, feedback and
+                             error label, with filters; several runs: a side-by-side comparison [--out DIR]
+  export RUN_DIR --out DIR   planner steps as a dataset [--format parquet|chat] [--images embed|paths]
+                             [--only-success]; with a dataset card (README.md)
   prompt env=NAME task=ID [step=N] [ablation=NAME] [out=DIR]   print what the model receives at planner
                              call N (the expert plays the earlier ones); images saved as PNG beside prompt.txt
   tasks generate env=NAME [key=value ...]   write a task file with the env's generator
@@ -62,6 +65,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             from eb_core.prompt_view import cmd_prompt
 
             return cmd_prompt(rest)
+        if cmd == "export":
+            from eb_core.export import cmd_export
+
+            return cmd_export(rest)
         if cmd == "audit":
             from eb_core.audit import cmd_audit
 
@@ -70,8 +77,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _fail(str(exc))
     except KeyboardInterrupt:
         return _fail("interrupted; finished episodes are saved, re-run the same command to resume", 130)
-    hint = difflib.get_close_matches(cmd, ["run", "list", "report", "show", "tasks", "audit"], n=1)
-    return _fail(f"unknown command {cmd!r}; commands: run, list, report, show, tasks, audit"
+    hint = difflib.get_close_matches(cmd, ["run", "list", "report", "show", "export", "tasks", "audit"], n=1)
+    return _fail(f"unknown command {cmd!r}; commands: run, list, report, show, export, tasks, audit"
                  + (f" (did you mean {hint[0]!r}?)" if hint else ""))
 
 

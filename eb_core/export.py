@@ -1,0 +1,255 @@
+"""``eb export RUN_DIR --out DIR``: a run's planner steps as a training/sharing dataset.
+
+* ``--format parquet`` (default): one row per planner step (task, subset, instruction, step, prompt, images,
+  raw answer, parsed plan, actions, feedback, progress, error labels) in Parquet shards under ``DIR/data/``
+  that pyarrow and ``datasets.load_dataset("parquet", data_files=...)`` read directly, and a dataset card
+  ``DIR/README.md`` with the run's config, model, versions and metrics.
+* ``--format chat``: ``DIR/chat.jsonl``, one line per planner call in the chat form of supervised fine-tuning
+  sets (LLaVA / ShareGPT style): ``images`` and ``messages`` (user: ``<image>`` markers + the prompt;
+  assistant: the model's answer).
+
+``--images embed`` puts the PNG bytes in the rows (chat: ``data:`` URIs); ``--images paths`` (default) copies the
+PNGs to ``DIR/images/<episode>/`` and stores paths relative to ``DIR``. pyarrow is imported only here.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import shutil
+from pathlib import Path
+from typing import Any
+
+from eb_core.records import episode_dir_name
+
+__all__ = ["export_run", "cmd_export"]
+
+IMAGE_MODES = ("embed", "paths")
+EXPORT_FORMATS = ("parquet", "chat")
+SHARD_ROWS = 2000
+
+
+def _step_images(step: dict[str, Any]) -> list[str]:
+    """File names of the images the model was sent at this step (the primary image and any extra views)."""
+    if "sent_images" in step:
+        names = [str(n) for n in step.get("sent_images") or []]
+        return [n for n in names if n.endswith(".png")] or ([step["image"]] if names and step.get("image") else [])
+    if step.get("image") is None:
+        return []
+    return [step["image"], *step.get("extra_images", [])]
+
+
+def _rows(run: dict[str, Any], images: str, out: Path, only_success: bool):
+    """One dict per planner step of the run, in episode order."""
+    from eb_core.errors import label_episode, load_steps, run_vocabulary
+
+    root = Path(run["dir"])
+    records = [r for r in run["records"] if r.status == "ok" and (r.success or not only_success)]
+    steps_of = {r.key: load_steps(root / "episodes" / episode_dir_name(*r.key)) for r in records}
+    vocab = run_vocabulary(steps_of.values())
+    for rec in records:
+        ep_name = episode_dir_name(*rec.key)
+        steps = steps_of[rec.key]
+        labels = label_episode(steps, rec.model_dump(), vocab)["steps"]
+        for step, lab in zip(steps, labels):
+            parsed = step.get("parsed") or {}
+            actions = step.get("actions") or []
+            imgs = []
+            for name in _step_images(step):
+                src = root / "episodes" / ep_name / name
+                if not src.exists():
+                    continue
+                if images == "embed":
+                    imgs.append({"bytes": src.read_bytes(), "path": f"{ep_name}/{name}"})
+                else:
+                    dst = out / "images" / ep_name / name
+                    dst.parent.mkdir(parents=True, exist_ok=True)
+                    shutil.copyfile(src, dst)
+                    imgs.append({"bytes": None, "path": f"images/{ep_name}/{name}"})
+            yield {
+                "env": run["env"], "model": run["model"], "ablation": run["ablation"],
+                "task_id": rec.task_id, "repeat": rec.repeat, "subset": rec.subset, "instruction": rec.instruction,
+                "episode_success": rec.success, "planner_step": int(step.get("planner_step", 0)),
+                "prompt": step.get("prompt") or "", "images": imgs, "raw_output": step.get("raw_output") or "",
+                "visual_state_description": parsed.get("visual_state_description"),
+                "reasoning_and_reflection": parsed.get("reasoning_and_reflection"),
+                "language_plan": parsed.get("language_plan"),
+                "executable_plan": json.dumps(parsed.get("executable_plan")) if parsed else None,
+                "output_error": step.get("error"), "plan_error": step.get("plan_error"),
+                "actions": [str(a.get("action_name")) for a in actions],
+                "actions_json": json.dumps(actions, default=str),
+                "action_success": [bool(a.get("success")) for a in actions],
+                "feedback": [str(a.get("feedback") or "") for a in actions],
+                "progress": float(actions[-1].get("progress") or 0.0) if actions else None,
+                "error_labels": [x["category"] for x in lab["labels"]],
+                "perception_f1": (lab.get("perception") or {}).get("f1"),
+            }
+
+
+def _schema():
+    import pyarrow as pa
+
+    image = pa.struct([("bytes", pa.binary()), ("path", pa.string())])
+    return pa.schema([
+        ("env", pa.string()), ("model", pa.string()), ("ablation", pa.string()), ("task_id", pa.string()),
+        ("repeat", pa.int32()), ("subset", pa.string()), ("instruction", pa.string()),
+        ("episode_success", pa.bool_()), ("planner_step", pa.int32()), ("prompt", pa.string()),
+        ("images", pa.list_(image)), ("raw_output", pa.string()), ("visual_state_description", pa.string()),
+        ("reasoning_and_reflection", pa.string()), ("language_plan", pa.string()),
+        ("executable_plan", pa.string()), ("output_error", pa.string()), ("plan_error", pa.string()),
+        ("actions", pa.list_(pa.string())), ("actions_json", pa.string()), ("action_success", pa.list_(pa.bool_())),
+        ("feedback", pa.list_(pa.string())), ("progress", pa.float64()), ("error_labels", pa.list_(pa.string())),
+        ("perception_f1", pa.float64()),
+    ])
+
+
+def _card(run: dict[str, Any], out: Path, n_rows: int, files: list[str], fmt: str, images: str) -> str:
+    """The dataset card: what the rows are, where they come from (config, model, versions) and the metrics."""
+    import platform
+
+    from eb_core.report import _with_ci
+
+    root = Path(run["dir"])
+    o = run["overall"]
+    lines = ["---", "configs:", "- config_name: default", "  data_files:", "  - split: train",
+             "    path: " + ("data/*.parquet" if fmt == "parquet" else "chat.jsonl"), "---", "",
+             f"# EmbodiedBench trajectories: {run['env']} / {run['model']} / {run['ablation']}", "",
+             f"{n_rows} {'rows, one per planner step' if fmt == 'parquet' else 'chat samples, one per planner call'}"
+             f", exported from `{root}` by `eb export` (images: {images}).", "",
+             "## Metrics of the run", "", "| subset | episodes | success % [95% CI] | subgoal % [95% CI] |",
+             "|---|---|---|---|"]
+    for name, block in [*run["subsets"].items(), ("all", o)]:
+        lines.append(f"| {name} | {block.get('episodes', 0):.0f} | {_with_ci(block, 'success_rate')} | "
+                     f"{_with_ci(block, 'subgoal_success')} |")
+    ea = o.get("error_analysis")
+    if ea:
+        lines += ["", "Automatic error labels (docs/error_analysis.md), % of episodes with the error (count):", ""]
+        for key, cat in ea["categories"].items():
+            if cat["count"]:
+                lines.append(f"- {key}: {100 * cat['episode_rate']:.1f} % ({cat['count']:.0f})")
+    versions = {}
+    if (root / "plugins.json").exists():
+        versions = json.loads((root / "plugins.json").read_text(encoding="utf-8"))
+    try:
+        import pyarrow
+
+        versions["pyarrow"] = pyarrow.__version__
+    except ImportError:  # chat export needs no pyarrow
+        pass
+    versions["python"] = platform.python_version()
+    lines += ["", "## Versions", "", *[f"- {k}: {v}" for k, v in versions.items()]]
+    if fmt == "parquet":
+        lines += ["", "## Columns", "",
+                  "task_id, repeat, subset, instruction, episode_success, planner_step; prompt (the text the model "
+                  "was sent); images (list of {bytes, path}: bytes when embedded, else a path relative to this "
+                  "folder); raw_output; visual_state_description, reasoning_and_reflection, language_plan, "
+                  "executable_plan (JSON) from the parsed answer; output_error, plan_error; actions, action_success, "
+                  "feedback (per executed action) and actions_json (the full action records); progress after the "
+                  "step; error_labels (automatic, per step); perception_f1.", "",
+                  "Read it with `pyarrow.parquet.read_table(\"data\")` or "
+                  "`datasets.load_dataset(\"parquet\", data_files=\"data/*.parquet\")`."]
+    lines += ["", "## Files", "", *[f"- {f}" for f in files]]
+    conf = (root / "config.yaml").read_text(encoding="utf-8") if (root / "config.yaml").exists() else ""
+    lines += ["", "## Run config (config.yaml)", "", "```yaml", conf.rstrip(), "```", ""]
+    return "\n".join(lines)
+
+
+def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt: str = "parquet",
+               only_success: bool = False, shard_rows: int = SHARD_ROWS) -> dict[str, Any]:
+    """Export ``run_dir`` into ``out``; returns ``{"rows": n, "files": [...]}`` (paths relative to ``out``)."""
+    from eb_core.report import load_run
+
+    if images not in IMAGE_MODES:
+        raise ValueError(f"--images {images!r}: use embed or paths")
+    if fmt not in EXPORT_FORMATS:
+        raise ValueError(f"--format {fmt!r}: use parquet or chat")
+    run = load_run(run_dir)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    files: list[str] = []
+    n = 0
+    if fmt == "parquet":
+        try:
+            import pyarrow as pa
+            import pyarrow.parquet as pq
+        except ImportError:
+            raise ValueError("eb export --format parquet needs pyarrow: pip install 'embodiedbench[report]' "
+                             "(or pip install -r requirements.txt)") from None
+        schema = _schema()
+        rows = list(_rows(run, images, out, only_success))
+        n = len(rows)
+        (out / "data").mkdir(exist_ok=True)
+        for old in (out / "data").glob("train-*.parquet"):
+            old.unlink()
+        shards = max(1, -(-n // shard_rows))
+        for i in range(shards):
+            chunk = rows[i * shard_rows:(i + 1) * shard_rows]
+            name = f"data/train-{i:05d}-of-{shards:05d}.parquet"
+            pq.write_table(pa.Table.from_pylist(chunk, schema=schema), out / name)
+            files.append(name)
+    else:
+        lines = []
+        for row in _rows(run, images, out, only_success):
+            refs = []
+            for img in row["images"]:
+                if img["bytes"] is not None:
+                    refs.append("data:image/png;base64," + base64.b64encode(img["bytes"]).decode("ascii"))
+                else:
+                    refs.append(img["path"])
+            user = "".join("<image>\n" for _ in refs) + row["prompt"]
+            lines.append(json.dumps({
+                "id": f"{row['task_id']}/r{row['repeat']}/step{row['planner_step']}", "task_id": row["task_id"],
+                "subset": row["subset"], "planner_step": row["planner_step"], "episode_success": row["episode_success"],
+                "error_labels": row["error_labels"], "images": refs,
+                "messages": [{"role": "user", "content": user}, {"role": "assistant", "content": row["raw_output"]}],
+            }, ensure_ascii=False))
+        n = len(lines)
+        (out / "chat.jsonl").write_text("".join(x + "\n" for x in lines), encoding="utf-8")
+        files.append("chat.jsonl")
+    (out / "README.md").write_text(_card(run, out, n, files, fmt, images), encoding="utf-8")
+    return {"rows": n, "files": files}
+
+
+def cmd_export(args: list[str]) -> int:
+    """``eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] [--only-success]``."""
+    from eb_core.cli import CliError
+
+    usage = ("usage: eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] "
+             "[--only-success]")
+    run_dir, out, images, fmt, only_success = None, None, "paths", "parquet", False
+    it = iter(args)
+    for a in it:
+        key, eq, val = a.partition("=")
+        if key in ("--out", "--images", "--format"):
+            value = val if eq else next(it, "")
+            if not value:
+                raise CliError(f"{key} needs a value; {usage}")
+            if key == "--out":
+                out = value
+            elif key == "--images":
+                images = value
+            else:
+                fmt = value
+        elif a == "--only-success":
+            only_success = True
+        elif a.startswith("-"):
+            raise CliError(f"unknown option {a!r} for export; {usage}")
+        elif run_dir is None:
+            run_dir = a
+        else:
+            raise CliError(f"export takes one run directory (got {run_dir!r} and {a!r}); {usage}")
+    if run_dir is None or out is None:
+        raise CliError(usage)
+    if images not in IMAGE_MODES:
+        raise CliError(f"unknown --images {images!r}; use embed (PNG bytes in the rows) or paths (files copied "
+                       f"beside the data)")
+    if fmt not in EXPORT_FORMATS:
+        raise CliError(f"unknown --format {fmt!r}; use parquet (one row per planner step) or chat (SFT messages)")
+    if not (Path(run_dir) / "episodes.jsonl").exists():
+        raise CliError(f"{run_dir} is not a run directory (no episodes.jsonl)")
+    try:
+        result = export_run(run_dir, out, images, fmt, only_success)
+    except ValueError as exc:
+        raise CliError(str(exc)) from None
+    print(f"{result['rows']} rows -> {out} ({', '.join(result['files'])}, README.md)")
+    return 0
