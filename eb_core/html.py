@@ -33,7 +33,30 @@ details summary{cursor:pointer;color:#0b57d0;font-size:13px} .bar{display:inline
 .warn{background:#fff4e5;border:1px solid #f3c77b;border-radius:6px;padding:8px 12px}
 .sent{font-size:12px;color:#3d4651;margin:0 0 4px} .notsent img{opacity:.45;border:2px dashed #b42318}
 .notsent .tag{color:#b42318;font-size:12px;font-weight:600}
+.lab{display:inline-block;font-size:11px;padding:1px 6px;margin:1px 3px 1px 0;border-radius:9px;background:#fde8e7;
+color:#8a1c12;border:1px solid #f5b5ae} .lab.perception{background:#efe7fd;color:#4b1c8a;border-color:#cdb5f5}
+.lab.reasoning{background:#fff1db;color:#7a4a00;border-color:#f3c77b} .labels{margin:4px 0}
+.filters{margin:8px 0;font-size:13px} .filters select{margin-right:12px}
+.cmp{display:grid;gap:12px} .cmp .col{background:#fff;border:1px solid #dde1e6;border-radius:6px;padding:8px;min-width:0}
+.cmp img{width:100%;max-width:320px;height:auto;border:1px solid #ccd} img.broken{outline:3px solid #b42318}
 """
+
+#: Marks every image that did not load (a red outline and ``data-broken``), so a missing file shows.
+_IMG_CHECK = ("<script>window.addEventListener('load',function(){document.querySelectorAll('img').forEach("
+              "function(i){if(i.complete&&i.naturalWidth>0){i.setAttribute('data-loaded','1')}else{"
+              "i.classList.add('broken');i.setAttribute('data-broken','1')}})});</script>")
+
+#: Client-side filters of a table: every ``select[data-filter=KEY]`` keeps the rows whose ``data-KEY`` matches
+#: (error categories: the row's space-separated list contains it).
+_FILTER_JS = ("<script>function ebFilter(){var s=document.querySelectorAll('select[data-filter]');"
+              "document.querySelectorAll('tr[data-row]').forEach(function(r){var ok=true;s.forEach(function(x){"
+              "var v=x.value,k=x.getAttribute('data-filter'),have=r.getAttribute('data-'+k)||'';"
+              "if(v&&(k==='errors'?(' '+have+' ').indexOf(' '+v+' ')<0:have!==v))ok=false});"
+              "r.style.display=ok?'':'none'});var n=document.querySelectorAll('tr[data-row]:not([style*=none])')"
+              ".length;var c=document.getElementById('shown');if(c)c.textContent=n}"
+              "document.querySelectorAll('select[data-filter]').forEach(function(x){x.addEventListener('change',"
+              "ebFilter)});</script>")
+
 
 
 def _e(x: Any) -> str:
@@ -43,7 +66,47 @@ def _e(x: Any) -> str:
 def _page(title: str, body: str) -> str:
     return (f"<!doctype html><html lang=en><head><meta charset=utf-8><title>{_e(title)}</title>"
             f"<meta name=viewport content='width=device-width,initial-scale=1'><style>{_CSS}</style></head>"
-            f"<body>{body}</body></html>\n")
+            f"<body>{body}{_IMG_CHECK}</body></html>\n")
+
+
+def _labels_html(step_labels: dict[str, Any] | None) -> str:
+    """The automatic error labels of one planner step as badges (with their detail on hover), and the
+    perception check's precision/recall when there is one."""
+    from eb_core.errors import CATEGORIES
+
+    if not step_labels:
+        return ""
+    badges = []
+    for lab in step_labels.get("labels", []):
+        cat = CATEGORIES.get(lab["category"])
+        group = cat.group if cat else "planning"
+        where = f" (env step {lab['env_step']})" if lab.get("env_step") is not None else ""
+        badges.append(f"<span class='lab {group}' title='{_e(lab.get('detail'))}{_e(where)}'>"
+                      f"{_e(cat.title if cat else lab['category'])}</span>")
+    per = step_labels.get("perception")
+    if per:
+        def num(x: Any) -> str:
+            return "-" if x is None else f"{100 * x:.0f}%"
+
+        badges.append(f"<span class=muted style='font-size:12px'>perception: named {_e(', '.join(per['mentioned']) or 'nothing')}"
+                      f"; in view {_e(', '.join(per['visible']) or 'nothing')}; precision {num(per['precision'])}"
+                      f", recall {num(per['recall'])}</span>")
+    return f"<div class=labels>{''.join(badges)}</div>" if badges else ""
+
+
+def _filters(subsets: list[str], categories: list[str], results: tuple[str, ...] = ("success", "fail", "error"),
+             result_label: str = "result") -> str:
+    """The filter bar (subset, result, error category) of an index page."""
+    from eb_core.errors import CATEGORIES
+
+    def sel(key: str, label: str, options: list[tuple[str, str]]) -> str:
+        opts = "".join(f"<option value='{_e(v)}'>{_e(t)}</option>" for v, t in options)
+        return f"<label>{_e(label)} <select data-filter='{key}'><option value=''>all</option>{opts}</select></label>"
+
+    return ("<div class=filters>" + sel("subset", "subset", [(x, x) for x in subsets])
+            + sel("result", result_label, [(x, x) for x in results])
+            + sel("errors", "error category", [(c, CATEGORIES[c].title if c in CATEGORIES else c) for c in categories])
+            + " <span class=muted>showing <span id=shown></span></span></div>")
 
 
 def _status(rec: dict[str, Any]) -> str:
@@ -78,8 +141,10 @@ def _what_was_sent(step: dict[str, Any], conf: dict[str, Any]) -> tuple[bool, st
     return True, "The model was sent " + " and ".join(parts) + "."
 
 
-def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path, conf: dict[str, Any] | None = None) -> str:
+def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path, conf: dict[str, Any] | None = None,
+                  labels: dict[str, Any] | None = None) -> str:
     conf = conf or {}
+    by_step = {st["planner_step"]: st for st in (labels or {}).get("steps", [])}
     repeat = f" · repeat {rec['repeat']}" if rec.get("repeat") else ""
     parts = [f"<p><a href='../../index.html'>&larr; {_e(run_title)}</a></p>",
              f"<h1>{_e(rec['task_id'])} <span class=muted>({_e(rec['subset'])}{repeat})</span> {_status(rec)}</h1>",
@@ -124,6 +189,7 @@ def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path, conf: dict[
             notes.append(f"<p class=err>{_e(s['plan_error'])}</p>")
         parts.append(
             f"<div class=step>{img}<div class=body><b>Planner step {s['planner_step']}</b>"
+            + _labels_html(by_step.get(s["planner_step"]))
             + "".join(notes)
             + (f"<p><b>Reasoning:</b> {_e(parsed.get('reasoning_and_reflection'))}</p>"
                f"<p><b>Plan:</b> {_e(parsed.get('language_plan'))}</p>" if parsed else "")
@@ -150,6 +216,29 @@ def _ci_cell(block: dict[str, Any], key: str) -> str:
     return f"<td class=num>{100 * value:.1f} <span class=muted>[{100 * lo:.1f}, {100 * hi:.1f}]</span></td><td>{bar}</td>"
 
 
+def _error_summary_html(block: dict[str, Any]) -> str:
+    """The run's automatic error analysis: per category the share of episodes with it and its count."""
+    from eb_core.errors import CATEGORIES
+
+    ea = block.get("error_analysis")
+    if not ea:
+        return ""
+    rows = []
+    for key, cat in ea["categories"].items():
+        if not cat["count"]:
+            continue
+        c = CATEGORIES[key]
+        rows.append(f"<tr><td><span class='lab {c.group}'>{_e(c.title)}</span></td><td>{_e(c.group)}: "
+                    f"{_e(c.paper)}</td><td class=num>{100 * cat['episode_rate']:.1f}%</td>"
+                    f"<td class=num>{cat['count']:.0f}</td><td class=num>{cat['per_step']:.2f}</td></tr>")
+    ps = ea.get("perception_score")
+    return ("<h2>Automatic error analysis</h2><table><tr><th>label</th><th>paper category</th>"
+            "<th>episodes with it</th><th>count</th><th>per planner step</th></tr>" + "".join(rows) + "</table>"
+            + f"<p class=muted>{ea['episodes']:.0f} labelled episodes; perception score "
+            + ("-" if ps is None else f"{ps:.2f}") + " (F1 of the objects named against those in view); labels "
+            "from the run's records, see docs/error_analysis.md.</p>")
+
+
 def write_html(run_dir: str | Path) -> Path:
     """Write the viewer into ``run_dir`` and return the path of ``index.html``."""
     from eb_core.report import _run_config, load_run
@@ -159,24 +248,38 @@ def write_html(run_dir: str | Path) -> Path:
     run = load_run(root)  # recomputed from episodes.jsonl: also right for a run stopped before its end
     conf = _run_config(root)
     meta = json.loads((root / "summary.json").read_text()) if (root / "summary.json").exists() else {}
+    from eb_core.errors import CATEGORIES, label_episode, load_steps, run_vocabulary
+
     records = [r.model_dump() for r in run["records"]]
     repeats = int(run.get("repeats") or 1)
     title = f"{run['env']} / {run['model']} / {run['ablation']}"
+    step_sets = {episode_dir_name(r["task_id"], r.get("repeat", 0)):
+                 load_steps(files.episodes_dir / episode_dir_name(r["task_id"], r.get("repeat", 0))) for r in records}
+    vocab = run_vocabulary(step_sets.values())
     rows = []
+    used: set[str] = set()
     for rec in records:
         name = episode_dir_name(rec["task_id"], rec.get("repeat", 0))
         ep_dir = files.episodes_dir / name
         label = rec["task_id"] + (f" (repeat {rec['repeat']})" if rec.get("repeat") else "")
+        labels = label_episode(step_sets[name], rec, vocab) if rec["status"] == "ok" else None
+        counts = (labels or {}).get("counts", {})
+        used |= set(counts)
         if ep_dir.is_dir():
-            atomic_write_text(ep_dir / "index.html", _episode_page(title, rec, ep_dir, conf))
+            atomic_write_text(ep_dir / "index.html", _episode_page(title, rec, ep_dir, conf, labels))
             link = f"<a href='episodes/{_e(name)}/index.html'>{_e(label)}</a>"
         else:
             link = _e(label)
+        result = "error" if rec["status"] == "error" else ("success" if rec["success"] else "fail")
+        errs = ", ".join(f"{CATEGORIES[k].title} {v}" for k, v in counts.items())
+        score = (labels or {}).get("perception_score")
         rows.append(
-            f"<tr><td>{link}</td><td>{_e(rec['subset'])}</td><td>{_status(rec)}</td><td>{_e(rec['end_reason'])}</td>"
+            f"<tr data-row data-subset='{_e(rec['subset'])}' data-result='{result}' data-errors='{_e(' '.join(counts))}'>"
+            f"<td>{link}</td><td>{_e(rec['subset'])}</td><td>{_status(rec)}</td><td>{_e(rec['end_reason'])}</td>"
             f"<td class=num>{rec['env_steps']}</td><td class=num>{rec['planner_steps']}</td>"
             f"<td class=num>{rec['invalid_actions']}</td><td class=num>{rec['output_errors']}</td>"
-            f"<td class=num>{100 * rec['progress']:.0f}%</td><td>{_e(rec['instruction'])}</td></tr>")
+            f"<td class=num>{100 * rec['progress']:.0f}%</td><td style='font-size:12px'>{_e(errs)}</td>"
+            f"<td class=num>{'-' if score is None else f'{score:.2f}'}</td><td>{_e(rec['instruction'])}</td></tr>")
     overall = run["overall"]
     subset_rows = []
     for name, s in [*run["subsets"].items(), ("all", overall)]:
@@ -212,9 +315,13 @@ def write_html(run_dir: str | Path) -> Path:
             f"<p class=muted>Intervals: 95 % over tasks ({_e(method)}"
             + (", each task's repeats kept together" if repeats > 1 else "")
             + "); see docs/statistics.md.</p>"
-            "<h2>Episodes</h2><table><tr><th>task</th><th>subset</th><th>result</th><th>end</th><th>env steps</th>"
-            "<th>planner steps</th><th>invalid</th><th>output errors</th><th>progress</th><th>instruction</th></tr>"
-            f"{''.join(rows)}</table>")
+            + _error_summary_html(overall)
+            + "<h2>Episodes</h2>"
+            + _filters(list(run["subsets"]), [k for k in CATEGORIES if k in used])
+            + "<table><tr><th>task</th><th>subset</th><th>result</th><th>end</th><th>env steps</th>"
+            "<th>planner steps</th><th>invalid</th><th>output errors</th><th>progress</th><th>error labels</th>"
+            "<th>perception</th><th>instruction</th></tr>"
+            f"{''.join(rows)}</table>{_FILTER_JS}")
     index = root / "index.html"
     atomic_write_text(index, _page(title, body))
     return index
