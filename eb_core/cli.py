@@ -441,13 +441,34 @@ def cmd_report(args: list[str]) -> int:
 def cmd_show(args: list[str]) -> int:
     from pathlib import Path
 
-    from eb_core.html import write_html
+    from eb_core.html import write_compare, write_html
 
-    if len(args) != 1 or args[0].startswith("-"):
-        raise CliError("usage: eb show RUN_DIR (a directory holding episodes.jsonl)")
-    if not (Path(args[0]) / "episodes.jsonl").exists():
-        raise CliError(f"{args[0]} is not a run directory (no episodes.jsonl)")
-    print(write_html(args[0]))
+    usage = "usage: eb show RUN_DIR (a directory holding episodes.jsonl), or eb show RUN_A RUN_B ... [--out DIR]"
+    dirs, out = [], None
+    it = iter(args)
+    for a in it:
+        if a == "--out" or a.startswith("--out="):
+            out = a.split("=", 1)[1] if "=" in a else next(it, "")
+            if not out:
+                raise CliError(f"--out needs a directory; {usage}")
+        elif a.startswith("-"):
+            raise CliError(f"unknown option {a!r} for show; {usage}")
+        else:
+            dirs.append(a)
+    if not dirs:
+        raise CliError(usage)
+    for d in dirs:
+        if not (Path(d) / "episodes.jsonl").exists():
+            raise CliError(f"{d} is not a run directory (no episodes.jsonl)")
+    if len(dirs) == 1:
+        if out:
+            raise CliError("--out is for comparing several runs; one run's viewer is written into RUN_DIR")
+        print(write_html(dirs[0]))
+        return 0
+    try:
+        print(write_compare(dirs, out or str(Path(dirs[0]) / "compare")))
+    except ValueError as exc:
+        raise CliError(str(exc)) from None
     return 0
 
 

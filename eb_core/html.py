@@ -4,19 +4,22 @@
 95 % intervals, recomputed from ``episodes.jsonl`` (so a run stopped before its end is shown too, marked
 incomplete); ``episodes/<id>/index.html`` shows each planner step: what the model was sent (which image,
 which views and frames, or no image at all), the prompt, the raw answer, the parsed plan and every
-executed action with the world's feedback. All model and env text is escaped.
+executed action with the world's feedback and the step's automatic error labels. ``index.html`` filters
+episodes by subset, result and error category. :func:`write_compare` puts several runs side by side (same
+task, step by step) in one folder. All model and env text is escaped.
 """
 
 from __future__ import annotations
 
 import html
 import json
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from eb_core.records import RunFiles, atomic_write_text, episode_dir_name
 
-__all__ = ["write_html"]
+__all__ = ["write_compare", "write_html"]
 
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:24px;color:#1d232a;background:#fafbfc}
@@ -323,5 +326,126 @@ def write_html(run_dir: str | Path) -> Path:
             "<th>perception</th><th>instruction</th></tr>"
             f"{''.join(rows)}</table>{_FILTER_JS}")
     index = root / "index.html"
+    atomic_write_text(index, _page(title, body))
+    return index
+
+
+# -- several runs side by side ---------------------------------------------------------------------------
+
+
+def _compare_step(s: dict[str, Any] | None, step_labels: dict[str, Any] | None, img_prefix: str) -> str:
+    """One run's planner step in a comparison column (images copied beside the page under ``img_prefix``)."""
+    if s is None:
+        return "<div class=col><p class=muted>(no step: the episode had ended)</p></div>"
+    parsed = s.get("parsed") or {}
+    imgs = "".join(f"<img src='{_e(img_prefix + name)}' alt='step {s.get('planner_step')} {_e(name)}'>"
+                   for name in ([s["image"]] if s.get("image") else []))
+    actions = "".join(
+        f"<tr><td class=num>{a.get('env_step')}</td><td>{_e(a.get('action_name'))}</td>"
+        f"<td>{'<span class=ok>ok</span>' if a.get('success') else '<span class=fail>failed</span>'}</td>"
+        f"<td>{_e(a.get('feedback'))}</td></tr>" for a in s.get("actions", []))
+    notes = ""
+    if s.get("error"):
+        notes += f"<p class=err>Output error: {_e(s['error'])}</p>"
+    if s.get("plan_error"):
+        notes += f"<p class=err>{_e(s['plan_error'])}</p>"
+    return ("<div class=col>" + imgs + _labels_html(step_labels) + notes
+            + (f"<p><b>Saw:</b> {_e(parsed.get('visual_state_description'))}</p>"
+               f"<p><b>Reasoning:</b> {_e(parsed.get('reasoning_and_reflection'))}</p>"
+               f"<p><b>Plan:</b> {_e(parsed.get('language_plan'))}</p>" if parsed else "")
+            + (f"<table><tr><th>step</th><th>action</th><th>result</th><th>feedback</th></tr>{actions}</table>"
+               if actions else "")
+            + f"<details><summary>raw model answer</summary><pre>{_e(s.get('raw_output'))}</pre></details></div>")
+
+
+def write_compare(run_dirs: Sequence[str | Path], out: str | Path) -> Path:
+    """Write a comparison of several runs into ``out`` (one static folder that opens from disk):
+    ``index.html`` lists the tasks the runs share with each run's result and error labels (filters: subset,
+    which runs succeeded, error category); ``tasks/<task>.html`` shows the runs side by side, planner step by
+    planner step. The step images are copied into ``out/img/``. Returns the path of ``index.html``."""
+    import shutil
+
+    from eb_core.errors import CATEGORIES, label_episode, load_steps, run_vocabulary
+    from eb_core.report import load_run
+
+    out = Path(out)
+    runs = [load_run(d) for d in run_dirs]
+    names = [f"{r['model']} / {r['ablation']}" for r in runs]
+    if len(set(names)) < len(names):
+        names = [f"{n} ({Path(r['dir']).name})" for n, r in zip(names, runs)]
+    recs = [{(rec.task_id, rec.repeat): rec for rec in r["records"]} for r in runs]
+    keys = [k for k in recs[0] if all(k in m for m in recs[1:])]
+    if not keys:
+        raise ValueError("the runs share no task: compare runs of the same env and tasks (same subset=, limit=)")
+    steps: list[dict[Any, list[dict[str, Any]]]] = []
+    vocabs = []
+    for r in runs:
+        root = Path(r["dir"])
+        st = {k: load_steps(root / "episodes" / episode_dir_name(*k)) for k in keys}
+        steps.append(st)
+        vocabs.append(run_vocabulary(st.values()))
+    (out / "tasks").mkdir(parents=True, exist_ok=True)
+    title = f"Comparison on {runs[0]['env']}: " + " vs ".join(names)
+    rows, used = [], set()
+    for key in keys:
+        task_id, repeat = key
+        page_name = episode_dir_name(task_id, repeat)
+        labels = []
+        for i, r in enumerate(runs):
+            rec = recs[i][key]
+            labels.append(label_episode(steps[i][key], rec.model_dump(), vocabs[i]) if rec.status == "ok" else None)
+            src = Path(r["dir"]) / "episodes" / page_name
+            for s in steps[i][key]:
+                if s.get("image") and (src / s["image"]).exists():
+                    dst = out / "img" / str(i) / page_name / s["image"]
+                    dst.parent.mkdir(parents=True, exist_ok=True)
+                    shutil.copyfile(src / s["image"], dst)
+        first = recs[0][key]
+        wins = [recs[i][key].success for i in range(len(runs))]
+        outcome = "all succeeded" if all(wins) else "none succeeded" if not any(wins) else "they differ"
+        cats = sorted({c for lab in labels if lab for c in lab["counts"]})
+        used |= set(cats)
+        n_steps = max(len(steps[i][key]) for i in range(len(runs)))
+        body = [f"<p><a href='../index.html'>&larr; {_e(title)}</a></p>",
+                f"<h1>{_e(task_id)} <span class=muted>({_e(first.subset)}"
+                + (f" · repeat {repeat}" if repeat else "") + ")</span></h1>",
+                f"<p><b>Instruction:</b> {_e(first.instruction)}</p>",
+                f"<div class=cmp style='grid-template-columns:repeat({len(runs)},1fr)'>"
+                + "".join(f"<div class=col><b>{_e(names[i])}</b> {_status(recs[i][key].model_dump())} "
+                          f"<span class=muted>end {_e(recs[i][key].end_reason)} · "
+                          f"{recs[i][key].planner_steps} planner steps · progress "
+                          f"{100 * recs[i][key].progress:.0f}%</span></div>" for i in range(len(runs)))
+                + "</div>"]
+        for n in range(n_steps):
+            cols = []
+            for i in range(len(runs)):
+                s = steps[i][key][n] if n < len(steps[i][key]) else None
+                lab = labels[i]["steps"][n] if labels[i] and s is not None and n < len(labels[i]["steps"]) else None
+                cols.append(_compare_step(s, lab, f"../img/{i}/{page_name}/"))
+            body.append(f"<h2>Planner step {n + 1}</h2><div class=cmp style='grid-template-columns:"
+                        f"repeat({len(runs)},1fr)'>{''.join(cols)}</div>")
+        atomic_write_text(out / "tasks" / f"{page_name}.html", _page(f"{task_id} — {title}", "\n".join(body)))
+        cells = "".join(
+            f"<td>{_status(recs[i][key].model_dump())} <span class=muted>{100 * recs[i][key].progress:.0f}%</span>"
+            f"</td><td style='font-size:12px'>"
+            + _e(", ".join(f"{CATEGORIES[c].title} {v}" for c, v in (labels[i] or {}).get("counts", {}).items()))
+            + "</td>" for i in range(len(runs)))
+        rows.append(f"<tr data-row data-subset='{_e(first.subset)}' data-result='{outcome}' "
+                    f"data-errors='{_e(' '.join(cats))}'><td><a href='tasks/{_e(page_name)}.html'>"
+                    f"{_e(task_id + (f' (repeat {repeat})' if repeat else ''))}</a></td><td>{_e(first.subset)}</td>"
+                    f"{cells}<td>{_e(first.instruction)}</td></tr>")
+    subsets = list(dict.fromkeys(recs[0][k].subset for k in keys))
+    head = "".join(f"<th>{_e(n)}</th><th>error labels</th>" for n in names)
+    summary = "".join(
+        f"<tr><td>{_e(names[i])}</td><td>{_e(r['dir'])}</td><td class=num>"
+        f"{100 * sum(recs[i][k].success for k in keys) / len(keys):.1f}%</td></tr>" for i, r in enumerate(runs))
+    body = (f"<h1>{_e(title)}</h1><p class=muted>{len(keys)} shared episodes</p>"
+            f"<table><tr><th>run</th><th>directory</th><th>success on the shared episodes</th></tr>{summary}</table>"
+            "<h2>Tasks</h2>"
+            + _filters(subsets, [k for k in CATEGORIES if k in used],
+                       ("all succeeded", "none succeeded", "they differ"), "outcome")
+            + f"<table><tr><th>task</th><th>subset</th>{head}<th>instruction</th></tr>{''.join(rows)}</table>"
+            + _FILTER_JS)
+    index = out / "index.html"
     atomic_write_text(index, _page(title, body))
     return index
