@@ -149,15 +149,15 @@ def audit_views(which: str, n: int = 8, resolution: int = 320) -> tuple[list[np.
                 if where is None:
                     continue
                 shot = None if where == "start" else where.split()[-1]
-                label = f"{t.id}: '{phrase}' ({where})"
+                label = f"{t.id.split('_')[-1]}: '{phrase}' ({where.replace('after find ', 'find ')})"
             else:
                 shot = goal["object"].get("instance") or next(
                     x for x in world.of_type(xt)
                     if all(getattr(world.objects[x], k) == v for k, v in goal["object"].items() if k != "type"))
-                label = f"{t.id}: {t.instruction[:60]}"
+                label = f"{t.id.split('_')[-1]}: {t.instruction}"
             w = views.world_after(shot)
             images.append(renderer.render(w).images["first_person"])
-            labels.append(label)
+            labels.append(label if len(label) <= 54 else label[:53] + "…")
     finally:
         renderer.close()
     return images, labels
