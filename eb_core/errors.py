@@ -102,7 +102,7 @@ def _singular(word: str) -> str:
 def _term(obj: dict[str, Any]) -> str:
     """The object term of a visible object: its type, else its name, normalised, colours dropped."""
     words = [_singular(w) for w in _words(obj.get("type") or obj.get("name") or "")]
-    return " ".join(w for w in words if w not in _COLOURS and w not in _STOP)
+    return " ".join(w for w in words if w not in _COLOURS)
 
 
 def _colours(obj: dict[str, Any]) -> set[str]:
@@ -119,7 +119,16 @@ def _content_words(text: str) -> set[str]:
 
 
 def _mentions(text: str, terms: Iterable[str]) -> dict[str, list[str]]:
-    """Object terms ``text`` names (not negated), each with the colour words just before it."""
+    """Object terms ``text`` names (not negated in their clause), each with the colour words just before it."""
+    terms = set(terms)
+    found: dict[str, list[str]] = {}
+    for clause in re.split(r"[.;:!?,\n]+", text):
+        for term, cols in _clause_mentions(clause, terms).items():
+            found.setdefault(term, []).extend(cols)
+    return found
+
+
+def _clause_mentions(text: str, terms: set[str]) -> dict[str, list[str]]:
     words = [_singular(w) for w in _words(text)]
     raw = _words(text)
     found: dict[str, list[str]] = {}
