@@ -65,3 +65,60 @@ def test_language_only_marks_the_image_as_not_sent(tmp_path):
     write_html(tmp_path / "seeing")
     ep = (tmp_path / "seeing" / "episodes" / "near-0" / "index.html").read_text()
     assert "NOT SENT TO THE MODEL" in ep and "sent no image at this step" in ep
+
+
+def _two_runs(tmp_path):
+    evil = json.dumps({"visual_state_description": EVIL, "reasoning_and_reflection": EVIL,
+                       "executable_plan": [{"action_id": 0}]})
+    run(make_config(limit=2), tmp_path / "oracle", plugins=[fixture_plugin])
+    run(make_config(model={"name": "evil", "backend": "scripted", "answers": [evil]}, limit=2), tmp_path / "evil",
+        plugins=[fixture_plugin])
+    return [str(tmp_path / "oracle"), str(tmp_path / "evil")]
+
+
+def test_steps_show_their_error_labels_and_the_index_filters(tmp_path):
+    dirs = _two_runs(tmp_path)
+    page = write_html(dirs[1]).read_text()
+    assert "<h2>Automatic error analysis</h2>" in page and "data-filter='errors'" in page
+    assert "<option value='failed_action'>failed action (unclassified)</option>" in page
+    assert "data-result='fail' data-errors='failed_action repetition'" in page
+    ep = (tmp_path / "evil" / "episodes" / "near-0" / "index.html").read_text()
+    assert "class='lab planning'" in ep and "failed action (unclassified)</span>" in ep
+
+
+def test_comparison_folder_puts_runs_side_by_side(tmp_path):
+    from eb_core.cli import main
+
+    dirs = _two_runs(tmp_path)
+    out = tmp_path / "cmp"
+    assert main(["show", *dirs, "--out", str(out)]) == 0
+    index = (out / "index.html").read_text()
+    assert "scripted-oracle / none vs evil / none" in index and "href='tasks/near-0.html'" in index
+    assert "data-result='they differ'" in index
+    task = (out / "tasks" / "near-0.html").read_text()
+    assert '<script>alert' not in task and "&lt;script&gt;alert(&quot;x&quot;)" in task
+    assert "<img src='../img/0/near-0/step001_top.png'" in task and "<img src='../img/1/near-0/step001_top.png'" in task
+    assert (out / "img" / "1" / "near-0" / "step001_top.png").exists()
+    assert task.count("<h2>Planner step") >= 2
+
+
+def test_comparison_page_in_headless_chromium(tmp_path):
+    import shutil
+    import subprocess
+
+    browser = shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
+    if browser is None:
+        import pytest
+
+        pytest.skip("no Chromium installed (apt-get install -y chromium)")
+    from eb_core.html import write_compare
+
+    index = write_compare(_two_runs(tmp_path), tmp_path / "cmp")
+    page = index.parent / "tasks" / "near-0.html"
+    dom = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--dump-dom", page.as_uri()],
+                         capture_output=True, text=True, timeout=120).stdout
+    imgs = [tag for tag in dom.split("<img")[1:]]
+    assert len(imgs) >= 4 and all("data-loaded=\"1\"" in t.split(">")[0] for t in imgs)  # every image loaded
+    assert "data-broken=\"1\"" not in dom
+    assert "<script>alert" not in dom and "onerror=alert" not in dom.replace("&lt;img src=x onerror=alert", "")
+    assert "&lt;script&gt;alert(\"x\")&lt;/script&gt;" in dom  # shown as text

@@ -1,0 +1,86 @@
+"""`eb export`: Parquet shards that pyarrow reads back with one row per planner step, a dataset card, and the
+chat (SFT) form; heavy libraries are imported only by these commands."""
+
+import json
+import subprocess
+import sys
+
+import pyarrow.parquet as pq
+import pytest
+
+import fixture_plugin
+from eb_core_testutil import make_config
+from eb_core.cli import main
+from eb_core.export import export_run
+from eb_core.runner import run
+
+LEFT = json.dumps({"visual_state_description": "the goal <b>", "executable_plan": [{"action_id": 0}]})
+
+
+@pytest.fixture(scope="module")
+def mixed(tmp_path_factory):
+    root = tmp_path_factory.mktemp("run")
+    run(make_config(model={"name": "lefty", "backend": "scripted", "answers": [LEFT, "no json"]}, limit=4),
+        root, plugins=[fixture_plugin])
+    return root
+
+
+def _planner_steps(run_dir):
+    return sum(json.loads(x)["planner_steps"] for x in (run_dir / "episodes.jsonl").read_text().splitlines())
+
+
+def test_parquet_round_trips_with_one_row_per_planner_step(mixed, tmp_path):
+    out = tmp_path / "ds"
+    res = export_run(mixed, out, images="embed", shard_rows=5)
+    expected = _planner_steps(mixed)
+    table = pq.read_table(out / "data")
+    assert res["rows"] == expected == table.num_rows and len(res["files"]) == -(-expected // 5)
+    rows = table.to_pylist()
+    first = rows[0]
+    assert first["task_id"] == "near-0" and first["planner_step"] == 1 and first["subset"] == "near"
+    assert first["instruction"] == "walk to cell 2" and "action id 0: step left" in first["prompt"]
+    assert first["images"][0]["bytes"][:8] == b"\x89PNG\r\n\x1a\n"
+    assert first["actions"] == ["step left"] and first["action_success"] == [False]
+    assert "failed_action" in first["error_labels"] and first["visual_state_description"] == "the goal <b>"
+    assert any(r["output_error"] for r in rows) and any("format_error" in r["error_labels"] for r in rows)
+    card = (out / "README.md").read_text()
+    assert "configs:" in card and "data/*.parquet" in card and f"{expected} rows" in card
+    assert "lefty" in card and "0.0 [0.0," in card and "embodiedbench" in card and "```yaml" in card
+
+
+def test_paths_mode_copies_the_images_beside_the_data(mixed, tmp_path):
+    out = tmp_path / "ds"
+    export_run(mixed, out, images="paths")
+    rows = pq.read_table(out / "data").to_pylist()
+    img = rows[0]["images"][0]
+    assert img["bytes"] is None and (out / img["path"]).read_bytes()[:4] == b"\x89PNG"
+
+
+def test_chat_form_has_one_sample_per_planner_call(mixed, tmp_path):
+    out = tmp_path / "chat"
+    assert main(["export", str(mixed), "--out", str(out), "--format", "chat"]) == 0
+    lines = [json.loads(x) for x in (out / "chat.jsonl").read_text().splitlines()]
+    assert len(lines) == _planner_steps(mixed)
+    s = lines[0]
+    assert [m["role"] for m in s["messages"]] == ["user", "assistant"]
+    assert s["messages"][0]["content"].startswith("<image>\n") and s["messages"][1]["content"] == LEFT
+    assert (out / s["images"][0]).exists()
+    out2 = tmp_path / "succ"
+    assert main(["export", str(mixed), "--out", str(out2), "--format", "chat", "--only-success"]) == 0
+    assert (out2 / "chat.jsonl").read_text() == ""  # lefty never succeeds
+
+
+def test_bad_export_input_fails_in_one_line(mixed, tmp_path, capsys):
+    assert main(["export", str(mixed), "--out", str(tmp_path / "x"), "--images", "inline"]) == 2
+    assert "use embed" in capsys.readouterr().err
+    assert main(["export", str(tmp_path), "--out", str(tmp_path / "x")]) == 2
+    assert "is not a run directory" in capsys.readouterr().err
+    assert main(["export", str(mixed)]) == 2
+    assert "usage: eb export" in capsys.readouterr().err
+
+
+def test_pyarrow_and_matplotlib_are_imported_only_by_their_commands():
+    code = ("import sys, eb_core.cli, eb_core.report, eb_core.html, eb_core.export, eb_core.errors, eb_core.metrics;"
+            "print(sorted(m for m in ('pyarrow', 'matplotlib') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
