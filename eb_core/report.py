@@ -395,7 +395,7 @@ def plot_runs(runs: list[dict[str, Any]], path: str | Path) -> Path:
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        raise CliError("--plot needs matplotlib: pip install 'embodiedbench-embedded[report]' "
+        raise CliError("--plot needs matplotlib: pip install 'embodiedbench[report]' "
                        "(or pip install -r requirements.txt)") from None
     from eb_core.errors import CATEGORIES
 
