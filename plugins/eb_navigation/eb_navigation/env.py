@@ -30,7 +30,7 @@ from eb_navigation.geometry import (
     bearing_to,
     distance_to,
 )
-from eb_navigation.instructions import colour_word, display_name
+from eb_navigation.instructions import colour_word, display_name, with_article
 from eb_navigation.prompts import prompt_parts
 from eb_navigation.room import NavObject, NavRoom
 from eb_navigation.tasks import NavTaskSpec, TaskFileError, load_task_file, spec_of
@@ -221,11 +221,30 @@ class NavigationEnv(Env):
                           task_success=success, progress=1.0 if success else 0.0, info=info)
 
     def expert_plan(self) -> list[Action] | None:
-        """Shortest action sequence from the current pose into the 1 m circle around the target."""
-        if self._state is None or self._free is None:
+        """Shortest action sequence from the CURRENT pose into the 1 m circle around the target (whatever moves
+        led there); None, with :attr:`expert_reason` saying why, when no free spot near the target can be reached."""
+        if self._state is None or self._free is None or self._spec is None:
+            self.expert_reason = "no episode is running: call reset() first"
             return None
         plan = self._free.shortest_plan(self._state, self._target_xy)
-        return None if plan is None else list(plan)
+        if plan is None:
+            s = self._state
+            near = bool(self._free.goal_cells(self._target_xy).any())
+            self.expert_reason = (
+                f"the target {self._spec.target.id} cannot be reached from ({s.x:g}, {s.y:g}): "
+                + ("every free spot within 1 m of it is cut off from here by walls or furniture" if near
+                   else "there is no free floor within 1 m of it")
+            )
+            return None
+        self.expert_reason = None
+        return list(plan)
+
+    @classmethod
+    def audit_probes(cls) -> list[Any]:
+        """Navigation's own shortcut probes (see :mod:`eb_navigation.audit`)."""
+        from eb_navigation.audit import audit_probes
+
+        return audit_probes()
 
     def close(self) -> None:
         if self._world is not None:
@@ -296,8 +315,8 @@ class NavigationEnv(Env):
         parts = []
         for _, d, o, b in seen[:8]:  # the eight biggest in the image
             dist = max(0.5, round(d * 2) / 2)
-            parts.append(f"a {colour_word(o.colour)} {display_name(o.type)} about {dist:g} m away, "
-                         f"{_bearing_words(b)}")
+            parts.append(f"{with_article(colour_word(o.colour) + ' ' + display_name(o.type))} about {dist:g} m "
+                         f"away, {_bearing_words(b)}")
         text = "In view: " + ("; ".join(parts) if parts else "nothing but the walls and the floor") + "."
         free = self._free.free_ahead(s)
         text += (f" The floor straight ahead is clear for about {free * STEP:g} m." if free

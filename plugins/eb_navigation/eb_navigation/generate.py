@@ -1,41 +1,48 @@
-"""The task generator: ``eb tasks generate env=navigation seed=0 scenes=60 min_distance=2.5 out=...``.
+"""The task generator: ``eb tasks generate env=navigation seed=0 scenes=60 out=...``.
 
-For each scene slot (kinds in turn: kitchen, living room, bedroom, bathroom) it draws room seeds for the scene
-kit's :func:`~eb_scenekit.rooms.generate_room` until one gives a good task: a target whose type occurs once in
-the room, a start pose ``min_distance``..``max_distance`` metres away (horizontally) facing it, the target
-clearly visible in the first view (checked by rendering a segmentation image), and an oracle plan of at most
-``max_oracle_steps`` actions. From that base task it derives the other four subsets:
+For each scene slot (kinds in turn: kitchen, living room, bedroom, bathroom; the next kind after
+:data:`KIND_ATTEMPTS` rooms without success) it draws room seeds for the scene kit's
+:func:`~eb_scenekit.rooms.generate_room` until one gives good tasks, then writes one task per subset:
 
-* common_sense and complex_instruction: same room, start and target, rewritten instruction;
-* long_horizon: the same start turned by 180 degrees (the target must be out of view);
-* visual_appearance: the room plus one or two objects of the target's type in clearly different colours
-  against the walls, the target named only by colour and shape (when the base target cannot have a twin, as a
-  TV on its stand or a microwave on a counter, another object of the same room becomes the visual target).
+* base, common_sense, complex_instruction: one start ``min_distance``..``max_distance`` metres from a target
+  whose type occurs once in the room, the target within 40 degrees of straight ahead and clearly visible
+  (checked by rendering a segmentation image); the three subsets differ only in the instruction;
+* long_horizon: another start in the same room with the target behind the agent (out of view) and an oracle
+  plan at least :data:`LONG_HORIZON_EXTRA` actions longer than base's;
+* visual_appearance: the room plus one or two objects of the target's type in clearly different colours against
+  the walls, its own start with the target and a look-alike in view, the target named only by colour and shape.
 
-Every task's oracle plan is at most ``max_oracle_steps`` long (15 by default). Tasks are written room by room
-(base, common_sense, complex_instruction, visual_appearance, long_horizon of room 0, then room 1 ...), so a run
-in file order compiles each room once.
+Blind-policy rejection (issue 12): a start is taken only if no blind baseline would profit from it. For every
+candidate start the generator runs, on the geometry alone (:mod:`eb_navigation.baselines`), all 10,948 blind
+constant-action policies (always forward; turn once or twice, then a fixed cycle of up to 4 actions) and the
+feedback-only rule agents, and keeps per subset how many tasks each of them solves; a start that would lift any
+blind policy above ``blind_cap`` tasks (default 4 % of the scenes) or any rule agent above ``rule_cap`` (10 %)
+is refused. Among the admissible starts the one with the shortest oracle plan and the fewest blind successes
+wins. Tasks are written room by room, so a run in file order compiles each room once.
 """
 
 from __future__ import annotations
 
 import json
 import math
-from dataclasses import replace
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from eb_scenekit.objects import get_type
 
+from eb_navigation.baselines import BLIND_POLICIES, RULE_AGENTS, blind_successes, plan_lengths, rule_agent_successes
 from eb_navigation.geometry import STEP, AgentState, FreeSpace, bearing_to
 from eb_navigation.instructions import COMMON_SENSE_TYPES, SHAPES, instruction_for
 from eb_navigation.room import KINDS, ExtraSpec, NavObject, NavRoom, colour_distance, probe
 from eb_navigation.tasks import SUBSETS, TASK_FILE_FORMAT, TASK_FILE_VERSION
+from eb_navigation.visibility import Visibility
 
 __all__ = ["GENERATOR_VERSION", "TARGETS_BY_KIND", "generate"]
 
-GENERATOR_VERSION = 2
+GENERATOR_VERSION = 3
 
 #: Target types per room kind (scene kit names), in the order slots of that kind cycle through them.
 TARGETS_BY_KIND: dict[str, tuple[str, ...]] = {
@@ -48,75 +55,23 @@ MIN_VISIBLE_PIXELS = 80
 """Target pixels (in a 128 x 128 segmentation of the first view) for the target to count as clearly visible."""
 MIN_DISTRACTOR_PIXELS = 40
 MAX_START_BEARING = 40.0
-"""The target's centre must be within this many degrees of straight ahead at a base start."""
-MIN_COLOUR_DISTANCE = 0.35
-"""Distractors differ from the target (and each other) by at least this much in RGB."""
+"""The target's centre must be within this many degrees of straight ahead at a start where it is promised in view."""
+MIN_BEHIND_BEARING = 100.0
+"""A long_horizon start has the target at least this far from straight ahead (and out of view in the render)."""
+LONG_HORIZON_EXTRA = 2
+"""A long_horizon oracle plan is at least this many actions longer than the base plan of the same room."""
+LONG_HORIZON_MAX_DISTANCE = 1.0
+"""A long_horizon start may be up to this much farther than ``max_distance``."""
+MIN_COLOUR_DISTANCE = 0.62
+"""Look-alikes differ from the target (and each other) by at least this much in RGB: black vs white or silver,
+grey vs white, red vs beige... never white vs stainless steel or cream (which look alike in a render)."""
 MIN_DISTRACTOR_DISTANCE = 1.8
 """Distractor centres stand at least this far from the target's centre (metres)."""
-_VIS_SIZE = 128
-
-
-class _Visibility:
-    """Counts an object's pixels in the first-person view (low-resolution segmentation; two rooms kept)."""
-
-    def __init__(self) -> None:
-        self._scenes: list[tuple[NavRoom, Any]] = []
-
-    def pixels(self, room: NavRoom, state: AgentState, obj_id: str) -> int:
-        scene = next((sc for r, sc in self._scenes if r is room), None)
-        if scene is None:
-            from eb_navigation.scene import RoomScene
-
-            scene = RoomScene(room, _VIS_SIZE, _VIS_SIZE)
-            self._scenes.append((room, scene))
-            if len(self._scenes) > 2:
-                self._scenes.pop(0)[1].close()
-        scene.set_agent(state)
-        return int((scene.object_map() == room.index[obj_id]).sum())
-
-    def close(self) -> None:
-        for _, scene in self._scenes:
-            scene.close()
-        self._scenes.clear()
-
-
-def _facing(ij: tuple[int, int], target_xy: tuple[float, float]) -> int:
-    return min(range(4), key=lambda h: abs(bearing_to(AgentState(ij[0], ij[1], h), target_xy)))
-
-
-def _starts(free: FreeSpace, target: NavObject, lo: float, hi: float, rng: np.random.Generator
-            ) -> list[tuple[int, int]]:
-    out = [(i, j) for i, j in free.free_cells()
-           if lo - 1e-9 <= math.hypot(i * STEP - target.x, j * STEP - target.y) <= hi + 1e-9]
-    rng.shuffle(out)
-    return out
-
-
-def _find_start(room: NavRoom, free: FreeSpace, target: NavObject, lo: float, hi: float, max_steps: int,
-                vis: _Visibility, rng: np.random.Generator, need_behind: bool = True
-                ) -> tuple[AgentState, int, int] | None:
-    """A start facing the target (clearly visible, plan <= max_steps) whose 180-degree turn hides it."""
-    xy = (target.x, target.y)
-    for ij in _starts(free, target, lo, hi, rng)[:60]:
-        s = AgentState(ij[0], ij[1], _facing(ij, xy))
-        if abs(bearing_to(s, xy)) > MAX_START_BEARING:
-            continue
-        plan = free.shortest_plan(s, xy)
-        if plan is None or len(plan) > max_steps:
-            continue
-        back = replace(s, heading=(s.heading + 2) % 4)
-        if need_behind:
-            plan_back = free.shortest_plan(back, xy)
-            if plan_back is None or len(plan_back) > max_steps:
-                continue
-        if vis.pixels(room, s, target.id) < MIN_VISIBLE_PIXELS:
-            continue
-        if need_behind:
-            if vis.pixels(room, back, target.id) > 0:
-                continue
-            return s, len(plan), len(plan_back)
-        return s, len(plan), -1
-    return None
+KIND_ATTEMPTS = 150
+"""Rooms of one kind tried for a slot before the slot moves on to the next kind (small bathrooms run dry first:
+their few starts are open floor that blind policies solve)."""
+_VIS_TRIES = 12
+"""Best-scoring candidates whose visibility is rendered before the room is given up."""
 
 
 def _wall_pose(room: NavRoom, type_name: str, rng: np.random.Generator, taken: list, keep_clear: list
@@ -160,17 +115,98 @@ def _wall_pose(room: NavRoom, type_name: str, rng: np.random.Generator, taken: l
     return None
 
 
-def _visual_variant(room: NavRoom, target: NavObject, start: AgentState, max_steps: int, vis: _Visibility,
-                    rng: np.random.Generator) -> tuple[NavRoom, list[ExtraSpec], int] | None:
-    """One or two same-type objects in other colours against the walls, not blocking the oracle."""
+
+@dataclass
+class _Tally:
+    """How many tasks of one subset each blind policy and each rule agent solves so far."""
+
+    blind: np.ndarray
+    rules: np.ndarray
+
+    @classmethod
+    def empty(cls) -> "_Tally":
+        return cls(np.zeros(len(BLIND_POLICIES), dtype=np.int32), np.zeros(len(RULE_AGENTS), dtype=np.int32))
+
+    def add(self, cand: "_Candidate") -> None:
+        self.blind += cand.blind
+        self.rules += cand.rules
+
+
+@dataclass
+class _Candidate:
+    state: AgentState
+    plan: int
+    blind: np.ndarray
+    rules: np.ndarray
+
+    def admissible(self, tally: _Tally, blind_cap: int, rule_cap: int) -> bool:
+        if self.blind.any() and int(tally.blind[self.blind].max()) + 1 > blind_cap:
+            return False
+        return not (self.rules.any() and int(tally.rules[self.rules].max()) + 1 > rule_cap)
+
+    def score(self, tally: _Tally) -> float:
+        crowd = int(tally.blind[self.blind].max()) + 1 if self.blind.any() else 0
+        return self.plan + 3.0 * int(self.rules.sum()) + 3.0 * crowd + float(self.blind.sum()) / 100.0
+
+
+def _candidates(free: FreeSpace, target: NavObject, lo: float, hi: float, min_plan: int, max_plan: int,
+                behind: bool, tally: _Tally, blind_cap: int, rule_cap: int) -> list[_Candidate]:
+    """Admissible starts (``behind``: target behind the agent), best first."""
+    xy = (target.x, target.y)
+    lengths = plan_lengths(free, xy)
+    out = []
+    for (i, j, h), n in lengths.items():
+        if not min_plan <= n <= max_plan:
+            continue
+        if not lo - 1e-9 <= math.hypot(i * STEP - target.x, j * STEP - target.y) <= hi + 1e-9:
+            continue
+        s = AgentState(i, j, h)
+        b = abs(bearing_to(s, xy))
+        if (b < MIN_BEHIND_BEARING) if behind else (b > MAX_START_BEARING):
+            continue
+        blind = blind_successes(free, s, xy)
+        if blind.any() and int(tally.blind[blind].max()) + 1 > blind_cap:
+            continue
+        rules = np.array(list(rule_agent_successes(free, s, xy).values()), dtype=bool)
+        cand = _Candidate(s, n, blind, rules)
+        if cand.admissible(tally, blind_cap, rule_cap):
+            out.append(cand)
+    out.sort(key=lambda c: (c.score(tally), c.state.i, c.state.j, c.state.heading))
+    return out
+
+
+def _pick_visible(room: NavRoom, target: NavObject, cands: Sequence[_Candidate], vis: Visibility,
+                  distractors: Sequence[str] = ()) -> _Candidate | None:
+    for cand in cands[:_VIS_TRIES]:
+        if vis.pixels(room, cand.state, target.id) < MIN_VISIBLE_PIXELS:
+            continue
+        if distractors and max(vis.pixels(room, cand.state, d) for d in distractors) < MIN_DISTRACTOR_PIXELS:
+            continue
+        return cand
+    return None
+
+
+def _pick_hidden(room: NavRoom, target: NavObject, cands: Sequence[_Candidate], vis: Visibility
+                 ) -> _Candidate | None:
+    for cand in cands[:_VIS_TRIES]:
+        if vis.pixels(room, cand.state, target.id) == 0:
+            return cand
+    return None
+
+
+def _twin_colours(target: NavObject) -> list[str]:
     t = get_type(target.type)
-    others = [c for c in t.colors if colour_distance(c, target.colour) >= MIN_COLOUR_DISTANCE]
+    return [c for c in t.colors if colour_distance(c, target.colour) >= MIN_COLOUR_DISTANCE]
+
+
+def _place_lookalikes(room: NavRoom, target: NavObject, rng: np.random.Generator) -> list[ExtraSpec] | None:
+    """One or two same-type objects in clearly different colours against the walls, away from the target."""
+    others = _twin_colours(target)
     if not others or target.type not in SHAPES or not target.on_floor:
         return None
     floor = [o for o in room.layout.objects if o.parent is None and o.mount != "wall"]
-    keep_clear = [replace(probe(target.type, start.x, start.y, 0.0), half_extents=(0.55, 0.55)),
-                  replace(probe(target.type, target.x, target.y, 0.0), half_extents=(1.3, 1.3))]
-    for _attempt in range(12):
+    keep_clear = [replace(probe(target.type, target.x, target.y, 0.0), half_extents=(1.3, 1.3))]
+    for _attempt in range(8):
         n = 2 if rng.random() < 0.5 and len(others) > 1 else 1
         order = [others[int(k)] for k in rng.permutation(len(others))]
         colours = [order[0]] + [c for c in order[1:] if colour_distance(c, order[0]) >= MIN_COLOUR_DISTANCE][: n - 1]
@@ -182,40 +218,29 @@ def _visual_variant(room: NavRoom, target: NavObject, start: AgentState, max_ste
                 break
             extras.append(ExtraSpec(f"{target.type}_{k + 2}", target.type, colour, *pose))
             taken.append(probe(target.type, *pose))
-        if len(extras) != len(colours):
-            continue
-        vroom = NavRoom(room.kind, room.seed, extras)
-        free = vroom.free_space(vroom.extra_ids)
-        if not free.is_free(start.i, start.j):
-            continue
-        plan = free.shortest_plan(start, (target.x, target.y))
-        if plan is None or len(plan) > max_steps:
-            continue
-        if vis.pixels(vroom, start, target.id) < MIN_VISIBLE_PIXELS:
-            continue
-        if max(vis.pixels(vroom, start, e.id) for e in extras) < MIN_DISTRACTOR_PIXELS:
-            continue
-        return vroom, extras, len(plan)
+        if len(extras) == len(colours):
+            return extras
     return None
 
 
-def _visual_task(room: NavRoom, free: FreeSpace, target: NavObject, start: AgentState, lo: float, hi: float,
-                 max_steps: int, vis: _Visibility, rng: np.random.Generator
-                 ) -> tuple[NavObject, AgentState, list[ExtraSpec], int] | None:
-    found = _visual_variant(room, target, start, max_steps, vis, rng)
-    if found is not None:
-        return target, start, found[1], found[2]
+def _visual_task(room: NavRoom, base_target: NavObject, lo: float, hi: float, max_steps: int, vis: Visibility,
+                 rng: np.random.Generator, tally: _Tally, blind_cap: int, rule_cap: int
+                 ) -> tuple[NavObject, _Candidate, list[ExtraSpec]] | None:
+    """The visual task of a room: the base target if it can have look-alikes, else another object of the room."""
     counts = room.counts()
-    others = [o for o in room.objects if o.id != target.id and o.type in SHAPES and counts[o.type] == 1
-              and o.on_floor]
+    others = [o for o in room.objects if o.id != base_target.id and o.type in SHAPES and counts[o.type] == 1
+              and o.on_floor and _twin_colours(o)]
     rng.shuffle(others)
-    for other in others[:3]:
-        got = _find_start(room, free, other, lo, hi, max_steps, vis, rng, need_behind=False)
-        if got is None:
+    for target in [base_target, *others[:3]]:
+        extras = _place_lookalikes(room, target, rng)
+        if extras is None:
             continue
-        found = _visual_variant(room, other, got[0], max_steps, vis, rng)
-        if found is not None:
-            return other, got[0], found[1], found[2]
+        vroom = NavRoom(room.kind, room.seed, extras)
+        free = vroom.free_space(vroom.extra_ids)
+        cands = _candidates(free, target, lo, hi, 1, max_steps, False, tally, blind_cap, rule_cap)
+        cand = _pick_visible(vroom, target, cands, vis, [e.id for e in extras])
+        if cand is not None:
+            return target, cand, extras
     return None
 
 
@@ -231,83 +256,100 @@ def _extra_dict(e: ExtraSpec) -> dict[str, Any]:
     return {"id": e.id, "type": e.type, "colour": e.colour, "x": e.x, "y": e.y, "yaw": e.yaw}
 
 
-def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_distance: float = 3.0,
-             out: str | None = None, max_oracle_steps: int = 15) -> str:
+def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_distance: float = 3.5,
+             out: str | None = None, max_oracle_steps: int = 15, blind_cap: int | None = None,
+             rule_cap: int | None = None, progress: bool = False) -> str:
     """Write a navigation task file with ``5 * scenes`` tasks; return a one-line summary.
 
     Args:
         seed: master seed (room seeds, starts and instruction wording all follow from it).
         scenes: number of distinct rooms; each gives one task per subset.
-        min_distance / max_distance: horizontal start-to-target distance range, metres.
+        min_distance / max_distance: horizontal start-to-target distance range of the visible-target subsets.
         out: output path (default ``navigation_tasks.json`` in the working directory).
-        max_oracle_steps: longest oracle plan allowed for any task.
+        max_oracle_steps: longest oracle plan allowed (long_horizon: 2 more).
+        blind_cap: most tasks per subset any blind constant-action policy may solve (default: 4 % of ``scenes``,
+            at least 2).
+        rule_cap: most tasks per subset any feedback-only rule agent may solve (default: 10 % of ``scenes``,
+            at least 2).
+        progress: print one line per finished room.
     """
     seed, scenes = int(seed), int(scenes)
     lo, hi = float(min_distance), float(max_distance)
     if scenes < 1:
-        raise ValueError("scenes must be at least 1")
+        raise ValueError(f"scenes must be at least 1, got {scenes}; pass e.g. scenes=60")
     if not 1.0 < lo <= hi:
-        raise ValueError("need 1.0 < min_distance <= max_distance (metres)")
+        raise ValueError(f"need 1.0 < min_distance <= max_distance (metres), got {lo} and {hi}")
     max_oracle_steps = int(max_oracle_steps)
+    blind_cap = max(2, int(0.04 * scenes)) if blind_cap is None else int(blind_cap)
+    rule_cap = max(2, int(0.10 * scenes)) if rule_cap is None else int(rule_cap)
     path = Path(out) if out else Path("navigation_tasks.json")
     rng = np.random.default_rng([seed, GENERATOR_VERSION])
-    vis = _Visibility()
+    vis = Visibility()
     tasks: list[dict[str, Any]] = []
     used: set[tuple[str, int]] = set()
+    tally = {s: _Tally.empty() for s in ("plain", "visual_appearance", "long_horizon")}
+    wording: dict[str, dict[str, int]] = {s: {} for s in SUBSETS}
     try:
         for slot in range(scenes):
             kind = KINDS[slot % len(KINDS)]
             wanted = TARGETS_BY_KIND[kind][(slot // len(KINDS)) % len(TARGETS_BY_KIND[kind])]
             made = None
-            for attempt in range(400):
+            for attempt in range(4 * KIND_ATTEMPTS):
+                if attempt and attempt % KIND_ATTEMPTS == 0:  # this kind of room has run dry: try the next
+                    kind = KINDS[(KINDS.index(kind) + 1) % len(KINDS)]
                 room_seed = int(rng.integers(0, 100_000))
                 if (kind, room_seed) in used:
                     continue
                 room = NavRoom(kind, room_seed)
                 counts = room.counts()
-                names = [wanted] if attempt < 100 else list(TARGETS_BY_KIND[kind])
-                candidates = [o for o in room.objects if o.type in names and counts[o.type] == 1
-                              and o.type in COMMON_SENSE_TYPES]
-                if not candidates:
+                names = [wanted] if attempt < 60 else list(TARGETS_BY_KIND[kind])
+                options = [o for o in room.objects if o.type in names and counts[o.type] == 1
+                           and o.type in COMMON_SENSE_TYPES]
+                if not options:
                     continue
-                target = candidates[int(rng.integers(len(candidates)))]
+                target = options[int(rng.integers(len(options)))]
                 free = room.free_space()
-                found = _find_start(room, free, target, lo, hi, max_oracle_steps, vis, rng)
-                if found is None:
+                base = _pick_visible(room, target, _candidates(free, target, lo, hi, 1, max_oracle_steps, False,
+                                                               tally["plain"], blind_cap, rule_cap), vis)
+                if base is None:
                     continue
-                start, steps, steps_back = found
-                visual = _visual_task(room, free, target, start, lo, hi, max_oracle_steps, vis, rng)
+                lh = _pick_hidden(room, target, _candidates(
+                    free, target, lo, hi + LONG_HORIZON_MAX_DISTANCE, base.plan + LONG_HORIZON_EXTRA,
+                    max_oracle_steps + 2, True, tally["long_horizon"], blind_cap, rule_cap), vis)
+                if lh is None:
+                    continue
+                visual = _visual_task(room, target, lo, hi, max_oracle_steps, vis, rng, tally["visual_appearance"],
+                                      blind_cap, rule_cap)
                 if visual is None:
                     continue
-                made = (room, target, start, steps, steps_back, visual)
+                made = (room, target, base, lh, visual)
                 break
+            if progress:
+                print(f"slot {slot}: {kind} seed {room_seed} after {attempt + 1} rooms", flush=True)
             if made is None:
-                raise RuntimeError(f"could not make a {kind} task for slot {slot} (try other distances)")
-            room, target, start, steps, steps_back, (v_target, v_start, extras, steps_visual) = made
+                raise RuntimeError(f"could not make a {kind} task for slot {slot}: no room met the rules; try "
+                                   f"another seed, a wider distance range or a larger blind_cap")
+            room, target, base, lh, (v_target, v_cand, extras) = made
             used.add((kind, room.seed))
+            tally["plain"].add(base)
+            tally["long_horizon"].add(lh)
+            tally["visual_appearance"].add(v_cand)
             other_types = sorted({o.type for o in room.objects if o.type != target.type and o.on_floor})
             other = other_types[int(rng.integers(len(other_types)))] if other_types else None
             scene = {"kind": kind, "seed": room.seed}
-            common = {"scene": scene, "target": _target_dict(target)}
             n = slot
 
-            def task(subset: str, instruction: str, **fields: Any) -> dict[str, Any]:
-                return {"id": f"{subset}_{n:03d}", "subset": subset, "instruction": instruction, **fields}
+            def task(subset: str, t: NavObject, cand: _Candidate, extra: Sequence[ExtraSpec] = ()) -> dict[str, Any]:
+                text, template = instruction_for(subset, t.type, t.colour, rng, other, wording[subset])
+                return {"id": f"{subset}_{n:03d}", "subset": subset, "instruction": text, "template": template,
+                        "scene": scene, "start": _pose_dict(cand.state), "target": _target_dict(t),
+                        "extra_objects": [_extra_dict(e) for e in extra], "oracle_steps": cand.plan}
 
-            plain = {**common, "start": _pose_dict(start), "extra_objects": [], "oracle_steps": steps}
-            tasks.append(task("base", instruction_for("base", target.type, target.colour, rng), **plain))
-            tasks.append(task("common_sense", instruction_for("common_sense", target.type, target.colour, rng),
-                              **plain))
-            tasks.append(task("complex_instruction", instruction_for("complex_instruction", target.type,
-                                                                     target.colour, rng, other), **plain))
-            tasks.append(task("visual_appearance", instruction_for("visual_appearance", v_target.type,
-                                                                   v_target.colour, rng),
-                              scene=scene, target=_target_dict(v_target), start=_pose_dict(v_start),
-                              extra_objects=[_extra_dict(e) for e in extras], oracle_steps=steps_visual))
-            back = replace(start, heading=(start.heading + 2) % 4)
-            tasks.append(task("long_horizon", instruction_for("long_horizon", target.type, target.colour, rng),
-                              **{**common, "start": _pose_dict(back), "extra_objects": [],
-                                 "oracle_steps": steps_back}))
+            tasks.append(task("base", target, base))
+            tasks.append(task("common_sense", target, base))
+            tasks.append(task("complex_instruction", target, base))
+            tasks.append(task("visual_appearance", v_target, v_cand, extras))
+            tasks.append(task("long_horizon", target, lh))
     finally:
         vis.close()
     assert [t["subset"] for t in tasks[:5]] == list(SUBSETS)
@@ -318,7 +360,8 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
         "version": TASK_FILE_VERSION,
         "generator": {"function": "eb_navigation.generate:generate", "generator_version": GENERATOR_VERSION,
                       "scenekit_version": scenekit_version, "seed": seed, "scenes": scenes, "min_distance": lo,
-                      "max_distance": hi, "max_oracle_steps": max_oracle_steps},
+                      "max_distance": hi, "max_oracle_steps": max_oracle_steps, "blind_cap": blind_cap,
+                      "rule_cap": rule_cap},
         "tasks": tasks,
     }
     path.parent.mkdir(parents=True, exist_ok=True)

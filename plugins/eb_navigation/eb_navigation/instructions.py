@@ -61,6 +61,22 @@ SHAPES: dict[str, str] = {
     "Sink": "waist-high unit with a basin and a tap on top",
 }
 
+def article(phrase: str) -> str:
+    """``"a"`` or ``"an"`` for a phrase spoken aloud (``an orange lamp``, ``a white fridge``, ``an armchair``)."""
+    word = phrase.strip().split(" ", 1)[0].lower()
+    if word.startswith(("uni", "use", "eu", "one")):
+        return "a"
+    if word.startswith(("hour", "honest")):
+        return "an"
+    return "an" if word[:1] in "aeiou" else "a"
+
+
+def with_article(phrase: str) -> str:
+    """``"orange lamp"`` -> ``"an orange lamp"``."""
+    return f"{article(phrase)} {phrase}"
+
+
+#: base and long_horizon: the plain name. Template ids are ``base.00`` ...
 _BASE = (
     "Go to the {name}.",
     "Walk over to the {name} and stop next to it.",
@@ -68,46 +84,67 @@ _BASE = (
     "Head toward the {name}.",
     "Make your way to the {name}.",
     "Approach the {name} and stay near it.",
-    "Your goal is the {name}: get close to it.",
+    "Get yourself within arm's reach of the {name}.",
     "Move until you are standing beside the {name}.",
+    "Navigate to the {name}.",
+    "Please go and stand by the {name}.",
+    "Take me to the {name}.",
+    "Your destination is the {name}; get as close to it as you can.",
 )
 
-#: What a thing is for, or a property everyone knows, without its name.
+#: What a thing is for, or a property everyone knows, without its name (the noun phrase after a frame).
 _COMMON_SENSE: dict[str, tuple[str, ...]] = {
     "Fridge": ("the appliance that keeps milk and vegetables cold",
-               "the place where you would put leftovers so they stay fresh overnight"),
+               "the place where you would put leftovers so they stay fresh overnight",
+               "where a carton of juice is kept chilled"),
     "Microwave": ("the appliance that warms up a cup of cold coffee in under a minute",
-                  "the small kitchen machine for reheating leftovers quickly"),
+                  "the small kitchen machine for reheating leftovers quickly",
+                  "what you would use to make popcorn from a paper bag"),
     "Stove": ("the thing you would put a pot of pasta water on to boil",
-              "the appliance with burners for frying an egg"),
+              "the appliance with burners for frying an egg",
+              "where a kettle heats up over a flame or a hot ring"),
     "Sink": ("the place where you would rinse a dirty plate under running water",
-             "where you would fill a glass with water from the tap"),
+             "where you would fill a glass with water from the tap",
+             "the basin where you would wash your hands"),
     "GarbageCan": ("the container where an empty crisp packet should go",
-                   "the thing you would throw a banana peel into"),
+                   "the thing you would throw a banana peel into",
+                   "where used paper tissues belong"),
     "DiningTable": ("the piece of furniture a family sits around to eat dinner",
-                    "where you would set out plates and cutlery for a meal"),
+                    "where you would set out plates and cutlery for a meal",
+                    "the surface where a birthday cake is served to the guests"),
     "Television": ("the screen you would switch on to watch the evening news",
-                   "the device for watching a football match from the couch"),
+                   "the device for watching a football match from the couch",
+                   "what the remote control is meant to operate"),
     "Sofa": ("the piece of furniture where three people could sit side by side to watch a film",
-             "the long, cushioned seat where a guest could nap in the afternoon"),
+             "the long, cushioned seat where a guest could nap in the afternoon",
+             "the seat a whole family could share in the evening"),
     "ArmChair": ("a cushioned seat made for exactly one person to relax in",
-                 "the comfortable single seat with places to rest both elbows"),
+                 "the comfortable single seat with places to rest both elbows",
+                 "the padded chair where one person could read with a cup of tea"),
     "FloorLamp": ("the tall standing light you would switch on to read after dark",
-                  "the light fixture that stands on the floor on its own pole"),
+                  "the light fixture that stands on the floor on its own pole",
+                  "what you would turn on when the room gets dark in the evening"),
     "HousePlant": ("the living thing in this room that needs water every few days",
-                   "the thing here that grows leaves and turns toward the sunlight"),
+                   "the thing here that grows leaves and turns toward the sunlight",
+                   "what would wilt if nobody watered it for a month"),
     "Bookshelf": ("the place where you would look for a novel to read",
-                  "the tall piece of furniture that holds rows of books"),
+                  "the tall piece of furniture that holds rows of books",
+                  "where an encyclopedia would most likely be stored"),
     "Desk": ("the place where someone would sit to do homework or write letters",
-             "the work table where you would put a computer and a notebook"),
+             "the work table where you would put a computer and a notebook",
+             "where a student would spread out papers to study"),
     "Dresser": ("the furniture whose drawers hold folded socks and sweaters",
-                "where you would put away clean, folded clothes"),
+                "where you would put away clean, folded clothes",
+                "the piece of bedroom furniture you open to find a clean T-shirt"),
     "Toilet": ("the bathroom fixture you flush",
-               "the thing you sit on in the bathroom that has a water tank behind it"),
+               "the thing you sit on in the bathroom that has a water tank behind it",
+               "the fixture with a seat and a lid that is flushed after use"),
     "Bathtub": ("the place where you could lie down in warm water for a long soak",
-                "where you would give a small child a bubble bath"),
+                "where you would give a small child a bubble bath",
+                "the long basin you would fill for a relaxing soak"),
     "WashingMachine": ("the machine that cleans dirty clothes",
-                       "the appliance you would load with muddy socks and detergent"),
+                       "the appliance you would load with muddy socks and detergent",
+                       "what spins wet laundry round and round"),
 }
 
 COMMON_SENSE_TYPES = frozenset(_COMMON_SENSE)
@@ -117,25 +154,42 @@ _COMMON_SENSE_FRAMES = (
     "Find {desc} and move close to it.",
     "Please walk over to {desc}.",
     "Navigate to {desc}.",
+    "Head for {desc}.",
+    "Make your way to {desc} and stop there.",
+    "Stand next to {desc}.",
+    "Bring yourself close to {desc}.",
+    "I would like you beside {desc}.",
+    "Move toward {desc} until you are right by it.",
+    "Can you get near {desc}?",
 )
 
+#: Longer requests with the plain name somewhere inside, and another object of the room mentioned in passing.
+#: No signpost ("what I need is ...") points at the request.
 _COMPLEX = (
-    "I just got home from a long day and my bag is still on my shoulder. The {other} can wait for now; what I "
-    "need is for you to go over to the {name} and stay there.",
-    "While you are up, could you do me a favour? Do not bother with the {other} at all. Just make your way to "
-    "the {name} and stop when you are close to it.",
-    "We are expecting guests later, and someone mentioned the {other} earlier, but that is not your job. Your "
-    "job is simple: walk to the {name}.",
-    "Before anything else, and ignoring whatever is lying on the floor, head straight to the {name}. If you "
-    "pass the {other} on the way, just keep going.",
-    "It has been a busy morning in this house. Somebody left the window open and the {other} is in the way as "
-    "usual. Anyway, please go and stand next to the {name}.",
-    "I think I left my glasses somewhere, maybe near the {other}, but never mind that for now. The thing I "
-    "really need you to do is to approach the {name}.",
-    "Once you have had a look around the room, skip the {other} and go to the {name}; that is the only place "
-    "I need you to be right now.",
-    "Here is a small errand for you. There is no need to tidy up or to touch the {other}. Simply move over to "
-    "the {name} and wait beside it.",
+    "My sister is visiting this weekend, so I have been moving things around all morning and the {other} "
+    "ended up in a strange spot. I am going to rest for a bit. Go and wait by the {name} for me.",
+    "The {name} is where I would like you to be when I come back from the shop; I left the {other} alone, "
+    "so there is no reason to touch it, and the shopping should take about twenty minutes.",
+    "We had friends over last night and the room still smells of pizza. Someone put a jacket on the {other}. "
+    "Stand close to the {name} while I open the window and air the place out.",
+    "After the plumber left, the floor was a mess and the {other} got pushed aside. I have swept already. "
+    "Please go over to the {name}, and we will see about the rest later.",
+    "It rained all afternoon, the dog tracked mud in, and I spent an hour scrubbing near the {other}. "
+    "Be a dear and move next to the {name}; I will join you there once I have changed.",
+    "Last week we talked about replacing the {other}, but the budget is tight this month. Walk to the {name} "
+    "and stay there until I call you.",
+    "I am expecting a parcel and may need to run downstairs. The {other} has nothing to do with it. If you "
+    "could head over to the {name} in the meantime, that would help.",
+    "Grandma phoned to say she is coming for tea, and she always complains about the {other}. Never mind "
+    "her. Get yourself beside the {name} before she arrives.",
+    "Since the lights flickered this morning I have been checking every corner, starting with the {other}. "
+    "Go and stand by the {name} so I know where you are.",
+    "Before the cleaners come on Thursday, I want to know how much space there is around the {name}, so "
+    "please go there; the {other} they can deal with themselves.",
+    "The kids left crayons everywhere, some of them next to the {other}. I will pick them up myself. Make "
+    "your way over to the {name} and wait for me.",
+    "There is a draft coming from somewhere, possibly behind the {other}, and it has bothered me all week. "
+    "For now, move over to the {name} and keep out of my way while I look.",
 )
 
 _VISUAL = (
@@ -144,24 +198,67 @@ _VISUAL = (
     "Walk over to the {colour} one: the {shape}.",
     "Head toward the {shape} coloured {colour}.",
     "Approach the {colour} {shape} and stop next to it.",
+    "There are several of these in the room; go to the {colour} {shape}.",
+    "Stand beside the {shape}, the {colour} one.",
+    "Of the look-alike pieces here, get close to the {colour} {shape}.",
+    "Make your way to the {colour} {shape}.",
+    "Navigate to the {shape} in {colour}.",
+    "Take me to the {colour} {shape}, not to the ones in other colours.",
 )
 
+TEMPLATES: dict[str, tuple[str, ...]] = {
+    "base": _BASE,
+    "common_sense": _COMMON_SENSE_FRAMES,
+    "complex_instruction": _COMPLEX,
+    "visual_appearance": _VISUAL,
+    "long_horizon": _BASE,
+}
+"""Instruction templates per subset (long_horizon words its tasks like base); a task records ``<subset>.<index>``."""
 
-def instruction_for(subset: str, target_type: str, colour: str, rng: np.random.Generator,
-                    other_type: str | None = None) -> str:
-    """Write the instruction for one task from our templates (deterministic given ``rng``)."""
+
+def _fill(subset: str, k: int, target_type: str, colour: str, other_type: str | None, variant: int) -> str:
+    tpl = TEMPLATES[subset][k]
     name = display_name(target_type)
     if subset in ("base", "long_horizon"):
-        return str(rng.choice(_BASE)).format(name=name)
+        return tpl.format(name=name)
     if subset == "common_sense":
-        desc = str(rng.choice(_COMMON_SENSE[target_type]))
-        return str(rng.choice(_COMMON_SENSE_FRAMES)).format(desc=desc)
+        descs = _COMMON_SENSE[target_type]
+        return tpl.format(desc=descs[variant % len(descs)])
     if subset == "complex_instruction":
-        other = display_name(other_type) if other_type else "laundry"
-        return str(rng.choice(_COMPLEX)).format(name=name, other=other)
+        other = display_name(other_type) if other_type else "laundry basket"
+        return tpl.format(name=name, other=other)
     if subset == "visual_appearance":
         shape = SHAPES.get(target_type)
         if not shape:
             raise ValueError(f"object type {target_type!r} has no shape description")
-        return str(rng.choice(_VISUAL)).format(colour=colour_word(colour), shape=shape)
-    raise ValueError(f"unknown subset {subset!r}")
+        return tpl.format(colour=colour_word(colour), shape=shape)
+    raise ValueError(f"unknown subset {subset!r}; available: {', '.join(TEMPLATES)}")
+
+
+def instruction_for(subset: str, target_type: str, colour: str, rng: np.random.Generator,
+                    other_type: str | None = None, used: dict[str, int] | None = None) -> tuple[str, str]:
+    """One instruction and its template id (``"base.03"``) from our templates, deterministic given ``rng``.
+
+    ``used`` counts the instructions and templates already handed out in this subset (updated here): the least
+    used template that gives a new instruction wins, so a subset's wording stays varied and unique.
+    """
+    if subset not in TEMPLATES:
+        raise ValueError(f"unknown subset {subset!r}; available: {', '.join(TEMPLATES)}")
+    used = {} if used is None else used
+    n = len(TEMPLATES[subset])
+    order = [int(k) for k in rng.permutation(n)]
+    variants = [int(v) for v in rng.permutation(3)]
+    best: tuple[int, int, int] | None = None
+    for k in order:
+        for v in variants:
+            text = _fill(subset, k, target_type, colour, other_type, v)
+            key = (used.get(text, 0), used.get(f"#{k}", 0))
+            if best is None or key < best[:2]:
+                best = (key[0], key[1], k * 10 + v)
+    assert best is not None
+    k, v = divmod(best[2], 10)
+    text = _fill(subset, k, target_type, colour, other_type, v)
+    used[text] = used.get(text, 0) + 1
+    used[f"#{k}"] = used.get(f"#{k}", 0) + 1
+    tid = f"{subset}.{k:02d}"
+    return text, tid

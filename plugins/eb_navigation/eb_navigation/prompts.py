@@ -1,99 +1,106 @@
-"""Prompt parts for EB-Navigation: role, action semantics, strategy and worked examples (our wording).
+"""Prompt parts for EB-Navigation: role, action semantics, strategy, worked episodes (our wording).
 
-The structure follows the paper's navigation planner (role, how the actions work, a short strategy,
-three examples of instruction + JSON answer); every sentence is ours.
+The structure follows the original navigation planner: a one-line role, the numbered action list, a five-point
+strategy (say where the target is; move forward and sideways rather than turning; deal with a failed move only
+when it blocks the way to the target; turn one quarter at a time and only when the target is out of view; do not
+stop early), three worked episodes of several planning rounds with the world's feedback, and a per-call line that
+asks for about 1-2 actions on the first call and 5-6 on later ones. Every sentence is ours. The prompt is the same
+for every task and subset: only the instruction differs.
 """
 
 from __future__ import annotations
 
-import json
-
 from eb_core import PromptParts
-from eb_navigation.geometry import ACTION_NAMES
 
-__all__ = ["prompt_parts", "EXAMPLES"]
+__all__ = ["EXAMPLES", "FIRST_STEP_GUIDANCE", "GUIDELINES", "LATER_STEP_GUIDANCE", "ROLE", "VIEW_DESCRIPTIONS",
+           "prompt_parts"]
 
 ROLE = (
-    "You are a robot standing somewhere in a furnished room of a home. Through a camera at a person's eye "
-    "height you see a first-person view of what is in front of you. You will get an instruction naming an "
-    "object in the room; your job is to move through the room until you are standing close to that object "
-    "(within about one metre of it). You act by choosing from a fixed list of small movements, and you can "
-    "plan several of them at once."
+    "You are a robot moving around a furnished room of a home. A camera at a person's eye height shows you what "
+    "is in front of you. You will be given an instruction that points to one object in the room; your job is to "
+    "move until you stand as close to that object as you can. You act by choosing actions from a fixed list, "
+    "several at a time if you like."
 )
 
 ACTION_RULES = """\
-- Moving (ids 0-3) shifts you 0.25 metres forward, backward, sideways to the right or sideways to the left, relative to the direction you are facing. Moving sideways does not change where you look.
-- Turning (ids 4-5) rotates you on the spot by 90 degrees to the right or to the left. It changes which part of the room you see; it does not move you.
-- Tilting (ids 6-7) points the camera 30 degrees up or down, which helps to see things on the floor or high up. The camera can look at most 60 degrees down and 30 degrees up; tilting further fails.
-- A move into a wall or a piece of furniture fails and you stay where you were. After each action the only feedback you get is whether it worked.
-- The task is solved automatically as soon as you are within about 1 metre of the target object; you do not need a special action to finish."""
+- Moving (ids 0-3) shifts you 0.25 metres forward, backward, sideways to the right or sideways to the left, relative to the way you face. A sideways move does not change where you look.
+- Turning (ids 4-5) rotates you on the spot by 90 degrees to the right or to the left: the view changes, your position does not.
+- Tilting (ids 6-7) points the camera 30 degrees up or down (at most 60 down and 30 up) to see things near the floor or high up.
+- A move into a wall or a piece of furniture fails and you stay where you were. After each action you learn only whether it worked.
+- The episode ends by itself, as a success, once you are within about 1 metre of the target object."""
 
 GUIDELINES = (
-    "Look at the image first: if the target is visible, note whether it is to your left, right or straight "
-    "ahead and roughly how far away it is (each move covers 0.25 m, so 1 m is 4 moves).",
-    "Prefer moving over turning: when the target is ahead and a little to one side, combine forward moves with "
-    "sideways moves instead of turning.",
-    "Turn only when the target is not in view, and turn one step (90 degrees) at a time, then look again.",
-    "If a move fails, something is in the way: step sideways around the obstacle before trying forward again.",
-    "Do not stop early: keep planning until the task is solved, and after a few moves check the new image again "
-    "to see whether the target is still where you expected.",
+    "Find the target in the image first and say where it is relative to you (ahead, front left, far right...) "
+    "and roughly how many moves away (4 moves make 1 metre).",
+    "Get there mainly with forward moves and sideways moves: any spot in front of you can be reached by "
+    "combining them, so there is rarely a reason to turn while the target is in view. Plan around the "
+    "furniture you see between you and the target.",
+    "A failed move only matters when it stands between you and the target: if moving forward or sideways "
+    "still brings you closer, keep doing that instead of fixing the failed direction.",
+    "Turn only when the target is not in the image. Then plan a single 90-degree turn and nothing else, look "
+    "again, and repeat until the target shows up; once it is in view, go back to moving and stop turning.",
+    "Do not settle for 'near enough': keep closing in until the episode ends.",
     "Never answer with an empty plan.",
 )
 
-OUTPUT_NOTES = (
-    "Keep plans short when the target is not yet in view (a turn or a few moves, then look again); when it is "
-    "clearly in view you may plan all the moves needed to reach it."
+FIRST_STEP_GUIDANCE = (
+    "This is your first plan: aim for about 1-2 actions. You will not see the result of any action until the "
+    "whole plan has been carried out, so plan with that in mind."
+)
+LATER_STEP_GUIDANCE = (
+    "Aim for about 5-6 actions in this plan to get closer to the target. You will not see the result of any "
+    "action until the whole plan has been carried out, so plan with that in mind."
 )
 
+#: What each image is, said by the planner when it is sent (noun phrases: the planner writes "Image 2: ...").
+VIEW_DESCRIPTIONS: dict[str, str] = {
+    "first_person": "your own first-person view, from the camera at your eye height",
+    "overhead": ("the whole room seen from above; you are the round blue marker, and the small orange block on "
+                 "its edge points the way you are facing"),
+}
 
-def _answer(visual: str, reasoning: str, plan_text: str, ids: list[int]) -> str:
-    return json.dumps(
-        {
-            "visual_state_description": visual,
-            "reasoning_and_reflection": reasoning,
-            "language_plan": plan_text,
-            "executable_plan": [{"action_id": a, "action_name": ACTION_NAMES[a]} for a in ids],
-        },
-        indent=None,
-    )
-
-
-#: Three worked examples (instruction + answer), most useful first.
+#: Three worked episodes (instruction, then rounds of reasoning, plan and feedback), most useful first.
 EXAMPLES: tuple[str, ...] = (
-    "Instruction: Walk over to the armchair and stop next to it.\n"
-    "Output: "
-    + _answer(
-        "A wooden floor stretches ahead. A red armchair stands against the far wall, slightly to the right of the "
-        "centre of the image, about 2.5 metres away. A bookshelf is on the left.",
-        "The armchair is ahead and a bit to the right, so I do not need to turn. About 1.5 metres forward brings me "
-        "within reach; one sideways step to the right lines me up with it.",
-        "Step right once, then walk forward six times toward the armchair.",
-        [2, 0, 0, 0, 0, 0, 0],
-    ),
-    "Instruction: Find the potted plant in this room and move close to it.\n"
-    "History: action 0 (Move forward by 0.25 meters) failed: something was in the way.\n"
-    "Output: "
-    + _answer(
-        "A low coffee table fills the bottom of the image right in front of me. Behind it and to the left, a "
-        "potted plant with green leaves stands in the corner, roughly 2 metres away.",
-        "My last forward move failed because the coffee table blocks the way. The plant is beyond the table on "
-        "the left, so I should go around the table on its left side before moving forward again.",
-        "Step left three times to clear the table, then move forward five times toward the plant.",
-        [3, 3, 3, 0, 0, 0, 0, 0],
-    ),
-    "Instruction: Go to the fridge.\n"
-    "Output: "
-    + _answer(
-        "I see a wall with a window and a chest of drawers. There is no fridge anywhere in this view.",
-        "The fridge is not in front of me, so it must be to a side or behind me. I will turn once and look "
-        "again before moving, rather than walking blindly.",
-        "Turn left by 90 degrees and check the new view.",
-        [5],
-    ),
+    """\
+Instruction: Walk over to the armchair and stop next to it.
+Reasoning: The red armchair is ahead of me on the left, about 3 metres away, and nothing stands between us. A low side table is just to my left, so I will go forward before stepping left.
+Plan: [0] Move forward by 0.25 meters, [0] Move forward by 0.25 meters
+Feedback: both actions succeeded.
+Reasoning: The armchair is closer and still ahead on the left. Forward and left moves in turn will bring me to it.
+Plan: [0] Move forward, [3] Move sideways to the left, [0] Move forward, [3] Move sideways to the left, [0] Move forward, [0] Move forward
+Feedback: the first five actions succeeded; the last forward move failed because something was in the way.
+Reasoning: A coffee table now blocks the way forward. The armchair is still ahead on the left, so I will step left past the table and then go forward again.
+Plan: [3] Move sideways to the left, [3] Move sideways to the left, [0] Move forward, [0] Move forward
+Feedback: all four succeeded, and the episode ended: I am within reach of the armchair.""",
+    """\
+Instruction: Find the potted plant in this room and move close to it.
+Reasoning: The plant stands in the far right corner, beyond a dining table that is right in front of me. I will first step right to get clear of the table.
+Plan: [2] Move sideways to the right, [2] Move sideways to the right
+Feedback: the first action succeeded; the second failed because something was in the way.
+Reasoning: A chair stops me on the right, but I am already partly clear of the table. Going forward still brings me closer to the plant, so I will not worry about the failed move yet.
+Plan: [0] Move forward, [0] Move forward, [0] Move forward, [0] Move forward, [2] Move sideways to the right
+Feedback: the four forward moves succeeded; the move to the right failed.
+Reasoning: The table is behind me now and the plant is ahead on the right. The chair is still at my right side, so I will go forward once more and then to the right.
+Plan: [0] Move forward, [2] Move sideways to the right, [2] Move sideways to the right, [0] Move forward, [0] Move forward
+Feedback: all five succeeded, and the episode ended: I am next to the plant.""",
+    """\
+Instruction: Go to the fridge.
+Reasoning: I see a window and a chest of drawers, but no fridge. It must be to a side or behind me, so I will turn once and look again before moving.
+Plan: [5] Turn left by 90 degrees
+Feedback: the action succeeded.
+Reasoning: Now I see a bed and a lamp, still no fridge. I will turn once more.
+Plan: [5] Turn left by 90 degrees
+Feedback: the action succeeded.
+Reasoning: The white fridge is straight ahead, about 3 metres away, with open floor in between. I stop turning and walk to it.
+Plan: [0] Move forward, [0] Move forward, [0] Move forward, [0] Move forward, [0] Move forward, [0] Move forward, [0] Move forward, [0] Move forward
+Feedback: all actions succeeded, and the episode ended: I am in front of the fridge.""",
 )
 
 
 def prompt_parts(subset: str | None = None) -> PromptParts:
-    """The same parts for every subset (the instruction carries the difference)."""
+    """The same parts for every task and subset (the instruction carries the difference)."""
+    from eb_navigation.visual_icl import visual_examples
+
     return PromptParts(role=ROLE, action_rules=ACTION_RULES, guidelines=GUIDELINES, examples=EXAMPLES,
-                       output_notes=OUTPUT_NOTES)
+                       first_step_guidance=FIRST_STEP_GUIDANCE, later_step_guidance=LATER_STEP_GUIDANCE,
+                       view_descriptions=dict(VIEW_DESCRIPTIONS), visual_examples=visual_examples())

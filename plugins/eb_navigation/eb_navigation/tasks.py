@@ -2,9 +2,9 @@
 
 A task file is JSON written by :mod:`eb_navigation.generate`::
 
-    {"format": "eb-navigation-tasks", "version": 2,
+    {"format": "eb-navigation-tasks", "version": 3,
      "generator": {...the parameters it was made with...},
-     "tasks": [{"id": "base_000", "subset": "base", "instruction": "...",
+     "tasks": [{"id": "base_000", "subset": "base", "instruction": "...", "template": "base.03",
                 "scene": {"kind": "kitchen", "seed": 3},
                 "start": {"x": 1.25, "y": -0.5, "yaw": 90, "tilt": 0},
                 "target": {"id": "Fridge_1", "type": "Fridge", "colour": "white", "position": [x, y, z]},
@@ -36,7 +36,7 @@ __all__ = ["DEFAULT_TASK_FILE", "SUBSETS", "TASK_FILE_FORMAT", "TASK_FILE_VERSIO
 
 TASK_FILE_FORMAT = "eb-navigation-tasks"
 SUBSETS: tuple[str, ...] = ("base", "common_sense", "complex_instruction", "visual_appearance", "long_horizon")
-TASK_FILE_VERSION = 2
+TASK_FILE_VERSION = 3
 DEFAULT_TASK_FILE = Path(__file__).parent / "tasks" / f"navigation_v{TASK_FILE_VERSION}.json"
 
 
@@ -135,6 +135,8 @@ class NavTaskSpec(_Strict):
     id: str = Field(min_length=1, pattern=r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
     subset: Literal["base", "common_sense", "complex_instruction", "visual_appearance", "long_horizon"]
     instruction: str = Field(min_length=1)
+    template: str = Field(pattern=r"^[a-z_]+\.[0-9]{2}$")
+    """Id of the instruction template the generator used (``<subset>.<index>``, :mod:`eb_navigation.instructions`)."""
     scene: SceneRef
     start: StartPose
     target: TargetRef
@@ -203,7 +205,7 @@ def _load_cached(path_str: str, mtime: float) -> TaskFile:
         raise TaskFileError(f"{path}: field (top level): must be a JSON object")
     if isinstance(raw.get("version"), int) and raw["version"] != TASK_FILE_VERSION:
         raise TaskFileError(f"{path}: field version: the file is version {raw['version']} but this eb-navigation "
-                            f"reads version {TASK_FILE_VERSION} (rooms from the scene kit); regenerate it with "
+                            f"reads version {TASK_FILE_VERSION}; regenerate it with "
                             f"`eb tasks generate env=navigation`")
     try:
         tf = TaskFile.model_validate(raw)

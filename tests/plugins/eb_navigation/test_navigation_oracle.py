@@ -1,4 +1,5 @@
-"""The oracle solves all 300 shipped tasks within 15 steps; a seeded random agent almost never does."""
+"""The oracle solves all 300 shipped tasks (15 steps at most, 17 in long_horizon); a seeded random agent almost
+never does."""
 
 from __future__ import annotations
 
@@ -35,7 +36,7 @@ def test_oracle_solves_all_300_shipped_tasks_geometry_only() -> None:
         assert n == task.metadata["oracle_steps"], task.id
     env.close()
     assert not failures, f"oracle failed: {failures}"
-    assert max(steps) <= 15
+    assert max(steps) <= 17
 
 
 def test_oracle_replans_from_the_current_state() -> None:

@@ -1,0 +1,293 @@
+"""Blind baselines on the geometry alone: constant-action policies and feedback-only rule agents.
+
+The task generator uses them to reject starts that an agent could solve without looking, and the world's audit
+probes (:mod:`eb_navigation.audit`) measure them on a whole task file. Everything runs on the lattice of
+:class:`~eb_navigation.geometry.FreeSpace` (no rendering), with the same collision checks as the env.
+
+* **Blind policies** ignore everything: a fixed prefix (none, one or two turns) followed by a fixed action cycle
+  of length 1-4 repeated until the step budget runs out (always forward; turn left once then forward; forward,
+  forward, left, ...). Tilting never moves the agent, so actions 6 and 7 are folded into one "wait" action.
+  All policies are stepped together with numpy over a transition table of the room's ``(cell, heading)`` states.
+* **Rule agents** see what a language-only model sees when it is told nothing about the scene: the instruction
+  (useless without a view) and whether each action succeeded. They walk forward and react to bumps.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from eb_navigation.geometry import SUCCESS_DISTANCE, AgentState, FreeSpace, _move_delta
+
+__all__ = ["BLIND_POLICIES", "BlindPolicy", "MAX_STEPS", "RULE_AGENTS", "blind_successes", "plan_lengths",
+           "policy_name", "rule_agent_successes"]
+
+MAX_STEPS = 20
+"""The env's step budget (``max_steps`` in ``conf/env/navigation.yaml``)."""
+
+_WAIT = 6
+"""Stand-in for the tilt actions (6, 7): neither moves nor turns the agent."""
+_ACTIONS = (0, 1, 2, 3, 4, 5, _WAIT)
+_PREFIXES: tuple[tuple[int, ...], ...] = ((), (4,), (5,), (4, 4))
+
+
+@dataclass(frozen=True)
+class BlindPolicy:
+    """``prefix`` once, then ``cycle`` repeated."""
+
+    prefix: tuple[int, ...]
+    cycle: tuple[int, ...]
+
+    def actions(self, n: int = MAX_STEPS) -> list[int]:
+        out = list(self.prefix)
+        while len(out) < n:
+            out.extend(self.cycle)
+        return out[:n]
+
+
+def _canonical(cycle: tuple[int, ...]) -> bool:
+    """Keep one of the cycles that repeat a shorter one ((0, 0) is (0,))."""
+    n = len(cycle)
+    return not any(n % k == 0 and cycle == cycle[:k] * (n // k) for k in range(1, n))
+
+
+def _policies() -> tuple[BlindPolicy, ...]:
+    cycles = [c for n in range(1, 5) for c in itertools.product(_ACTIONS, repeat=n) if _canonical(c)]
+    return tuple(BlindPolicy(p, c) for p in _PREFIXES for c in cycles)
+
+
+BLIND_POLICIES: tuple[BlindPolicy, ...] = _policies()
+"""Every blind policy the generator and the tests try: 4 prefixes x 2,737 cycles of length <= 4 = 10,948."""
+
+_NAMES = {0: "fwd", 1: "back", 2: "right", 3: "left", 4: "turnR", 5: "turnL", _WAIT: "tilt"}
+
+
+def policy_name(p: BlindPolicy) -> str:
+    """``"turnL, then (fwd fwd left)*"``."""
+    cyc = "(" + " ".join(_NAMES[a] for a in p.cycle) + ")*"
+    return (" ".join(_NAMES[a] for a in p.prefix) + ", then " + cyc) if p.prefix else cyc
+
+
+class _Lattice:
+    """Transition table over the free ``(i, j, heading)`` states of one free space."""
+
+    def __init__(self, free: FreeSpace) -> None:
+        self.free = free
+        cells = free.free_cells()
+        self.cells = cells
+        index = {c: k for k, c in enumerate(cells)}
+        n = len(cells)
+        self.next = np.zeros((len(_ACTIONS), 4 * n), dtype=np.int32)
+        for k, (i, j) in enumerate(cells):
+            for h in range(4):
+                s = 4 * k + h
+                for col, a in enumerate(_ACTIONS):
+                    if a <= 3:
+                        di, dj = _move_delta(h, a)
+                        ok = free.can_move(i, j, di, dj) and (i + di, j + dj) in index
+                        self.next[col, s] = 4 * index[(i + di, j + dj)] + h if ok else s
+                    elif a == 4:
+                        self.next[col, s] = 4 * k + (h - 1) % 4
+                    elif a == 5:
+                        self.next[col, s] = 4 * k + (h + 1) % 4
+                    else:
+                        self.next[col, s] = s
+        self.index = index
+
+    def goal(self, target_xy: tuple[float, float]) -> np.ndarray:
+        g = self.free.goal_cells(target_xy, SUCCESS_DISTANCE)
+        cell_goal = np.array([bool(g[i - self.free.i0, j - self.free.j0]) for i, j in self.cells])
+        return np.repeat(cell_goal, 4)
+
+
+    def plan_lengths(self, target_xy: tuple[float, float]) -> np.ndarray:
+        """Oracle plan length from every state (-1: unreachable), by value iteration over the transition table:
+        the same lengths as :meth:`FreeSpace.shortest_plan`, for all starts at once."""
+        goal = self.goal(target_xy)
+        big = np.iinfo(np.int32).max // 2
+        # a plan ends with a move into the goal: dist 0 at goal states only counts as arrival
+        dist = np.full(goal.shape, big, dtype=np.int64)
+        moves = self.next[:4]
+        turns = self.next[4:6]
+        arrive = np.where(goal, 0, big)
+        for _ in range(4 * len(goal)):
+            via_move = (np.minimum(arrive[moves], dist[moves]) + 1)
+            via_move = np.where(moves == np.arange(goal.size), big, via_move).min(axis=0)
+            via_turn = (dist[turns] + 1).min(axis=0)
+            new = np.minimum(via_move, via_turn)
+            if np.array_equal(new, dist):
+                break
+            dist = new
+        dist = np.where(goal, 0, dist)  # already there: the empty plan
+        return np.where(dist >= big, -1, dist)
+
+
+_COL = {a: k for k, a in enumerate(_ACTIONS)}
+_LATTICES: dict[int, _Lattice] = {}
+
+
+def _lattice(free: FreeSpace) -> _Lattice:
+    lat = _LATTICES.get(id(free))
+    if lat is None or lat.free is not free:
+        if len(_LATTICES) > 16:
+            _LATTICES.clear()
+        lat = _LATTICES[id(free)] = _Lattice(free)
+    return lat
+
+
+def plan_lengths(free: FreeSpace, target_xy: tuple[float, float]) -> dict[tuple[int, int, int], int]:
+    """Oracle plan length from every free ``(i, j, heading)`` (unreachable states left out)."""
+    lat = _lattice(free)
+    d = lat.plan_lengths(target_xy)
+    return {(i, j, h): int(d[4 * k + h]) for k, (i, j) in enumerate(lat.cells) for h in range(4) if d[4 * k + h] >= 0}
+
+
+def _policy_table(policies: Sequence[BlindPolicy], n: int) -> np.ndarray:
+    return np.array([[_COL[a] for a in p.actions(n)] for p in policies], dtype=np.int32)
+
+
+_TABLE_CACHE: dict[tuple[int, int], np.ndarray] = {}
+
+
+def blind_successes(free: FreeSpace, start: AgentState, target_xy: tuple[float, float],
+                    policies: Sequence[BlindPolicy] = BLIND_POLICIES, max_steps: int = MAX_STEPS) -> np.ndarray:
+    """Boolean array over ``policies``: which ones come within the success distance within ``max_steps``."""
+    lat = _lattice(free)
+    key = (id(policies), max_steps)
+    table = _TABLE_CACHE.get(key) if policies is BLIND_POLICIES else None
+    if table is None:
+        table = _policy_table(policies, max_steps)
+        if policies is BLIND_POLICIES:
+            _TABLE_CACHE[key] = table
+    goal = lat.goal(target_xy)
+    k = lat.index.get((start.i, start.j))
+    if k is None:
+        raise ValueError(f"start ({start.x}, {start.y}) is not a free lattice point")
+    state = np.full(len(policies), 4 * k + start.heading % 4, dtype=np.int32)
+    solved = np.zeros(len(policies), dtype=bool)
+    for t in range(max_steps):
+        state = lat.next[table[:, t], state]
+        solved |= goal[state]
+    return solved
+
+
+# -- rule agents (instruction + feedback only) -----------------------------------------------------------------
+
+#: A rule agent: given whether the last action worked (None before the first) and its own memory, the next action.
+RuleAgent = Callable[[bool | None, dict], int]
+
+
+def _forward_turn(side: int) -> RuleAgent:
+    def act(ok: bool | None, mem: dict) -> int:
+        if ok is False and mem.get("last") in (0,):
+            return side
+        return 0
+    return act
+
+
+def _forward_sidestep(side: int) -> RuleAgent:
+    def act(ok: bool | None, mem: dict) -> int:
+        if ok is False and mem.get("last") == 0:
+            return side
+        if mem.get("last") == side and ok:
+            return 0
+        if ok is False and mem.get("last") == side:
+            return 4 if side == 2 else 5
+        return 0
+    return act
+
+
+def _spiral(ok: bool | None, mem: dict) -> int:
+    """Walk forward in growing legs, turning left after each leg or bump (a blind search pattern)."""
+    leg = mem.setdefault("leg", 2)
+    done = mem.setdefault("done", 0)
+    if ok is False or done >= leg:
+        mem["done"] = 0
+        mem["leg"] = leg + 1
+        return 5
+    mem["done"] = done + 1
+    return 0
+
+
+RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
+    "forward, turn right on a bump": lambda: _forward_turn(4),
+    "forward, turn left on a bump": lambda: _forward_turn(5),
+    "forward, step right on a bump": lambda: _forward_sidestep(2),
+    "forward, step left on a bump": lambda: _forward_sidestep(3),
+    "spiral: forward legs of growing length, turn left": lambda: _spiral,
+}
+"""Feedback-only agents: what a model told only the instruction and the success of each action could do."""
+
+
+def rule_agent_successes(free: FreeSpace, start: AgentState, target_xy: tuple[float, float],
+                         max_steps: int = MAX_STEPS) -> dict[str, bool]:
+    """Whether each rule agent reaches the target within ``max_steps`` from ``start``."""
+    goal = free.goal_cells(target_xy, SUCCESS_DISTANCE)
+    out = {}
+    for name, make in RULE_AGENTS.items():
+        agent = make()
+        mem: dict = {}
+        s, ok, solved = start, None, False
+        for _ in range(max_steps):
+            a = agent(ok, mem)
+            mem["last"] = a
+            s, ok, _ = free.apply(s, a)
+            if goal[s.i - free.i0, s.j - free.j0]:
+                solved = True
+                break
+        out[name] = solved
+    return out
+
+
+def blind_table(task_file: str | None = None) -> str:
+    """A Markdown table per subset: always forward, turn once then forward, the best of all blind policies, the
+    best rule agent and a seeded random agent, measured on the geometry of ``task_file`` (None: the shipped)."""
+    from collections import defaultdict
+
+    from eb_navigation.env import NavigationEnv, build_room
+    from eb_navigation.tasks import SUBSETS, load_task_file
+
+    tf = load_task_file(task_file)
+    rooms: dict[tuple, object] = {}
+    blind: dict[str, list[np.ndarray]] = defaultdict(list)
+    rules: dict[str, list[np.ndarray]] = defaultdict(list)
+    for t in tf.tasks:
+        key = (t.scene.kind, t.scene.seed, t.extra_objects)
+        room = rooms.get(key) or rooms.setdefault(key, build_room(t))
+        free = room.free_space(room.extra_ids)  # type: ignore[attr-defined]
+        s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
+        blind[t.subset].append(blind_successes(free, s, t.target.position[:2]))
+        rules[t.subset].append(np.array(list(rule_agent_successes(free, s, t.target.position[:2]).values())))
+    env = NavigationEnv(render=False, task_file=task_file)
+    rng = np.random.default_rng(0)
+    random_wins: dict[str, int] = defaultdict(int)
+    for task in NavigationEnv.load_tasks(task_file=task_file):
+        env.reset(task, 0)
+        for _ in range(MAX_STEPS):
+            if env.step(int(rng.integers(8))).done:
+                random_wins[task.subset] += 1
+                break
+    env.close()
+    fwd = BLIND_POLICIES.index(BlindPolicy((), (0,)))
+    turn_fwd = [BLIND_POLICIES.index(BlindPolicy((t,), (0,))) for t in (4, 5)]
+    rule_names = list(RULE_AGENTS)
+    lines = ["| subset | always forward | turn once, then forward | best of 10,948 blind policies | "
+             "best rule agent | random (seed 0) |", "|---|---|---|---|---|---|"]
+    for subset in SUBSETS:
+        b = np.mean(blind[subset], axis=0)
+        r = np.mean(rules[subset], axis=0)
+        best, rbest = int(np.argmax(b)), int(np.argmax(r))
+        n = len(blind[subset])
+        lines.append(f"| {subset} | {100 * b[fwd]:.1f} % | {100 * max(b[k] for k in turn_fwd):.1f} % | "
+                     f"{100 * b[best]:.1f} % (`{policy_name(BLIND_POLICIES[best])}`) | {100 * r[rbest]:.1f} % "
+                     f"({rule_names[rbest]}) | {100 * random_wins[subset] / n:.1f} % |")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    import sys
+
+    print(blind_table(sys.argv[1] if len(sys.argv) > 1 else None))
