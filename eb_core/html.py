@@ -58,7 +58,7 @@ _FILTER_JS = ("<script>function ebFilter(){var s=document.querySelectorAll('sele
               "r.style.display=ok?'':'none'});var n=document.querySelectorAll('tr[data-row]:not([style*=none])')"
               ".length;var c=document.getElementById('shown');if(c)c.textContent=n}"
               "document.querySelectorAll('select[data-filter]').forEach(function(x){x.addEventListener('change',"
-              "ebFilter)});</script>")
+              "ebFilter)});ebFilter();</script>")
 
 
 

@@ -403,7 +403,7 @@ def plot_runs(runs: list[dict[str, Any]], path: str | Path) -> Path:
     labelled = [r for r in runs if r["overall"].get("error_analysis")]
     used = [k for k in CATEGORIES if any(r["overall"]["error_analysis"]["categories"][k]["count"] for r in labelled)]
     ncols = 2 if used else 1
-    fig, axes = plt.subplots(1, ncols, figsize=(6.5 * ncols + 0.5, 4.6), squeeze=False,
+    fig, axes = plt.subplots(1, ncols, figsize=(6.5 * ncols + 0.5, 5.0), squeeze=False,
                              gridspec_kw={"width_ratios": [1.3, 1][:ncols]})
     colours = plt.get_cmap("tab10").colors
     names = [f"{r['model']} / {r['ablation']}" + ("" if len({x['env'] for x in runs}) == 1 else f" ({r['env']})")
@@ -427,13 +427,15 @@ def plot_runs(runs: list[dict[str, Any]], path: str | Path) -> Path:
         for x, y in zip(xs, ys):
             ax.text(x, y + 1, f"{y:.0f}", ha="center", va="bottom", fontsize=7, color="#222222")
     ax.set_xticks(range(len(subsets)))
-    ax.set_xticklabels(subsets, rotation=20 if len(subsets) > 5 else 0)
+    ax.set_xticklabels(subsets, rotation=25 if len(subsets) > 4 else 0, ha="right" if len(subsets) > 4 else "center",
+                       fontsize=9)
     ax.set_ylim(0, 110)
     ax.set_ylabel("success rate (%)")
     envs = ", ".join(dict.fromkeys(r["env"] for r in runs))
     ax.set_title(f"Success per subset — {envs} (bars: 95% CI over tasks)", fontsize=10)
     ax.grid(axis="y", alpha=0.3)
-    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=min(3, len(runs)), frameon=False)
+    handles, legend_labels = ax.get_legend_handles_labels()
+    fig.legend(handles, legend_labels, fontsize=9, loc="lower center", ncol=min(4, len(runs)), frameon=False)
     if used:
         ax2 = axes[0][1]
         h = 0.8 / max(1, len(labelled))
@@ -449,7 +451,7 @@ def plot_runs(runs: list[dict[str, Any]], path: str | Path) -> Path:
         ax2.set_xlabel("episodes with the error (%)")
         ax2.set_title("Automatic error analysis (all subsets)", fontsize=10)
         ax2.grid(axis="x", alpha=0.3)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=130)
     plt.close(fig)
