@@ -71,6 +71,14 @@ def print_summary(summary: dict[str, Any], run_dir: str) -> None:
              f"{o.get('completion_tokens', 0):.0f} | cost ${total_cost:.4f}"
              + (f" (preflight ${pre.get('cost_usd', 0):.4f})" if pre.get("calls") else ""))
     console.print(extra)
+    ea = o.get("error_analysis") or {}
+    if ea.get("labels"):
+        from eb_core.errors import CATEGORIES
+
+        top = sorted(((v["episode_rate"], k) for k, v in ea["categories"].items() if v["count"]), reverse=True)[:5]
+        console.print("error labels (% of episodes): " + ", ".join(f"{CATEGORIES[k].title} {100 * r:.0f}"
+                                                                  for r, k in top)
+                      + " [dim](docs/error_analysis.md)[/dim]")
     method = (o.get("success_rate_ci") or {}).get("ci_method")
     if method:
         console.print(f"[dim]95% intervals over tasks ({method}"

@@ -1,0 +1,62 @@
+"""A scripted plan on a real world (Habitat, geometry mode) commits errors and the runner labels them."""
+
+import json
+import re
+
+import pytest
+
+from eb_core import ModelBackend, ModelBackendSpec, ModelResponse, Usage, hookimpl
+
+# each answer: the action names of a plan (looked up in the prompt's action list; an unknown name gets an id
+# past the list's end), or a raw string
+SCRIPT = [["pick up the plum"], ["pick up the plum"], ["pick up the giraffe"], "no json at all", []]
+
+
+class NamedPlanBackend(ModelBackend):
+    """Answers SCRIPT in order, turning action names into ids with the prompt's ``action id i: name`` lines."""
+
+    def __init__(self, **_: object) -> None:
+        self.i = 0
+
+    def complete(self, request):
+        text = request.messages[-1].text
+        ids = {name: int(i) for i, name in re.findall(r"^action id (\d+): (.+)$", text, flags=re.M)}
+        answer = SCRIPT[min(self.i, len(SCRIPT) - 1)]
+        self.i += 1
+        if isinstance(answer, list):
+            plan = [{"action_id": ids.get(n, len(ids) + 7), "action_name": n} for n in answer]
+            answer = json.dumps({"visual_state_description": "a plum and a giraffe", "reasoning_and_reflection": "",
+                                 "language_plan": "; ".join(n for n in answer), "executable_plan": plan})
+        return ModelResponse(text=answer, usage=Usage(calls=1))
+
+
+@hookimpl
+def eb_register_model_backends():
+    return [ModelBackendSpec(name="named-plan", entry_point="test_errors_worlds:NamedPlanBackend",
+                             description="scripted plans by action name (tests)")]
+
+
+def test_a_scripted_habitat_episode_is_labelled(tmp_path, monkeypatch):
+    monkeypatch.delenv("EB_DISABLE_PLUGIN_AUTOLOAD", raising=False)
+    monkeypatch.delenv("EB_PLUGINS", raising=False)
+    from eb_core.cli import compose
+    from eb_core.config import validate_config
+    from eb_core.plugins import Registry
+    from eb_core.runner import run
+    import test_errors_worlds
+
+    registry = Registry.create()
+    if "habitat" not in registry.envs:
+        pytest.skip("eb-habitat is not installed")
+    cfg_dict = compose(["env=habitat", "env.params.render=false", "tasks=[base-00]", "runner.quiet=true"])
+    cfg_dict["model"] = {"name": "named-plan", "backend": "named-plan"}
+    cfg_dict["runner"]["expert_labels"] = True
+    summary = run(validate_config(cfg_dict), tmp_path, plugins=[test_errors_worlds])
+    rec = json.loads((tmp_path / "episodes.jsonl").read_text().splitlines()[0])
+    assert rec["end_reason"] == "empty_plan" and not rec["success"]
+    counts = rec["error_counts"]
+    # the plum lies elsewhere: picking it up from the start fails (twice), skipping the expert's navigation
+    assert counts["failed_action"] == 2 and counts["repetition"] == 1 and counts["missing_step"] == 2
+    assert counts["hallucinated_object"] == 1  # "pick up the giraffe": no giraffe in the scene's action list
+    assert counts["format_error"] == 1 and counts["premature_stop"] == 1
+    assert summary["overall"]["error_analysis"]["categories"]["premature_stop"]["episode_rate"] == 1.0
