@@ -50,7 +50,8 @@ _IMG_CHECK = ("<script>window.addEventListener('load',function(){document.queryS
               "i.classList.add('broken');i.setAttribute('data-broken','1')}})});</script>")
 
 #: Client-side filters of a table: every ``select[data-filter=KEY]`` keeps the rows whose ``data-KEY`` matches
-#: (error categories: the row's space-separated list contains it).
+#: (error categories: the row's space-separated list contains it). ``index.html?subset=base&errors=repetition``
+#: opens with those filters set.
 _FILTER_JS = ("<script>function ebFilter(){var s=document.querySelectorAll('select[data-filter]');"
               "document.querySelectorAll('tr[data-row]').forEach(function(r){var ok=true;s.forEach(function(x){"
               "var v=x.value,k=x.getAttribute('data-filter'),have=r.getAttribute('data-'+k)||'';"
@@ -58,7 +59,9 @@ _FILTER_JS = ("<script>function ebFilter(){var s=document.querySelectorAll('sele
               "r.style.display=ok?'':'none'});var n=document.querySelectorAll('tr[data-row]:not([style*=none])')"
               ".length;var c=document.getElementById('shown');if(c)c.textContent=n}"
               "document.querySelectorAll('select[data-filter]').forEach(function(x){x.addEventListener('change',"
-              "ebFilter)});ebFilter();</script>")
+              "ebFilter)});var q=new URLSearchParams(location.search);document.querySelectorAll('select[data-filter]')"
+              ".forEach(function(x){var v=q.get(x.getAttribute('data-filter'));if(v!==null)x.value=v});ebFilter();"
+              "</script>")
 
 
 

@@ -122,3 +122,28 @@ def test_comparison_page_in_headless_chromium(tmp_path):
     assert "data-broken=\"1\"" not in dom
     assert "<script>alert" not in dom and "onerror=alert" not in dom.replace("&lt;img src=x onerror=alert", "")
     assert "&lt;script&gt;alert(\"x\")&lt;/script&gt;" in dom  # shown as text
+
+
+def test_index_filters_work_in_headless_chromium(tmp_path):
+    import shutil
+    import subprocess
+
+    browser = shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
+    if browser is None:
+        import pytest
+
+        pytest.skip("no Chromium installed (apt-get install -y chromium)")
+    from eb_core.html import write_compare
+
+    index = write_compare(_two_runs(tmp_path), tmp_path / "cmp")
+
+    def visible_rows(query):
+        dom = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--dump-dom",
+                              index.as_uri() + query], capture_output=True, text=True, timeout=120).stdout
+        rows = dom.split("<tr data-row")[1:]
+        return sum(1 for r in rows if "display: none" not in r.split(">")[0]), len(rows)
+
+    assert visible_rows("") == (2, 2)
+    assert visible_rows("?result=they%20differ") == (2, 2)  # the oracle succeeds where the evil model fails
+    assert visible_rows("?result=all%20succeeded") == (0, 2)
+    assert visible_rows("?errors=failed_action&subset=near") == (2, 2)
