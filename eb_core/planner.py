@@ -294,7 +294,7 @@ class VLMPlanner:
             sections.append(images)
         if self.history:
             sections.append("## What you have done so far\n" + "\n".join(self.history))
-            look = "the current image and " if self.sends_images else ""
+            look = "what you see now and " if self.sends_images else ""
             sections.append("## Reflect and re-plan\nLook at " + look + "the history above: say what the "
                             + ("feedback tells you and " if self.config.feedback else "")
                             + "why the last plan did not finish the task, then plan from the current state.")
