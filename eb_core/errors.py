@@ -157,8 +157,9 @@ def perception_check(description: str | None, visible: Sequence[dict[str, Any]],
     ``vocabulary``: further object terms of the scene (objects out of view), so that naming one of them counts
     as a mention too. A mention with a colour word counts only when a visible object of that type has that
     colour. Returns ``None`` when there is nothing to compare (no description, or nothing visible and nothing
-    named); else ``mentioned``, ``visible``, ``correct`` (lists of terms), ``precision``, ``recall``, ``f1``
-    (``None`` when undefined) and ``hallucinated`` (named but not in view).
+    named); else ``mentioned``, ``visible``, ``correct`` (lists of terms), ``precision`` and ``recall`` (``None``
+    when undefined), ``f1`` (0 when one of them is undefined: a complete miss) and ``hallucinated`` (named but
+    not in view).
     """
     if not description or not str(description).strip():
         return None
@@ -179,9 +180,10 @@ def perception_check(description: str | None, visible: Sequence[dict[str, Any]],
             wrong.append(term)
     precision = len(correct) / len(named) if named else None
     recall = len(correct) / len(seen_terms) if seen_terms else None
-    f1 = None
     if precision is not None and recall is not None:
         f1 = 0.0 if precision + recall == 0 else 2 * precision * recall / (precision + recall)
+    else:  # nothing named while objects are in view, or objects named while none is: a complete miss
+        f1 = 0.0
     return {"mentioned": sorted(named), "visible": sorted(seen_terms), "correct": sorted(correct),
             "hallucinated": sorted(wrong), "precision": precision, "recall": recall, "f1": f1}
 
@@ -268,8 +270,7 @@ def label_episode(steps: Sequence[dict[str, Any]], record: dict[str, Any] | None
         if visible is not None:
             perception = perception_check(parsed.get("visual_state_description"), visible, vocab)
             if perception is not None:
-                if perception["f1"] is not None:
-                    f1s.append(perception["f1"])
+                f1s.append(perception["f1"])
                 if perception["hallucinated"]:
                     labels.append(_label("hallucinated_object", "the visual state description names "
                                          + ", ".join(perception["hallucinated"]) + ", not in view"))

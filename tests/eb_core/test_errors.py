@@ -128,6 +128,8 @@ def test_perception_precision_and_recall_on_hand_built_scenes():
     p = perception_check("A green cube and a blue star.", cubes)
     assert p["correct"] == ["star"] and p["hallucinated"] == ["cube"] and p["precision"] == 0.5
     assert perception_check("", visible) is None and perception_check("nothing", []) is None
+    blind = perception_check("(the image is ignored)", visible)  # names nothing while three objects are in view
+    assert blind["precision"] is None and blind["recall"] == 0.0 and blind["f1"] == 0.0
 
 
 def test_a_description_naming_an_object_out_of_view_is_a_hallucination_and_scores_the_episode():
