@@ -254,6 +254,7 @@ class VLMPlanner:
         names = self._image_names(obs)
         if not names:
             return None
+
         def sentence(d: str) -> str:
             d = d.strip()
             return d if d.endswith((".", "!", "?")) else d + "."
