@@ -2,7 +2,8 @@
 
 * base / long_horizon: name the target plainly ("the fridge").
 * common_sense: name it only by what it is for or a property a person knows about it.
-* complex_instruction: bury the plain name in longer, partly irrelevant text.
+* complex_instruction: bury the plain name in a longer, partly irrelevant request, with no signpost
+  ("what I need is ...") pointing at it.
 * visual_appearance: name it only by colour and shape (same-type objects of other colours are in the room).
 """
 
@@ -12,7 +13,8 @@ import re
 
 import numpy as np
 
-__all__ = ["COLOUR_WORDS", "COMMON_SENSE_TYPES", "DISPLAY", "SHAPES", "colour_word", "display_name", "instruction_for"]
+__all__ = ["COLOUR_WORDS", "COMMON_SENSE_TYPES", "DISPLAY", "SHAPES", "TEMPLATES", "article", "colour_word",
+           "display_name", "instruction_for", "with_article"]
 
 #: How people call the scene kit's object types (the rest: the CamelCase name split into lower-case words).
 DISPLAY: dict[str, str] = {
