@@ -103,6 +103,27 @@ def _schema():
     ])
 
 
+def _with_hf_features(schema, embedded: bool):
+    """``schema`` with the Hugging Face ``datasets`` feature description in its metadata (the classic
+    ``Sequence`` spelling, which old and new ``datasets`` releases read): embedded images load as images; copied
+    ones stay ``{bytes: None, path}`` records, since ``datasets`` would resolve their paths against the working
+    directory instead of the export folder."""
+    import pyarrow as pa
+
+    def feature(t: Any) -> dict[str, Any]:
+        if pa.types.is_list(t):
+            return {"feature": feature(t.value_type), "_type": "Sequence"}
+        if pa.types.is_struct(t):  # the image struct {bytes, path}
+            if embedded:
+                return {"_type": "Image"}
+            return {"bytes": {"dtype": "binary", "_type": "Value"}, "path": {"dtype": "string", "_type": "Value"}}
+        dtype = {pa.string(): "string", pa.int32(): "int32", pa.bool_(): "bool", pa.float64(): "float64"}[t]
+        return {"dtype": dtype, "_type": "Value"}
+
+    features = {f.name: feature(f.type) for f in schema}
+    return schema.with_metadata({"huggingface": json.dumps({"info": {"features": features}})})
+
+
 def _card(run: dict[str, Any], out: Path, n_rows: int, files: list[str], fmt: str, images: str) -> str:
     """The dataset card: what the rows are, where they come from (config, model, versions) and the metrics."""
     import platform
@@ -175,7 +196,7 @@ def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt:
         except ImportError:
             raise ValueError("eb export --format parquet needs pyarrow: pip install 'embodiedbench[report]' "
                              "(or pip install -r requirements.txt)") from None
-        schema = _schema()
+        schema = _with_hf_features(_schema(), embedded=images == "embed")
         rows = list(_rows(run, images, out, only_success))
         n = len(rows)
         (out / "data").mkdir(exist_ok=True)

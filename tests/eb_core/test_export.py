@@ -43,6 +43,9 @@ def test_parquet_round_trips_with_one_row_per_planner_step(mixed, tmp_path):
     assert first["actions"] == ["step left"] and first["action_success"] == [False]
     assert "failed_action" in first["error_labels"] and first["visual_state_description"] == "the goal <b>"
     assert any(r["output_error"] for r in rows) and any("format_error" in r["error_labels"] for r in rows)
+    features = json.loads(pq.read_schema(out / res["files"][0]).metadata[b"huggingface"])["info"]["features"]
+    assert features["images"] == {"feature": {"_type": "Image"}, "_type": "Sequence"}  # datasets decodes them
+    assert set(features) == set(table.schema.names)
     card = (out / "README.md").read_text()
     assert "configs:" in card and "data/*.parquet" in card and f"{expected} rows" in card
     assert "lefty" in card and "0.0 [0.0," in card and "embodiedbench" in card and "```yaml" in card
@@ -54,6 +57,8 @@ def test_paths_mode_copies_the_images_beside_the_data(mixed, tmp_path):
     rows = pq.read_table(out / "data").to_pylist()
     img = rows[0]["images"][0]
     assert img["bytes"] is None and (out / img["path"]).read_bytes()[:4] == b"\x89PNG"
+    features = json.loads(pq.read_schema(next((out / "data").glob("*.parquet"))).metadata[b"huggingface"])
+    assert features["info"]["features"]["images"]["feature"]["path"] == {"dtype": "string", "_type": "Value"}
 
 
 def test_chat_form_has_one_sample_per_planner_call(mixed, tmp_path):
