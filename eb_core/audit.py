@@ -40,6 +40,7 @@ __all__ = [
     "p50",
     "permutation_p_value",
     "play",
+    "play_jobs",
     "random_action",
     "run_audit",
     "format_audit",
