@@ -50,7 +50,7 @@ class ManipulationEnv(Env):
         self._renderer = None
         self._task: Task | None = None
         self._scene: SceneSpec | None = None
-        self._order: list[str] = []  # object keys in index order (object 1 first)
+        self._order: list[str] = []  # object keys in index order (object 1 first), re-read every observation
         self._closed = False
 
     # --- tasks ------------------------------------------------------------------------------------------
@@ -69,10 +69,7 @@ class ManipulationEnv(Env):
         self._task = task
         self._scene = scene_of(task)
         self._world = World(self._scene, resolution=self.resolution, render_meshes=self.params.render)
-        # index objects once per episode by their starting y (largest y = object 1), so labels stay put
-        objs = self._world.objects
-        start = {o.key: self._world.reference_point(o.key) for o in objs}
-        self._order = [o.key for o in sorted(objs, key=lambda o: (-round(start[o.key][1], 4), -start[o.key][0]))]
+        self._renumber()
         if self.params.render:
             from eb_manipulation.render import SceneRenderer
 
@@ -90,6 +87,7 @@ class ManipulationEnv(Env):
             return StepResult(observation=obs, action_success=False, done=solved, task_success=solved,
                               progress=progress, feedback=f"The action was not executed: {exc}. The arm did not move.")
         outcome = self._world.execute(parsed)
+        self._renumber()  # objects moved: the feedback already uses the numbers of the next object list
         solved, progress = self._world.evaluate()
         feedback = self._resolve(outcome.feedback, outcome.refs)
         if solved:
@@ -103,10 +101,10 @@ class ManipulationEnv(Env):
         return ACTION_SPACE
 
     def prompt_parts(self) -> PromptParts:
-        from eb_manipulation.prompts import prompt_parts
+        from eb_manipulation.prompts import example_set, prompt_parts
 
         family = self._scene.family if self._scene is not None else "pick"
-        return prompt_parts(family)
+        return prompt_parts(family, example_set(self.params.detection_boxes, self.multi_view), self.multi_view)
 
     def expert_plan(self) -> list[Action] | None:
         """The scripted expert's plan from the current state (arm pose, gripper, held object, object poses).
@@ -130,6 +128,13 @@ class ManipulationEnv(Env):
             return None
         return [tuple(a) for a in plan]
 
+    @classmethod
+    def audit_probes(cls) -> list:
+        """The blind rule agent probe (:mod:`eb_manipulation.audit`)."""
+        from eb_manipulation.audit import audit_probes
+
+        return audit_probes()
+
     def close(self) -> None:
         self._release()
         self._closed = True
@@ -141,6 +146,14 @@ class ManipulationEnv(Env):
         self._world = None
 
     # --- observation ------------------------------------------------------------------------------------
+    def _renumber(self) -> None:
+        """Number the objects by ascending discrete y (left to right in the front image), as the original
+        orders its object list; ties by ascending x, then by id. Re-done after every action."""
+        world = self._world
+        assert world is not None
+        coords = {o.key: self.discrete_position(o.key) for o in world.objects}
+        self._order = sorted(coords, key=lambda k: (coords[k][1], coords[k][0], k))
+
     def _label(self, key: str) -> str:
         return f"object {self._order.index(key) + 1}" if key in self._order else key
 
@@ -205,12 +218,23 @@ class ManipulationEnv(Env):
                        position=tuple(float(v) for v in coords[k]), label=str(i + 1), is_target=self._is_target(k))
             for i, k in enumerate(self._order)
         ]
+        # the only scene text any model gets, language-only ones included: indices and coordinates, no colours
+        # or shapes (the original's blind baseline sees exactly this list)
         listing = "{" + ", ".join(f'"object {i + 1}": [{", ".join(str(v) for v in coords[k])}]'
                                   for i, k in enumerate(self._order)) + "}"
-        extra = ("Objects in the scene with their discrete [x, y, z] coordinates (numbered from the largest y, "
-                 "i.e. from the right of the front image):\n" + listing)
-        return Observation(images=images, primary="front" if images else None, text=self._text(coords, descr),
-                           objects=objects, extra_prompt=extra)
+        return Observation(images=images, primary="front" if images else None, text=listing,
+                           objects=objects, extra_prompt=listing)
+
+    def describe(self) -> str:
+        """Each object with its colour and shape or kind (for people: the viewer, examples, debugging).
+
+        Never sent to a model: a language-only model gets only the coordinate list, as in the original.
+        """
+        world = self._world
+        assert world is not None
+        descr = {o.key: o for o in world.objects}
+        coords = {key: self.discrete_position(key) for key in self._order}
+        return self._text(coords, descr)
 
     def _text(self, coords: dict[str, tuple[int, int, int]], descr) -> str:
         world = self._world

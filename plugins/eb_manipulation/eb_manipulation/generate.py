@@ -5,7 +5,7 @@
 ``verify=False``) runs the scripted oracle in the simulator; a layout the oracle cannot solve within the
 15-step budget is redrawn with the next attempt number, so every shipped task is solvable.
 
-The shipped file ``eb_manipulation/tasks/manipulation_v1.json`` is ``generate(seed=0)``.
+The shipped file ``eb_manipulation/tasks/manipulation_v2.json`` is ``generate(seed=0)``.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ import numpy as np
 
 from eb_manipulation.scene import CONTAINER, SORTER
 from eb_manipulation.shapes import COLOURS, SHAPES, colours_confusable
-from eb_manipulation.spec import TASK_FORMAT, VARIANTS, GoalSpec, ObjectSpec, SceneSpec
+from eb_manipulation.spec import DIRECTIONS, TASK_FORMAT, VARIANTS, GoalSpec, ObjectSpec, SceneSpec
 from eb_manipulation.templates import (
     COLOUR_COMMON,
     COLOUR_VISUAL,
@@ -30,6 +30,7 @@ from eb_manipulation.templates import (
     SHAPE_COMMON,
     SHAPE_VISUAL,
     SPILLS,
+    TEMPLATES,
     VISUAL_CONTRAST,
     complex_wrap,
     pick,
@@ -37,7 +38,7 @@ from eb_manipulation.templates import (
 
 __all__ = ["FAMILY_ORDER", "SUBSET_FAMILIES", "TASKS_VERSION", "generate", "make_task", "verify_task"]
 
-TASKS_VERSION = "v1"
+TASKS_VERSION = "v2"
 SUBSETS = ("base", "common_sense", "complex", "spatial", "visual")
 FAMILY_ORDER = ("pick", "stack", "sorter", "wipe")
 SUBSET_FAMILIES: dict[str, tuple[str, ...]] = {s: FAMILY_ORDER for s in SUBSETS}
@@ -204,11 +205,19 @@ def _describe(o: ObjectSpec) -> str:
 
 
 def _spatial_ref(rng: np.random.Generator, objs: list[ObjectSpec], target: ObjectSpec, noun: str = "object") -> str | None:
-    """A location-based reference that picks out exactly ``target`` among ``objs``."""
+    """A location-based reference that picks out exactly ``target`` among ``objs`` and needs the image too.
+
+    Either the target is the extreme one of its own shape on some side while another object lies further that
+    way ("the leftmost star" with a cylinder further left), or it is the neighbour of an anchor named by colour
+    and shape ("the cube just behind the black cube"). References that coordinates alone resolve ("the leftmost
+    object") are not used: a language-only model could follow them without seeing anything.
+    """
     options: list[str] = []
-    for side in _SIDE:
-        if _extreme(objs, side) is target:
-            options.append(_EXTREME_TEXT[side].format(noun=noun))
+    if target.kind == "shape":
+        same = [o for o in objs if o.kind == "shape" and o.shape == target.shape]
+        for side in _SIDE:
+            if len(same) >= 2 and _extreme(same, side) is target and _extreme(objs, side, margin=0.0) is not target:
+                options.append(_EXTREME_TEXT[side].format(noun=target.shape))
     for anchor in objs:
         if anchor is target:
             continue
@@ -257,6 +266,21 @@ class _Draft:
     instruction: str
     target_ids: tuple[str, ...]
     variant: str
+    template: str
+    """Template id, ``family/subset/index`` (the complex subset reuses the base sentences inside its context)."""
+
+
+def _say(rng: np.random.Generator, family: str, subset: str, group: str = "") -> tuple[str, str]:
+    """A sentence template of ``TEMPLATES[family][subset or base][group]`` and its id."""
+    key = "base" if subset == "complex" else subset
+    table = TEMPLATES[family][key]
+    options = table[group] if isinstance(table, dict) else table
+    i = int(rng.integers(len(options)))
+    return options[i], f"{family}/{subset}/{group + '.' if group else ''}{i}"
+
+
+def _finish(rng: np.random.Generator, subset: str, core: str) -> str:
+    return complex_wrap(rng, core) if subset == "complex" else core
 
 
 def _shapes_with(rng, placer, shapes, colours, spatial: bool, prefix: str = "obj") -> list[ObjectSpec]:
@@ -270,18 +294,21 @@ def _shapes_with(rng, placer, shapes, colours, spatial: bool, prefix: str = "obj
 
 def _family_pick(rng: np.random.Generator, subset: str, k: int) -> _Draft:
     placer = _Placer(rng)
-    n = 3 if k % 3 else 4
-    shapes = list(rng.permutation(list(SHAPES)))[:n]
+    spatial = subset == "spatial"
+    n = int(rng.integers(4, 6)) if spatial else int(rng.integers(3, 6))  # the target and 2 to 4 other shapes
+    shapes = [str(s) for s in rng.permutation(list(SHAPES))[:n]]
+    if spatial and rng.random() < 0.6:
+        shapes[1] = shapes[0]  # a second object of the target's shape
     if subset == "visual":
         a, b = _contrast_pair(rng)
         colours = [a, b] + _distinct_colours(rng, n - 2, avoid=(a, b))
+        if rng.random() < 0.5:
+            shapes[1] = shapes[0]  # a look-alike of the target's shape in a close shade
         ca, cb = _contrast_pair(rng)
         cont_cols = [ca, cb]
     else:
         colours = [str(c) for c in rng.choice(list(COLOURS), size=n)]
         cont_cols = _distinct_colours(rng, 2)
-    # containers first (they need the most room)
-    spatial = subset == "spatial"
     conts = []
     if spatial:
         # two containers side by side or one behind the other
@@ -298,80 +325,89 @@ def _family_pick(rng: np.random.Generator, subset: str, k: int) -> _Draft:
                 raise _Retry("containers overlap")
             conts.append((round(p[0], 4), round(p[1], 4), round(yaw, 1)))
     else:
-        conts = [placer.add("container", yaw=float(rng.uniform(-30, 30))) for _ in range(2)]
+        conts = [placer.add("container", yaw=float(rng.uniform(-45, 45))) for _ in range(2)]
     cont_objs = [ObjectSpec(id=f"box{j}", kind="container", colour=c, x=p[0], y=p[1], yaw=p[2])
                  for j, (c, p) in enumerate(zip(cont_cols, conts))]
     objs = _shapes_with(rng, placer, shapes, colours, spatial)
     target = objs[0]
+    if subset in ("base", "complex") and any(o.shape == target.shape for o in objs[1:]):
+        raise _Retry("the named shape must be unique")
     box = cont_objs[int(rng.integers(2))]
     if subset in ("base", "complex"):
-        core = pick(rng, (
-            "Pick up the {s} and put it into the {c} container.",
-            "Put the {s} in the {c} container.",
-            "Move the {s} into the {c} container.",
-            "Place the {s} inside the {c} container.",
-        )).format(s=target.shape, c=box.colour)
-        instr = core if subset == "base" else complex_wrap(rng, core)
+        t, tid = _say(rng, "pick", subset)
+        instr = _finish(rng, subset, t.format(s=target.shape, c=box.colour))
     elif subset == "common_sense":
-        instr = pick(rng, (
-            "Pick up {s} and drop it into the container with the colour of {c}.",
-            "Find {s} and place it in the container that is the colour of {c}.",
-        )).format(s=pick(rng, SHAPE_COMMON[target.shape]), c=COLOUR_COMMON[box.colour])
+        if any(o.shape == target.shape for o in objs[1:]):
+            raise _Retry("the described shape must be unique")
+        t, tid = _say(rng, "pick", subset)
+        instr = t.format(s=pick(rng, SHAPE_COMMON[target.shape]), c=COLOUR_COMMON[box.colour])
     elif subset == "spatial":
         ref = _spatial_ref(rng, objs, target)
-        cref = _spatial_ref(rng, cont_objs, box, noun="container")
-        if ref is None or cref is None:
+        if ref is None:
             raise _Retry("no unique spatial reference")
-        instr = pick(rng, ("Pick up {o} and put it into {c}.", "Put {o} into {c}.")).format(o=ref, c=cref)
+        t, tid = _say(rng, "pick", subset)
+        instr = t.format(o=ref, c=box.colour)
     else:  # visual
-        instr = pick(rng, (
-            "Put the {sh} object {f} into the {cs} container.",
-            "Pick up the {sh} object {f} and place it in the {cs} container.",
-        )).format(sh=COLOUR_VISUAL[target.colour], f=SHAPE_VISUAL[target.shape], cs=COLOUR_VISUAL[box.colour])
+        t, tid = _say(rng, "pick", subset)
+        instr = t.format(sh=COLOUR_VISUAL[target.colour], f=SHAPE_VISUAL[target.shape], cs=COLOUR_VISUAL[box.colour])
     variant = "pick_cube_relative" if spatial else VARIANTS["pick"]
     return _Draft(cont_objs + objs, GoalSpec(family="pick", target=target.id, container=box.id), instr,
-                  (target.id, box.id), variant)
+                  (target.id, box.id), variant, tid)
+
+
+#: Stacking set-ups: build from scratch, finish a tower whose lower two cubes already stand, or first clear
+#: another cube off the cube that must carry the tower.
+STACK_MODES = ("scratch2", "scratch3", "partial3", "blocked2")
 
 
 def _family_stack(rng: np.random.Generator, subset: str, k: int) -> _Draft:
     placer = _Placer(rng)
-    height = 3 if k % 2 else 2
-    n = max(height, 3 if k % 4 < 2 else 4)
     spatial = subset == "spatial"
-    if spatial and height == 3:
-        n = 3  # three cubes in a row: every one of them has a clear place
+    mode = STACK_MODES[k % 2] if spatial else STACK_MODES[k % 4]
+    height = 2 if mode.endswith("2") else 3
+    # cubes that are not in the tower: enough that text alone cannot tell which cubes are meant
+    if mode in ("partial3", "blocked2"):
+        extra = int(rng.integers(2, 4))
+    elif spatial:
+        extra = 4 - height
+    else:
+        extra = int(rng.integers(1, 3)) if height == 2 else int(rng.integers(0, 2))
+    n = height + extra + (1 if mode == "blocked2" else 0)
     if subset == "visual":
         a, b = _contrast_pair(rng)
         colours = [a, b] + _distinct_colours(rng, n - 2, avoid=(a, b))
-        order_idx = list(rng.permutation(n))[:height]
-        if 0 not in order_idx or 1 not in order_idx:  # the look-alike pair must both matter
-            order_idx = [0, 1] + [i for i in order_idx if i > 1][: height - 2]
-            order_idx = [int(i) for i in rng.permutation(order_idx)]
+        order_idx = [0, 1] + [int(i) for i in rng.permutation(range(2, n))[: height - 2]]
+        order_idx = [int(i) for i in rng.permutation(order_idx)]
     else:
         colours = _distinct_colours(rng, n)
         order_idx = [int(i) for i in rng.permutation(n)[:height]]
-    cubes = _shapes_with(rng, placer, ["cube"] * n, colours, spatial, prefix="cube")
+    # cubes resting on another one at the start take no room of their own
+    stacked: dict[int, int] = {}
+    if mode == "partial3":
+        stacked[order_idx[1]] = order_idx[0]
+    elif mode == "blocked2":
+        other = next(i for i in range(n) if i not in order_idx)
+        stacked[other] = order_idx[0]
+    loose = [i for i in range(n) if i not in stacked]
+    poses = _row(rng, placer, len(loose)) if spatial else [placer.add("shape") for _ in loose]
+    where = dict(zip(loose, poses))
+    cubes = []
+    for i in range(n):
+        if i in stacked:
+            bx, by, byaw = where[stacked[i]]
+            cubes.append(ObjectSpec(id=f"cube{i}", kind="shape", shape="cube", colour=colours[i], x=bx, y=by,
+                                    yaw=round(byaw + float(rng.uniform(-8, 8)), 1), on=f"cube{stacked[i]}"))
+        else:
+            x, y, yaw = where[i]
+            cubes.append(ObjectSpec(id=f"cube{i}", kind="shape", shape="cube", colour=colours[i], x=x, y=y, yaw=yaw))
     order = [cubes[i] for i in order_idx]
-    if len(order) != height:
-        raise _Retry("bad order")
     cols = [c.colour for c in order]
+    group = "two" if height == 2 else "three"
+    t, tid = _say(rng, "stack", subset, group)
     if subset in ("base", "complex"):
-        if height == 2:
-            core = pick(rng, ("Stack the {1} cube on top of the {0} cube.", "Put the {1} cube onto the {0} cube."))
-        else:
-            core = pick(rng, (
-                "Build a tower with the {0} cube at the bottom, the {1} cube in the middle and the {2} cube on top.",
-                "Stack the cubes in this order from the bottom up: {0}, {1}, {2}.",
-            ))
-        core = core.format(*cols)
-        instr = core if subset == "base" else complex_wrap(rng, core)
+        instr = _finish(rng, subset, t.format(*cols))
     elif subset == "common_sense":
-        cc = [COLOUR_COMMON[c] for c in cols]
-        if height == 2:
-            instr = "Put the cube the colour of {1} on top of the cube the colour of {0}.".format(*cc)
-        else:
-            instr = ("Make a tower of three cubes: the one the colour of {0} at the bottom, then the one the colour "
-                     "of {1}, and the one the colour of {2} on top.").format(*cc)
+        instr = t.format(*[COLOUR_COMMON[c] for c in cols])
     elif subset == "spatial":
         refs = []
         for c in order:
@@ -379,34 +415,28 @@ def _family_stack(rng: np.random.Generator, subset: str, k: int) -> _Draft:
             if r is None:
                 raise _Retry("no unique spatial reference")
             refs.append(r)
-        if height == 2:
-            instr = "Stack {1} on top of {0}.".format(*refs)
-        else:
-            instr = "Build a tower with {0} at the bottom, {1} in the middle and {2} on top.".format(*refs)
+        instr = t.format(*refs)
     else:
-        vv = [COLOUR_VISUAL[c] for c in cols]
-        if height == 2:
-            instr = "Put the {1} cube on top of the {0} cube.".format(*vv)
-        else:
-            instr = "Stack the {0} cube first, then the {1} cube on it, then the {2} cube on top.".format(*vv)
+        instr = t.format(*[COLOUR_VISUAL[c] for c in cols])
     variant = "stack_cubes_relative" if spatial else VARIANTS["stack"]
     return _Draft(cubes, GoalSpec(family="stack", order=tuple(c.id for c in order)), instr,
-                  tuple(c.id for c in order), variant)
+                  tuple(c.id for c in order), variant, f"{tid}/{mode}")
 
 
 def _family_sorter(rng: np.random.Generator, subset: str, k: int) -> _Draft:
     placer = _Placer(rng)
     holes = [str(s) for s in rng.permutation(list(SHAPES))[:3]]
-    yaw = float(rng.choice([0.0, 90.0])) + float(rng.uniform(-10, 10))
+    yaw = float(rng.choice([0.0, 90.0])) + float(rng.uniform(-12, 12))
     if abs(yaw) < 45:
-        sx, sy = float(rng.uniform(-0.02, 0.08)), float(rng.choice([-1, 1])) * float(rng.uniform(0.18, 0.24))
+        sx, sy = float(rng.uniform(-0.02, 0.10)), float(rng.choice([-1, 1])) * float(rng.uniform(0.17, 0.25))
     else:
-        sx, sy = float(rng.uniform(0.05, 0.12)), float(rng.choice([-1, 1])) * float(rng.uniform(0.2, 0.26))
+        sx, sy = float(rng.uniform(0.05, 0.13)), float(rng.choice([-1, 1])) * float(rng.uniform(0.19, 0.27))
     if not placer.put("sorter", sx, sy, yaw, holes=3):
         raise _Retry("sorter")
     sorter = ObjectSpec(id="sorter", kind="sorter", x=round(sx, 4), y=round(sy, 4), yaw=round(yaw, 1),
                         holes=tuple(holes))
-    n = 2 if k % 2 else 3
+    spatial = subset == "spatial"
+    n = int(rng.integers(3, 5)) if spatial else int(rng.integers(2, 5))  # the target and 1 to 3 others
     target_shape = holes[int(rng.integers(3))]
     others = [str(s) for s in rng.choice(list(SHAPES), size=n - 1)]
     shapes = [target_shape] + others
@@ -417,29 +447,24 @@ def _family_sorter(rng: np.random.Generator, subset: str, k: int) -> _Draft:
             shapes[1] = target_shape  # a look-alike of another shade
     else:
         colours = _distinct_colours(rng, n)
-    spatial = subset == "spatial"
+    if spatial and n > 1 and rng.random() < 0.6:
+        shapes[1] = target_shape  # a second object of the target's shape
     objs = _shapes_with(rng, placer, shapes, colours, spatial)
     target = objs[0]
+    t, tid = _say(rng, "sorter", subset)
     if subset in ("base", "complex"):
-        core = pick(rng, ("Put the {c} object into the shape sorter.", "Insert the {c} object into its hole in the "
-                          "shape sorter.", "Drop the {c} object into the matching hole of the shape sorter."))
-        core = core.format(c=target.colour)
-        instr = core if subset == "base" else complex_wrap(rng, core)
+        instr = _finish(rng, subset, t.format(c=target.colour))
     elif subset == "common_sense":
-        instr = pick(rng, ("Put the object that has the colour of {c} into the shape sorter.",
-                           "Find the object as coloured as {c} and slot it into the shape sorter.")).format(
-            c=COLOUR_COMMON[target.colour])
+        instr = t.format(c=COLOUR_COMMON[target.colour])
     elif subset == "spatial":
         ref = _spatial_ref(rng, objs, target)
         if ref is None:
             raise _Retry("no unique spatial reference")
-        instr = pick(rng, ("Put {o} into the shape sorter.", "Slot {o} into its hole in the shape sorter.")).format(o=ref)
+        instr = t.format(o=ref)
     else:
-        instr = pick(rng, ("Put the {sh} object {f} into the shape sorter.",
-                           "Insert the {sh} object {f} into the sorting box.")).format(
-            sh=COLOUR_VISUAL[target.colour], f=SHAPE_VISUAL[target.shape])
+        instr = t.format(sh=COLOUR_VISUAL[target.colour], f=SHAPE_VISUAL[target.shape])
     variant = "place_into_shape_sorter_relative" if spatial else VARIANTS["sorter"]
-    return _Draft([sorter] + objs, GoalSpec(family="sorter", target=target.id), instr, (target.id,), variant)
+    return _Draft([sorter] + objs, GoalSpec(family="sorter", target=target.id), instr, (target.id,), variant, tid)
 
 
 _AREA_LONG, _AREA_SHORT = 0.22, 0.12
@@ -451,40 +476,48 @@ def _area_size(direction: str) -> tuple[float, float]:
 
 def _family_wipe(rng: np.random.Generator, subset: str, k: int) -> _Draft:
     placer = _Placer(rng)
-    direction = ("left_to_right", "right_to_left", "front_to_back", "back_to_front")[k % 4]
+    direction = DIRECTIONS[k % 4]
     size = _area_size(direction)
-    n_areas = 1 if subset in ("base", "complex") else 2
+    # four areas: the one to wipe and three others (text alone leaves a one-in-four guess)
     if subset == "common_sense":
-        colours = _distinct_colours_from(rng, list(SPILLS), n_areas)
+        colours = _distinct_colours_from(rng, list(SPILLS), 4)
+    elif subset == "spatial":  # two areas of one colour, told apart by where they are, and others
+        a, b, c = _distinct_colours(rng, 3)
+        colours = [a, a, b, c]
     else:
-        colours = _distinct_colours(rng, n_areas)
-    ax = (0.02, 0.24) if size[0] < size[1] else (0.10, 0.18)
-    ay = (-0.22, 0.22) if size[0] < size[1] else (-0.25, 0.25)
+        colours = _distinct_colours(rng, 4)
+    ax = (-0.04, 0.30) if size[0] < size[1] else (0.02, 0.24)
+    ay = (-0.26, 0.26) if size[0] < size[1] else (-0.30, 0.30)
     areas = []
     for j, c in enumerate(colours):
-        x, y, _ = placer.add("area", region_x=ax, region_y=ay, yaw=0.0, size=size)
+        x, y, _ = placer.add("area", region_x=ax, region_y=ay, yaw=0.0, size=size, tries=400)
         areas.append(ObjectSpec(id=f"area{j}", kind="area", colour=c, x=x, y=y, size=size))
     sx, sy, syaw = placer.add("sponge")
     sponge = ObjectSpec(id="sponge", kind="sponge", x=sx, y=sy, yaw=syaw)
+    n_shapes = int(rng.integers(0, 3))  # other things on the table
+    shapes = [str(s) for s in rng.choice(list(SHAPES), size=n_shapes)]
+    others = _shapes_with(rng, placer, shapes, _distinct_colours(rng, n_shapes), False)
     target = areas[0]
     d = DIRECTION_TEXT[direction]
+    t, tid = _say(rng, "wipe", subset)
     if subset in ("base", "complex"):
-        core = pick(rng, ("Wipe the {c} area {d} with the sponge.", "Use the sponge to wipe the {c} patch {d}.",
-                          "Pick up the sponge and wipe the {c} area {d}.")).format(c=target.colour, d=d)
-        instr = core if subset == "base" else complex_wrap(rng, core)
+        instr = _finish(rng, subset, t.format(c=target.colour, d=d))
     elif subset == "common_sense":
-        spill = pick(rng, SPILLS[target.colour])  # type: ignore[index]
-        instr = pick(rng, ("Some {s} got spilled on the table. Take the sponge and wipe it up, moving {d}.",
-                           "Clean the patch of {s} with the sponge, wiping {d}.")).format(
-            s=spill, d=DIRECTION_COMMON[direction])
-    else:  # spatial
-        ref = _spatial_ref(rng, areas, target, noun="area")
-        if ref is None:
-            raise _Retry("no unique spatial reference")
-        instr = pick(rng, ("Wipe {a} {d} using the sponge.", "With the sponge, wipe {a} {d}.")).format(a=ref, d=d)
+        instr = t.format(s=pick(rng, SPILLS[target.colour]), d=DIRECTION_COMMON[direction])  # type: ignore[index]
+    else:  # spatial: the one of the two same-coloured areas on some side of the other
+        twin = areas[1]
+        sides = [side for side in _SIDE if _extreme([target, twin], side) is target]
+        if not sides:
+            raise _Retry("the two areas are not clearly apart")
+        instr = t.format(a=_AREA_SIDE[pick(rng, sides)].format(c=target.colour), d=d)
     variant = "wipe_table_relative" if subset == "spatial" else VARIANTS["wipe"]
-    return _Draft(areas + [sponge], GoalSpec(family="wipe", target="sponge", area=target.id, direction=direction),
-                  instr, ("sponge", target.id), variant)
+    return _Draft(areas + [sponge] + others,
+                  GoalSpec(family="wipe", target="sponge", area=target.id, direction=direction),
+                  instr, ("sponge", target.id), variant, tid)
+
+
+_AREA_SIDE = {"left": "the {c} area further to the left", "right": "the {c} area further to the right",
+              "front": "the {c} area nearer the camera", "back": "the {c} area nearer the robot"}
 
 
 def _distinct_colours_from(rng: np.random.Generator, names: list[str], n: int) -> list[str]:
@@ -519,27 +552,31 @@ def make_task(seed: int, subset: str, family: str, k: int, attempt: int) -> dict
     rng = np.random.default_rng(scene_seed)
     draft = _FAMILY_FN[family](rng, subset, k)
     scene = SceneSpec(family=family, variant=draft.variant, scene_seed=scene_seed, objects=tuple(draft.objects),
-                      goal=draft.goal, target_ids=draft.target_ids)
+                      goal=draft.goal, target_ids=draft.target_ids, template=draft.template)
     return {"id": task_id(subset, family, k), "subset": subset, "instruction": draft.instruction,
             "metadata": scene.model_dump(mode="json")}
 
 
-def verify_task(task: dict[str, Any], max_steps: int = MAX_ORACLE_STEPS) -> tuple[bool, int]:
-    """Run the oracle in the simulator (re-planning after a failed action, as the oracle model does).
+def verify_task(task: dict[str, Any], max_steps: int = MAX_ORACLE_STEPS, closed_loop: bool = False) -> tuple[bool, int]:
+    """Run the oracle in the simulator: the whole plan, re-planning after a failed action (as the oracle model
+    does), or with ``closed_loop`` only the first action of each plan before asking again.
 
     Returns (solved within ``max_steps`` env steps, steps used).
     """
-    from eb_manipulation.oracle import expert_plan, state_of_world
+    from eb_manipulation.oracle import NoPlan, expert_plan, state_of_world
     from eb_manipulation.world import World
 
     scene = SceneSpec.model_validate(task["metadata"])
     world = World(scene, render_meshes=False)
     steps = 0
     while steps < max_steps:
-        plan = expert_plan(scene, state_of_world(world))
+        try:
+            plan = expert_plan(scene, state_of_world(world))
+        except NoPlan:
+            return False, steps
         if not plan:
             return False, steps
-        for action in plan:
+        for action in plan[:1] if closed_loop else plan:
             outcome = world.execute(action)
             steps += 1
             solved, _ = world.evaluate()
@@ -556,9 +593,9 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
     """Generate the task file and return its path.
 
     Args:
-        out: Where to write; default: the package's ``tasks/manipulation_v1.json``.
+        out: Where to write; default: the package's ``tasks/manipulation_v2.json``.
         seed: Master seed; every task's scene seed derives from it.
-        verify: Run the oracle on every task and redraw layouts it cannot solve.
+        verify: Run the oracle on every task, open and closed loop, and redraw layouts it cannot solve.
         per_family: Tasks per (subset, family); 12 gives the paper's 228.
         subsets: Restrict to some subsets (a name or a list).
     """
@@ -568,6 +605,7 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
     if unknown:
         raise ValueError(f"unknown subsets {unknown}; known: {list(SUBSETS)}")
     tasks: list[dict[str, Any]] = []
+    seen: dict[str, set[str]] = {s: set() for s in chosen}
     t0 = time.time()
     for subset in chosen:
         for family in SUBSET_FAMILIES[subset]:
@@ -577,11 +615,14 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
                         task = make_task(seed, subset, family, k, attempt)
                     except _Retry:
                         continue
+                    if task["instruction"] in seen[subset]:
+                        continue  # every instruction of a subset is different
                     if verify:
                         ok, steps = verify_task(task)
-                        if not ok:
+                        if not ok or not verify_task(task, closed_loop=True)[0]:
                             continue
                         task["metadata"]["oracle_steps"] = steps
+                    seen[subset].add(task["instruction"])
                     task["metadata"]["attempt"] = attempt
                     tasks.append(task)
                     break

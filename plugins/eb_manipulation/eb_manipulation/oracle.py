@@ -37,7 +37,7 @@ Action = tuple[int, int, int, int, int, int, int]
 #: Rotational symmetry (degrees) of each shape about the vertical, for fitting a sorter hole.
 SYMMETRY = {"cube": 90.0, "cylinder": 360.0, "star": 72.0, "triangle": 120.0, "moon": 360.0}
 #: Another object's centre closer than this (m) to the one being grasped: approach from above first.
-CROWDED = 0.09
+CROWDED = 0.13
 #: Another object's centre closer than this (m) to the carrying segment: lift before carrying.
 NEAR_WAY = 0.07
 #: How close (m, degrees) the tool must be to a pose for the step that goes there to count as done.
@@ -77,7 +77,11 @@ def initial_state(scene: SceneSpec) -> StateView:
     pos, yaw = {}, {}
     for o in scene.objects:
         if o.kind == "shape":
-            pos[o.id] = np.array([o.x, o.y, TABLE_TOP + SHAPES[o.shape].height / 2])  # type: ignore[index]
+            z, below = TABLE_TOP + SHAPES[o.shape].height / 2, o.on  # type: ignore[index]
+            while below is not None:
+                z += SHAPES[scene.get(below).shape].height  # type: ignore[index]
+                below = scene.get(below).on
+            pos[o.id] = np.array([o.x, o.y, z])
         elif o.kind == "sponge":
             pos[o.id] = np.array([o.x, o.y, TABLE_TOP + SPONGE.size[2] / 2])
         else:
@@ -202,6 +206,41 @@ def _place_tcp(target_centre: np.ndarray, offset: np.ndarray) -> np.ndarray:
 
 
 # --- grasping ---------------------------------------------------------------------------------------------
+#: Half the distance between the open fingers' outer faces (m).
+FINGER_REACH = 0.055
+#: Half a finger's width across the closing direction (m).
+FINGER_HALF_WIDTH = 0.013
+
+
+def _clear_yaw(scene: SceneSpec, state: StateView, obj: str) -> float:
+    """The grasp yaw: across the object's local y axis, or turned by 90 or 45 degrees when an open finger would
+    land on a container or sorter wall or on another object (an object that came to rest beside a wall)."""
+    p = state.positions[obj]
+    base = _grip_yaw(state.yaws[obj])
+    others = [q[:2] for o, q in state.positions.items() if o != obj and o != state.held]
+    fixed = _fixed_obstacles(scene)
+
+    def clear(yaw: float, with_objects: bool) -> bool:
+        axis = np.array([-math.sin(math.radians(yaw)), math.cos(math.radians(yaw))])
+        side = np.array([axis[1], -axis[0]]) * FINGER_HALF_WIDTH
+        tips = [p[:2] + FINGER_REACH * axis, p[:2] - FINGER_REACH * axis]
+        for f in tips + [t + side for t in tips] + [t - side for t in tips]:
+            if with_objects and any(np.linalg.norm(f - q) < 0.03 for q in others):
+                return False
+            if any(abs(f[0] - x) < r + 0.012 and abs(f[1] - y) < r + 0.012 for x, y, r in fixed):
+                return False
+        return True
+
+    for with_objects in (True, False):
+        for delta in (0.0, 90.0, 45.0, -45.0):
+            if clear(base + delta, with_objects):
+                return _wrap(base + delta, 180.0)
+    if p[2] < _resting_z(scene, obj) + 0.01:  # on the table, pressed against a wall on several sides
+        raise NoPlan("{obj} lies against a container or the shape sorter where the fingers cannot reach around it",
+                     obj)
+    return base
+
+
 def _holding(scene: SceneSpec, state: StateView, obj: str) -> tuple[list[Action], float, np.ndarray, bool]:
     """Actions that end with ``obj`` held (none if it already is), the gripper yaw, the predicted offset
     (object centre minus tool point) once held, and whether the arm is still low at the object."""
@@ -213,7 +252,7 @@ def _holding(scene: SceneSpec, state: StateView, obj: str) -> tuple[list[Action]
         # let go of whatever is held (or open a gripper closed on nothing), a little higher than now
         acts.append(_act(state.tcp[0], state.tcp[1], state.tcp[2] + 0.03, state.tcp_yaw, True))
     p = state.positions[obj]
-    yaw = _grip_yaw(state.yaws[obj])
+    yaw = _clear_yaw(scene, state, obj)
     above = _act(p[0], p[1], p[2] + 0.10, yaw, True)
     grasp_open = _act(p[0], p[1], p[2], yaw, True)
     close = _act(p[0], p[1], p[2], yaw, False)
@@ -317,9 +356,9 @@ def _on_top(pa: np.ndarray, pb: np.ndarray) -> bool:
     return bool(np.linalg.norm(pa[:2] - pb[:2]) < 0.6 * side and 0.8 * side < pa[2] - pb[2] < 1.2 * side)
 
 
-def _free_spot(scene: SceneSpec, state: StateView, keep_away: list[np.ndarray]) -> np.ndarray:
-    """A table spot (x, y) at least 10 cm from every object, as close to the robot's middle as possible."""
-    taken = [q[:2] for q in state.positions.values()] + [k[:2] for k in keep_away]
+def _free_spot(scene: SceneSpec, state: StateView, moving: str) -> np.ndarray:
+    """A table spot (x, y) at least 10 cm from every other object, as near the table's middle as possible."""
+    taken = [q[:2] for o, q in state.positions.items() if o != moving]
     fixed = _fixed_obstacles(scene)
     best, best_d = None, 1e9
     for x in np.arange(0.0, 0.30, 0.02):
@@ -363,6 +402,10 @@ def _plan_stack(scene: SceneSpec, state: StateView) -> list[Action]:
                     break
         if done == len(order):
             return acts
+        if sv.held is not None and (done == 0 or sv.held != order[done]):  # holding a cube that must go aside
+            sv, more = _put_aside(scene, sv, sv.held)
+            acts += more
+            continue
         # something on top of the cube that must receive the next one (or of the base to be moved)?
         receiver = order[done - 1] if done > 0 else order[0]
         blocker = next((o for o, q in pos.items() if o != receiver and o != sv.held and _on_top(q, pos[receiver])),
@@ -394,7 +437,7 @@ def _plan_stack(scene: SceneSpec, state: StateView) -> list[Action]:
 def _put_aside(scene: SceneSpec, sv: StateView, obj: str) -> tuple[StateView, list[Action]]:
     """Carry ``obj`` to a free place on the table and release it there."""
     a, yaw, off, low = _holding(scene, sv, obj)
-    spot = _free_spot(scene, sv, [])
+    spot = _free_spot(scene, sv, obj)
     z_obj = _resting_z(scene, obj) + 0.006
     tcp = _place_tcp(np.array([spot[0], spot[1], z_obj]), off)
     zt = z_obj - off[2]

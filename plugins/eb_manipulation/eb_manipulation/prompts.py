@@ -1,8 +1,17 @@
-"""Prompt parts for EB-Manipulation, in our own words (the paper's structure: role, action rules, guidelines,
-four in-context examples per task family, answer notes).
+"""Prompt parts for EB-Manipulation, in our own words, on the original's protocol.
 
-The examples are stored in ``examples.json`` next to this file; ``python -m eb_manipulation.examples``
-rebuilds them from held-out layouts with the scripted oracle (see :mod:`eb_manipulation.examples`).
+The original's structure, followed here: the text comes before the single image; the object list
+("object k": [x, y, z], ordered by ascending y, re-read before every planner call) follows the instruction;
+the prompt names the 19 colours objects can have; the in-context examples come from one of three sets chosen by
+the run's condition (with the original's counts per family: pick 2, stack 4, sorter 4, wipe 8):
+
+* ``baseline`` (boxes on every object, one view): wiping examples grouped, four left/right strokes first;
+* ``ablation`` (any other image condition): the same examples, wiping ones alternating the stroke axis;
+* ``language_only``: the baseline set without the visual description.
+
+Visual in-context examples (``ablation=visual_icl``) are the first two of the ablation set with their front
+images (rendered from this world, shipped as small PNGs in ``visual_examples/``, read on first use).
+``python -m eb_manipulation.examples`` rebuilds ``examples.json`` and the PNGs.
 """
 
 from __future__ import annotations
@@ -10,21 +19,33 @@ from __future__ import annotations
 import json
 from functools import lru_cache
 from pathlib import Path
+from typing import Literal
 
-from eb_core.env import PromptParts
+from eb_core.env import PromptParts, VisualExample
 
-__all__ = ["ACTION_RULES", "GUIDELINES", "OUTPUT_NOTES", "ROLE", "prompt_parts"]
+from eb_manipulation.shapes import COLOURS
+
+__all__ = ["ACTION_RULES", "EXAMPLE_COUNTS", "GUIDELINES", "OUTPUT_NOTES", "ROLE", "example_set", "prompt_parts"]
 
 EXAMPLES_FILE = Path(__file__).parent / "examples.json"
+VISUAL_DIR = Path(__file__).parent / "visual_examples"
+#: In-context examples per family, as the original ships them.
+EXAMPLE_COUNTS = {"pick": 2, "stack": 4, "sorter": 4, "wipe": 8}
+#: Visual in-context examples per family (the original shows the first two, each with its image).
+VISUAL_COUNT = 2
 
 ROLE = (
     "You control a Franka Panda robot arm with a two-finger gripper. The arm stands at the far edge of a wooden "
     "table with objects on it, and you make it carry out a person's instruction by choosing a sequence of gripper "
-    "poses. You see the table through a front camera (and, if provided, a camera on the wrist). Every object in "
-    "the front image has a numbered box, and its discrete coordinates are listed after the image."
+    "poses. The image shows the table through a front camera; every object in it has a numbered box, and the "
+    "object list after the instruction gives each numbered object's discrete coordinates."
 )
 
-ACTION_RULES = """Each action is a list of seven integers [x, y, z, roll, pitch, yaw, gripper].
+ACTION_RULES = f"""The object list: "object k": [x, y, z] for every object, numbered by ascending y (object 1 is \
+the leftmost in the front image). It is measured again before each of your turns, so numbers and coordinates can \
+change as things move.
+Objects can have these colours: {", ".join(COLOURS)}.
+Each action is a list of seven integers [x, y, z, roll, pitch, yaw, gripper].
 - x, y, z (0 to 100) place the gripper's tool point, between the fingertips, in the same discrete grid as the \
 object list: one step is 1 cm. Seen in the front image, x grows toward the camera, y grows to the right and z grows \
 upward. The table top is at z = 15, and a listed coordinate is an object's centre (for a container or a sorter \
@@ -46,8 +67,8 @@ GUIDELINES = (
     "Always give at least one action: an empty plan ends the episode.",
     "An episode allows only 15 actions in total, so plan economically.",
     "Use the listed coordinates; they are more exact than what you can estimate from the image.",
-    "Approach from above: go over an object with the gripper open, lower to its centre, close, and lift before "
-    "moving sideways.",
+    "Grasp from above: the open gripper goes to an object's centre, then closes; lift what you hold before "
+    "carrying it past other objects.",
     "To put something into a container or a sorter hole, hold it a few steps above the opening before you open the "
     "gripper; an object counts as sorted only when it drops through the hole of its own shape.",
     "To wipe, hold the sponge at the height where you picked it up so it touches the table, and sweep it across the "
@@ -60,15 +81,40 @@ OUTPUT_NOTES = (
     "whole plan is executed in order unless the task is completed earlier."
 )
 
+WRIST_VIEW = ("The second image comes from a camera on the robot's wrist, looking past the fingertips; it has no "
+              "boxes or labels.")
+
+ExampleSet = Literal["baseline", "ablation"]
+
 
 @lru_cache(maxsize=1)
-def _examples() -> dict[str, list[str]]:
+def _doc() -> dict:
     if not EXAMPLES_FILE.exists():
-        return {}
-    return json.loads(EXAMPLES_FILE.read_text())["examples"]
+        return {"examples": {}, "visual": {}}
+    return json.loads(EXAMPLES_FILE.read_text())
 
 
-def prompt_parts(family: str) -> PromptParts:
-    """Prompt parts for an episode of ``family`` (pick, stack, sorter or wipe)."""
-    return PromptParts(role=ROLE, action_rules=ACTION_RULES, guidelines=GUIDELINES,
-                       examples=tuple(_examples().get(family, ())), output_notes=OUTPUT_NOTES)
+def example_set(detection_boxes: str, multi_view: bool) -> ExampleSet:
+    """The original uses its baseline set only with boxes on every object and a single view; any other image
+    condition (target-only or no boxes, multi-view, multi-step, visual examples) gets the ablation set."""
+    return "baseline" if detection_boxes == "all" and not multi_view else "ablation"
+
+
+@lru_cache(maxsize=8)
+def _visual(family: str) -> tuple[VisualExample, ...]:
+    out = []
+    for item in _doc().get("visual", {}).get(family, [])[:VISUAL_COUNT]:
+        out.append(VisualExample(text=item["text"], images=((VISUAL_DIR / item["image"]).read_bytes(),)))
+    return tuple(out)
+
+
+def prompt_parts(family: str, which: ExampleSet = "baseline", multi_view: bool = False,
+                 visual: bool = True) -> PromptParts:
+    """Prompt parts for an episode of ``family`` (pick, stack, sorter or wipe) under an example set."""
+    sets = _doc()["examples"].get(family, {})
+    return PromptParts(
+        role=ROLE, action_rules=ACTION_RULES, guidelines=GUIDELINES, output_notes=OUTPUT_NOTES,
+        examples=tuple(sets.get(which, ())), examples_language_only=tuple(sets.get("language_only", ())),
+        visual_examples=_visual(family) if visual else (), text_before_images=True,
+        view_descriptions={"wrist": WRIST_VIEW} if multi_view else {},
+    )

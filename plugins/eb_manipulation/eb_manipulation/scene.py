@@ -170,6 +170,10 @@ def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) ->
         if obj.kind == "shape":
             info = SHAPES[obj.shape]  # type: ignore[index]
             z = TABLE_TOP + info.height / 2 + 0.001
+            below = obj.on
+            while below is not None:  # a cube that starts on top of others
+                z += SHAPES[scene.get(below).shape].height + 0.001  # type: ignore[index]
+                below = scene.get(below).on
             rgba = _rgba(obj.colour or "gray")
             common = f'{world} rgba="{rgba}" friction="1.0 0.02 0.001" density="600" solref="0.004 1"'
             if obj.shape == "cube":

@@ -11,7 +11,7 @@ from eb_manipulation.shapes import COLOURS, SHAPES
 __all__ = ["DIRECTIONS", "FAMILIES", "GoalSpec", "ObjectSpec", "SceneSpec", "TASK_FORMAT"]
 
 #: Version of the task-file format; bump when the meaning of a field changes.
-TASK_FORMAT = 1
+TASK_FORMAT = 2
 
 FAMILIES = ("pick", "stack", "sorter", "wipe")
 #: Original VLMBench task ids per family (the spatial subset uses the ``_relative`` variants).
@@ -43,6 +43,8 @@ class ObjectSpec(BaseModel):
     """For ``sorter``: the hole shapes, along the sorter's length (its local y axis)."""
     size: tuple[float, float] | None = None
     """For ``area``: extent along world x and y (m)."""
+    on: str | None = None
+    """For a cube: the id of the cube it rests on at the start (a tower already begun, or a cube in the way)."""
 
     @model_validator(mode="after")
     def _check(self) -> "ObjectSpec":
@@ -94,6 +96,8 @@ class SceneSpec(BaseModel):
     """Which draw of the generator this layout is (earlier draws the oracle could not solve were dropped)."""
     oracle_steps: int | None = None
     """Env steps the scripted oracle needed when the generator verified the task."""
+    template: str | None = None
+    """Id of the instruction template (``family/subset/index``, stacking adds the set-up), for diversity audits."""
 
     @model_validator(mode="after")
     def _refs(self) -> "SceneSpec":
@@ -101,6 +105,9 @@ class SceneSpec(BaseModel):
         if len(ids) != len(set(ids)):
             raise ValueError("object ids must be unique")
         g = self.goal
+        for o in self.objects:
+            if o.on is not None and (o.on not in ids or self.get(o.on).shape != "cube" or o.shape != "cube"):
+                raise ValueError(f"{o.id} can only rest on another cube, not {o.on!r}")
         for ref in [g.target, g.container, g.area, *g.order, *self.target_ids]:
             if ref is not None and ref not in ids:
                 raise ValueError(f"goal refers to unknown object {ref!r}")

@@ -12,7 +12,7 @@ from eb_manipulation.spec import TASK_FORMAT, SceneSpec
 
 __all__ = ["DEFAULT_TASK_FILE", "SUBSET_COUNTS", "load_task_file", "scene_of"]
 
-DEFAULT_TASK_FILE = Path(__file__).parent / "tasks" / "manipulation_v1.json"
+DEFAULT_TASK_FILE = Path(__file__).parent / "tasks" / "manipulation_v2.json"
 #: The paper's subset sizes (228 in total).
 SUBSET_COUNTS = {"base": 48, "common_sense": 48, "complex": 48, "spatial": 48, "visual": 36}
 

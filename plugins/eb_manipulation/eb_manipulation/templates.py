@@ -18,6 +18,7 @@ __all__ = [
     "SHAPE_COMMON",
     "SHAPE_VISUAL",
     "SPILLS",
+    "TEMPLATES",
     "complex_wrap",
     "pick",
 ]
@@ -115,6 +116,59 @@ DIRECTION_COMMON: dict[str, str] = {
     "right_to_left": "against the direction people read a line of English text",
     "front_to_back": "from the edge nearest the camera toward the robot",
     "back_to_front": "from the side nearest the robot toward the camera",
+}
+
+#: Instruction sentences per family and subset (complex reuses base inside unrelated context). Stacking has
+#: groups for two- and three-cube towers. A task records which one it uses in ``metadata["template"]``.
+TEMPLATES: dict[str, dict[str, tuple[str, ...] | dict[str, tuple[str, ...]]]] = {
+    "pick": {
+        "base": ("Pick up the {s} and put it into the {c} container.", "Put the {s} in the {c} container.",
+                 "Move the {s} into the {c} container.", "Place the {s} inside the {c} container."),
+        "common_sense": ("Pick up {s} and drop it into the container with the colour of {c}.",
+                         "Find {s} and place it in the container that is the colour of {c}.",
+                         "The container as coloured as {c} should hold {s}; please put it there."),
+        "spatial": ("Pick up {o} and put it into the {c} container.", "Put {o} into the {c} container.",
+                    "Move {o} over to the {c} container and drop it in."),
+        "visual": ("Put the {sh} object {f} into the {cs} container.",
+                   "Pick up the {sh} object {f} and place it in the {cs} container.",
+                   "Find the {sh} object {f} and drop it into the {cs} container.",
+                   "The {cs} container is waiting for the {sh} object {f}; move it there."),
+    },
+    "stack": {
+        "base": {"two": ("Stack the {1} cube on top of the {0} cube.", "Put the {1} cube onto the {0} cube.",
+                         "Place the {1} cube on the {0} cube."),
+                 "three": ("Build a tower with the {0} cube at the bottom, the {1} cube in the middle and the {2} "
+                           "cube on top.", "Stack the cubes in this order from the bottom up: {0}, {1}, {2}.")},
+        "common_sense": {"two": ("Put the cube the colour of {1} on top of the cube the colour of {0}.",
+                                 "Take the cube as coloured as {1} and set it on the cube as coloured as {0}."),
+                         "three": ("Make a tower of three cubes: the one the colour of {0} at the bottom, then the "
+                                   "one the colour of {1}, and the one the colour of {2} on top.",)},
+        "spatial": {"two": ("Stack {1} on top of {0}.", "Set {1} down on {0}."),
+                    "three": ("Build a tower with {0} at the bottom, {1} in the middle and {2} on top.",)},
+        "visual": {"two": ("Put the {1} cube on top of the {0} cube.", "Set the {1} cube down on the {0} cube."),
+                   "three": ("Stack the {0} cube first, then the {1} cube on it, then the {2} cube on top.",)},
+    },
+    "sorter": {
+        "base": ("Put the {c} object into the shape sorter.", "Insert the {c} object into its hole in the shape sorter.",
+                 "Drop the {c} object into the matching hole of the shape sorter."),
+        "common_sense": ("Put the object that has the colour of {c} into the shape sorter.",
+                         "Find the object as coloured as {c} and slot it into the shape sorter.",
+                         "Slot the object with the colour of {c} into the hole it fits in the shape sorter."),
+        "spatial": ("Put {o} into the shape sorter.", "Slot {o} into its hole in the shape sorter.",
+                    "Find {o} and drop it through the matching hole of the shape sorter."),
+        "visual": ("Put the {sh} object {f} into the shape sorter.",
+                   "Insert the {sh} object {f} into the sorting box.",
+                   "Drop the {sh} object {f} through its hole in the shape sorter."),
+    },
+    "wipe": {
+        "base": ("Wipe the {c} area {d} with the sponge.", "Use the sponge to wipe the {c} patch {d}.",
+                 "Pick up the sponge and wipe the {c} area {d}."),
+        "common_sense": ("Some {s} got spilled on the table. Take the sponge and wipe it up, moving {d}.",
+                         "Clean the patch of {s} with the sponge, wiping {d}.",
+                         "There is a patch of {s} on the table; wipe it with the sponge {d}."),
+        "spatial": ("Wipe {a} {d} using the sponge.", "With the sponge, wipe {a} {d}.",
+                    "Clean {a} with the sponge, moving {d}."),
+    },
 }
 
 _CONTEXT_OPEN: tuple[str, ...] = (

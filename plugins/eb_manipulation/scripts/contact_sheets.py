@@ -15,8 +15,6 @@ from PIL import Image, ImageDraw, ImageFont
 from eb_manipulation.env import ManipulationEnv
 
 TASKS = {"pick": "base_pick_00", "stack": "base_stack_01", "sorter": "base_sorter_00", "wipe": "base_wipe_00"}
-#: After which oracle action the "during" frame is taken (the object is held then).
-DURING = {"pick": 4, "stack": 4, "sorter": 5, "wipe": 5}
 
 
 def _caption(img: np.ndarray, text: str) -> np.ndarray:
@@ -38,15 +36,15 @@ def main(out_dir: Path, resolution: int) -> None:
             obs = env.reset(tasks[task_id], 0)
             frames = [(obs, "start")]
             plan = env.expert_plan() or []
-            result = None
+            result, during = None, None
             for i, action in enumerate(plan, start=1):
                 result = env.step(action)
-                if i == DURING[family]:
-                    frames.append((result.observation, f"after action {i}"))
                 if result.done:
                     break
-            assert result is not None and result.task_success, task_id
-            frames.append((result.observation, f"solved after {i} actions"))
+                if result.info.get("held"):  # the last frame with something in the gripper
+                    during = (result.observation, f"after action {i}")
+            assert result is not None and result.task_success and during is not None, task_id
+            frames += [during, (result.observation, f"solved after {i} actions")]
             top = np.hstack([_caption(o.images["front"], f"front, {c}") for o, c in frames])
             bottom = np.hstack([_caption(o.images["wrist"], f"wrist, {c}") for o, c in frames])
             sheet = Image.fromarray(np.vstack([top, bottom]))

@@ -1,20 +1,23 @@
-"""The task generator: the shipped file is its output, tasks are valid and reproducible."""
+"""The task generator: the shipped file is its output, tasks are valid, varied and reproducible."""
 
 from __future__ import annotations
 
 import json
+import re
 from collections import Counter
 from pathlib import Path
 
+import pytest
+
 from eb_manipulation.generate import SUBSET_FAMILIES, generate, make_task
 from eb_manipulation.spec import SceneSpec
-from eb_manipulation.tasks import DEFAULT_TASK_FILE, SUBSET_COUNTS
+from eb_manipulation.tasks import DEFAULT_TASK_FILE, SUBSET_COUNTS, TaskFileError, load_task_file
 
 DOC = json.loads(Path(DEFAULT_TASK_FILE).read_text())
 
 
 def test_shipped_file_has_the_papers_subsets_and_families() -> None:
-    assert DOC["version"] == "v1" and DOC["verified"] is True and DOC["count"] == 228
+    assert DOC["version"] == "v2" and DOC["verified"] is True and DOC["count"] == 228
     tasks = DOC["tasks"]
     assert Counter(t["subset"] for t in tasks) == SUBSET_COUNTS
     per = Counter((t["subset"], t["metadata"]["family"]) for t in tasks)
@@ -27,6 +30,42 @@ def test_shipped_file_has_the_papers_subsets_and_families() -> None:
     for t in tasks:
         SceneSpec.model_validate(t["metadata"])
         assert t["metadata"]["oracle_steps"] <= 15
+
+
+def test_instructions_are_unique_and_templates_varied() -> None:
+    for subset in SUBSET_COUNTS:
+        tasks = [t for t in DOC["tasks"] if t["subset"] == subset]
+        instructions = [t["instruction"] for t in tasks]
+        assert len(set(instructions)) >= 0.95 * len(instructions), subset
+        templates = {t["metadata"]["template"] for t in tasks}
+        assert len(templates) >= 10, (subset, len(templates))
+        for text in instructions:
+            assert not re.search(r"\b(\w+) \1\b", text), text  # no doubled words
+            assert not re.search(r"\ba [aeiou]", text), text  # "an" before a vowel
+            assert text[0].isupper() and text.endswith(".") and "  " not in text
+
+
+def test_layouts_and_plan_lengths_spread() -> None:
+    """Distractor counts, placements and the expert's plan length vary within every family."""
+    for family in ("pick", "stack", "sorter", "wipe"):
+        tasks = [t for t in DOC["tasks"] if t["metadata"]["family"] == family]
+        counts = Counter(len(t["metadata"]["objects"]) for t in tasks)
+        lengths = Counter(t["metadata"]["oracle_steps"] for t in tasks)
+        assert len(counts) >= 3, (family, counts)
+        assert len(lengths) >= 2, (family, lengths)
+        xs = [o["x"] for t in tasks for o in t["metadata"]["objects"]]
+        assert max(xs) - min(xs) > 0.25
+    stack_modes = Counter(t["metadata"]["template"].rsplit("/", 1)[1] for t in DOC["tasks"]
+                          if t["metadata"]["family"] == "stack")
+    assert set(stack_modes) == {"scratch2", "scratch3", "partial3", "blocked2"}
+
+
+def test_old_task_files_are_refused_with_one_line(tmp_path: Path) -> None:
+    old = tmp_path / "manipulation_v1.json"
+    old.write_text(json.dumps({"format": 1, "tasks": []}))
+    with pytest.raises(TaskFileError) as err:
+        load_task_file(old)
+    assert "format 1" in str(err.value) and "reads 2" in str(err.value) and "\n" not in str(err.value)
 
 
 def test_shipped_tasks_are_reproducible_from_their_seed() -> None:
