@@ -22,11 +22,11 @@ from eb_core.env import (
     Task,
 )
 from eb_habitat import prompts
-from eb_habitat.goals import GoalTracker
+from eb_habitat.goals import GoalTracker, Predicate
 from eb_habitat.oracle import OracleError, expert_plan
 from eb_habitat.skills import SKILL_NAMES, SKILLS
 from eb_habitat.tasks import TaskSpec, load_tasks, spec_of
-from eb_habitat.world import World, item_label
+from eb_habitat.world import Item, World, item_label
 
 __all__ = ["HabitatEnv", "HabitatParams"]
 
@@ -52,6 +52,35 @@ def _params(params: dict[str, Any]) -> HabitatParams:
             raise ValueError(f"habitat env: unknown param {key!r}; allowed: "
                              f"{', '.join(HabitatParams.model_fields)}") from None
         raise ValueError(f"habitat env: param {key!r}: {err['msg']}") from None
+
+
+def _wrong_target(kind: str, arg: str, held_before: Item | None, full_before: bool, world: World,
+                  unmet: list[Predicate]) -> bool:
+    """Whether a skill that just SUCCEEDED acted on the wrong instance relative to the goal still unmet before it:
+
+    * a pick took an object of a kind the goal wants as one named instance (``mug_2``), but another instance of
+      that kind that no goal predicate asks for (a look-alike: the other mug) -- unless it was taken off a full
+      receptacle an unmet predicate needs, which makes room there (what the expert does);
+    * a place put down an object an unmet goal predicate wants moved, on a receptacle none of those predicates
+      names (the goal object, the wrong receptacle).
+
+    Navigating, opening and closing never count: they pick no instance.
+    """
+    if kind == "pick":
+        item = world.held_item
+        if item is None:
+            return False
+        wanted = [p for p in unmet if p.name in ("on", "inside", "holding")]
+        if any(p.matches(item.name, item.type) for p in wanted):
+            return False
+        if full_before and any(p.target == world.agent_at for p in wanted):
+            return False
+        return any(p.obj == inst for p in wanted for inst in world.items
+                   if world.items[inst].type == item.type and inst != item.name)
+    if kind == "place" and held_before is not None:
+        moves = [p for p in unmet if p.name in ("on", "inside") and p.matches(held_before.name, held_before.type)]
+        return bool(moves) and all(p.target != arg for p in moves)
+    return False
 
 
 class HabitatEnv(Env):
@@ -101,7 +130,14 @@ class HabitatEnv(Env):
             raise RuntimeError("HabitatEnv.step() before reset()")
         if isinstance(action, bool) or not isinstance(action, int) or not 0 <= action < len(SKILLS):
             raise ValueError(f"habitat action must be an id in 0..{len(SKILLS) - 1}, got {action!r}")
+        skill = SKILLS[int(action)]
+        unmet_before = self._tracker.unmet(self._world)
+        held_before = self._world.held_item
+        here = self._world.agent_at
+        full_before = here is not None and self._world.free_slot(here) is None
         outcome = self._world.step(int(action))
+        wrong = outcome.success and _wrong_target(skill.kind, skill.arg, held_before, full_before, self._world,
+                                                  unmet_before)
         self._tracker.update(self._world)
         success = self._tracker.success(self._world)
         feedback = outcome.feedback
@@ -121,6 +157,8 @@ class HabitatEnv(Env):
                 "unmet_goals": [str(p) for p in self._tracker.unmet(self._world)],
                 "subgoals_reached": sum(self._tracker.reached),
                 "subgoals_total": len(self._tracker.subgoals),
+                "failure": outcome.failure,
+                **({"wrong_target": True} if wrong else {}),
             },
         )
 

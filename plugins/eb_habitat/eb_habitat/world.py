@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from eb_habitat.catalog import object_type, receptacle
 from eb_habitat.skills import SKILLS
 
-__all__ = ["HAND", "Item", "Outcome", "World", "item_label"]
+__all__ = ["FAILURES", "HAND", "Item", "Outcome", "World", "item_label"]
 
 HAND = "@hand"
 """The location of the object the agent holds."""
@@ -42,10 +42,22 @@ def _article(label: str) -> str:
     return ("an " if label[0] in "aeiou" else "a ") + label
 
 
+#: Why a skill failed (the core's ``StepResult.info["failure"]`` values this world reports). Every failure of
+#: the 70 skills is one of these: ``precondition`` -- the right skill in the wrong state (not standing at the
+#: receptacle, hand full or empty, the container closed or already open/closed, no free slot left, the object
+#: lies at another receptacle); ``wrong_target`` -- a pick names a kind of object this apartment does not hold.
+#: ``affordance`` never happens: the skill set has no skill that acts on something unable to take it (only the
+#: four containers have open/close skills, place skills exist only for receptacles, pick skills only for
+#: objects), so it is not in this tuple.
+FAILURES = ("precondition", "wrong_target")
+
+
 @dataclass(frozen=True)
 class Outcome:
     success: bool
     feedback: str
+    failure: str | None = None
+    """One of :data:`FAILURES` when the skill failed, else None."""
 
 
 class World:
@@ -139,18 +151,21 @@ class World:
         held = self.held_item
         if held is not None:
             return Outcome(False, f"Cannot pick up the {name}: your hand already holds the {item_label(held)}. "
-                                  f"Place it somewhere first.")
+                                  f"Place it somewhere first.", "precondition")
         if self.agent_at is None:
             return Outcome(False, f"Cannot pick up the {name}: you are not next to any receptacle. "
-                                  f"Navigate to the place where it lies first.")
+                                  f"Navigate to the place where it lies first.", "precondition")
         r = receptacle(self.agent_at)
         if not self.is_open(r.key):
             return Outcome(False, f"Cannot pick up the {name}: the {r.name} is closed, so nothing inside is "
-                                  f"reachable. Open it first.")
+                                  f"reachable. Open it first.", "precondition")
         item = self.pick_candidate(type_key)
         if item is None:
+            # elsewhere in the apartment: go there first; nowhere: the skill names a thing that is not here
+            elsewhere = any(it.type == type_key for it in self.items.values())
             return Outcome(False, f"Cannot pick up the {name}: there is no {name} {r.preposition} the {r.name} "
-                                  f"where you stand. Look for it at other receptacles.")
+                                  f"where you stand. Look for it at other receptacles.",
+                           "precondition" if elsewhere else "wrong_target")
         item.loc, item.slot = HAND, 0
         self.held = item.name
         return Outcome(True, f"You picked up the {item_label(item)} from the {r.name}; it is now in your hand.")
@@ -160,18 +175,19 @@ class World:
         held = self.held_item
         if held is None:
             return Outcome(False, f"Cannot place anything {r.preposition} the {r.name}: your hand is empty. "
-                                  f"Pick an object up first.")
+                                  f"Pick an object up first.", "precondition")
         if self.agent_at != key:
             where = "not next to any receptacle" if self.agent_at is None else \
                 f"at the {receptacle(self.agent_at).name}"
             return Outcome(False, f"Cannot place the {item_label(held)} {r.preposition} the {r.name}: you are "
-                                  f"{where}. Navigate to the {r.name} first.")
+                                  f"{where}. Navigate to the {r.name} first.", "precondition")
         if not self.is_open(key):
-            return Outcome(False, f"Cannot place the {item_label(held)} in the {r.name}: it is closed. Open it first.")
+            return Outcome(False, f"Cannot place the {item_label(held)} in the {r.name}: it is closed. Open it first.",
+                           "precondition")
         slot = self.free_slot(key)
         if slot is None:
             return Outcome(False, f"Cannot place the {item_label(held)} {r.preposition} the {r.name}: there is no "
-                                  f"free space left. Choose another receptacle.")
+                                  f"free space left. Choose another receptacle.", "precondition")
         held.loc, held.slot = key, slot
         self.held = None
         return Outcome(True, f"You put the {item_label(held)} {r.preposition} the {r.name}; your hand is empty now.")
@@ -179,17 +195,19 @@ class World:
     def _open(self, key: str) -> Outcome:
         r = receptacle(key)
         if self.agent_at != key:
-            return Outcome(False, f"Cannot open the {r.name}: it is out of reach. Navigate to the {r.name} first.")
+            return Outcome(False, f"Cannot open the {r.name}: it is out of reach. Navigate to the {r.name} first.",
+                           "precondition")
         if key in self.opened:
-            return Outcome(False, f"The {r.name} is already open.")
+            return Outcome(False, f"The {r.name} is already open.", "precondition")
         self.opened.add(key)
         return Outcome(True, f"You opened the {r.name}; its contents are now reachable.")
 
     def _close(self, key: str) -> Outcome:
         r = receptacle(key)
         if self.agent_at != key:
-            return Outcome(False, f"Cannot close the {r.name}: it is out of reach. Navigate to the {r.name} first.")
+            return Outcome(False, f"Cannot close the {r.name}: it is out of reach. Navigate to the {r.name} first.",
+                           "precondition")
         if key not in self.opened:
-            return Outcome(False, f"The {r.name} is already closed.")
+            return Outcome(False, f"The {r.name} is already closed.", "precondition")
         self.opened.discard(key)
         return Outcome(True, f"You closed the {r.name}.")
