@@ -35,7 +35,7 @@ from eb_navigation.prompts import prompt_parts
 from eb_navigation.room import NavObject, NavRoom
 from eb_navigation.tasks import NavTaskSpec, TaskFileError, load_task_file, spec_of
 
-__all__ = ["NavigationEnv", "NavigationParams", "build_room", "check_target"]
+__all__ = ["FAILURES", "NavigationEnv", "NavigationParams", "build_room", "check_target"]
 
 
 FEEDBACK_OK = "The last action succeeded."
@@ -46,6 +46,12 @@ FEEDBACK_TILT = {
     "tilt_min": f"The last action failed: the camera is already tilted down as far as it goes ({-TILT_MIN} degrees).",
 }
 FEEDBACK_DONE = " You are now close enough to the target: the task is complete."
+
+#: The core's ``StepResult.info["failure"]`` for each reason :meth:`FreeSpace.apply` gives: a move into a wall
+#: or a piece of furniture is a ``collision``; tilting the camera past its limit is a ``precondition`` failure
+#: (a fine action in another state: the camera is already at its end stop, which the observation text says).
+#: Turning never fails, so nothing else can.
+FAILURES = {"blocked": "collision", "tilt_max": "precondition", "tilt_min": "precondition"}
 
 
 class NavigationParams(BaseModel):
@@ -215,8 +221,8 @@ class NavigationEnv(Env):
             feedback += FEEDBACK_DONE
         self._done = success
         obs = self._observe()
-        info = {"distance_to_target": round(dist, 3), "position": (new.x, new.y), "yaw": new.yaw_deg,
-                "tilt": new.tilt}
+        info = {"distance_to_goal": round(dist, 3), "distance_to_target": round(dist, 3), "position": (new.x, new.y),
+                "yaw": new.yaw_deg, "tilt": new.tilt, "failure": None if ok else FAILURES[reason]}
         return StepResult(observation=obs, action_success=ok, feedback=feedback, done=success,
                           task_success=success, progress=1.0 if success else 0.0, info=info)
 
@@ -254,6 +260,15 @@ class NavigationEnv(Env):
         self._closed = True
 
     # -- observation -----------------------------------------------------------------------------
+
+    @property
+    def distance_to_goal(self) -> float | None:
+        """Metres from the agent to the target now (None before reset). Steps report it as
+        ``info["distance_to_goal"]``; after a reset, when :class:`~eb_core.Observation` has no info to carry it,
+        tools read it here."""
+        if self._state is None:
+            return None
+        return round(distance_to(self._state, self._target_xy), 3)
 
     @property
     def state(self) -> AgentState | None:
