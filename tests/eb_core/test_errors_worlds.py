@@ -55,8 +55,13 @@ def test_a_scripted_habitat_episode_is_labelled(tmp_path, monkeypatch):
     rec = json.loads((tmp_path / "episodes.jsonl").read_text().splitlines()[0])
     assert rec["end_reason"] == "empty_plan" and not rec["success"]
     counts = rec["error_counts"]
-    # the plum lies elsewhere: picking it up from the start fails (twice), skipping the expert's navigation
-    assert counts["failed_action"] == 2 and counts["repetition"] == 1 and counts["missing_step"] == 2
+    # the plum lies elsewhere: picking it up from the start fails (twice), skipping the expert's navigation;
+    # the failures carry the world's reason when it gives one ("precondition": not near), else "unclassified"
+    reasons = [a.get("failure") for line in (tmp_path / "episodes" / "base-00" / "steps.jsonl").read_text().splitlines()
+               for a in json.loads(line)["actions"]]
+    assert len(reasons) == 2 and reasons[0] == reasons[1] and reasons[0] in (None, "precondition")
+    assert counts["precondition_error" if reasons[0] else "failed_action"] == 2
+    assert counts["repetition"] == 1 and counts["missing_step"] == 2
     assert counts["hallucinated_object"] == 1  # "pick up the giraffe": no giraffe in the scene's action list
     assert counts["format_error"] == 1 and counts["premature_stop"] == 1
     assert summary["overall"]["error_analysis"]["categories"]["premature_stop"]["episode_rate"] == 1.0
