@@ -16,7 +16,7 @@ from eb_core import DiscreteActionSpace, Env, Observation, ObjectInfo, PromptPar
 
 from eb_alfred.actions import scene_actions
 from eb_alfred.describe import describe
-from eb_alfred.goals import conditions, evaluate
+from eb_alfred.goals import conditions, evaluate, failure_label
 from eb_alfred.oracle import expert_plan as _expert_plan
 from eb_alfred.oracle import why_unreachable
 from eb_alfred.prompts import prompt_parts as _prompt_parts
@@ -112,7 +112,7 @@ class AlfredEnv(Env):
         return StepResult(observation=obs, action_success=ok, feedback=feedback, done=success,
                           task_success=success, progress=1.0 if success else progress,
                           info={"action_name": name, "conditions": flags, "held": world.held,
-                                "place": world.place})
+                                "place": world.place, "failure": None if ok else self._failure(world)})
 
     def action_space(self) -> DiscreteActionSpace:
         return self._require()[1]
@@ -173,6 +173,12 @@ class AlfredEnv(Env):
                               is_target=self._is_target(o["name"]))
                    for o in frame.objects]
         return Observation(images=frame.images, primary="first_person", text=text, objects=objects)
+
+    def _failure(self, world: World) -> str | None:
+        """The failure label of the action that just failed: the world's own reason, except that a failure in
+        the wrong state on a look-alike of something the goal singles out (by instance, colour or shape) is a
+        wrong target -- the state was not the agent's real mistake."""
+        return failure_label(world, self._goal or {})
 
     def _is_target(self, name: str) -> bool:
         from eb_alfred.goals import matches

@@ -17,7 +17,7 @@ from typing import Any
 
 from eb_alfred.actions import scene_actions
 from eb_alfred.catalog import KNIVES, LAMPS, TYPES, fits, is_movable_receptacle
-from eb_alfred.goals import GOAL_KINDS, evaluate
+from eb_alfred.goals import GOAL_KINDS, PROPERTY_OF_KIND, evaluate, properties
 from eb_alfred.audit import attribute_problems, phrase_problems, relation_problems, visibility_problems
 from eb_alfred.instructions import instruction_with_template, noun, object_relations, plural, receptacle_relations
 from eb_alfred.oracle import expert_plan
@@ -41,6 +41,22 @@ KIND_ROOMS = {
     "cool_and_place": ("kitchen",),
     "examine_in_light": ("living_room", "bedroom"),
 }
+#: long_horizon: the rooms each task type is drawn in. Long plans come from the scene and the goal -- the things
+#: shut away in closed drawers, cabinets and the fridge, slicing, and extra preparation (``also``: washed, heated,
+#: chilled) -- so a type goes where the appliances for that are: kitchens, and bathrooms for washing. Examining in
+#: light is not drawn: lamps stand in living rooms and bedrooms, which have no knife, sink or appliance.
+LONG_ROOMS = {
+    "pick_and_place": ("kitchen", "bathroom"),
+    "stack_and_place": ("kitchen",),
+    "pick_two_and_place": ("bathroom",),
+    "clean_and_place": ("kitchen", "bathroom", "bathroom"),
+    "heat_and_place": ("kitchen",),
+    "cool_and_place": ("kitchen",),
+}
+#: Which appliance a preparation needs in the room.
+_HELPER_TYPE = {"clean": "SinkBasin", "hot": "Microwave", "cold": "Fridge"}
+#: Destinations that would undo or make no sense after a preparation (a heated slice left in the fridge).
+_UNDOES = {"hot": {"Fridge"}, "cold": {"Microwave"}, "clean": {"SinkBasin", "BathtubBasin"}}
 # Destinations that make sense as "put it there" (no garbage can, no appliances for non-matching things).
 _PLACE_TARGETS = {"CounterTop", "DiningTable", "Desk", "CoffeeTable", "SideTable", "Shelf", "Dresser", "Bed", "Sofa",
                   "ArmChair", "Ottoman", "TVStand", "Cabinet", "Drawer", "Fridge", "Safe", "SinkBasin",
@@ -104,9 +120,31 @@ def propose_goal(rng: random.Random, kind: str, world: World, sliced: bool = Fal
     return goal
 
 
+def _can_be(type_name: str, prop: str) -> bool:
+    return {"clean": TYPES[type_name].dirtyable, "hot": type_name in HEATABLE, "cold": type_name in COOLABLE}[prop]
+
+
+def _add_preparation(rng: random.Random, world: World, goal: dict[str, Any]) -> dict[str, Any] | None:
+    """long_horizon: ask for one or two extra preparations of the object (``also``) that the room and the
+    object allow; None when none fits. Heat and cool never go together (chilling undoes heating)."""
+    xt = goal["object"]["type"] if "type" in goal["object"] else world.objects[goal["object"]["instance"]].type
+    own = PROPERTY_OF_KIND.get(goal["kind"])
+    rec = goal.get("receptacle", {})
+    dest = rec["type"] if "type" in rec else world.objects[rec["instance"]].type if rec else None
+    options = [p for p in ("clean", "hot", "cold") if p != own and _can_be(xt, p) and world.of_type(_HELPER_TYPE[p])
+               and (own is None or _can_be(xt, own)) and {p, own} != {"hot", "cold"} and dest not in _UNDOES[p]]
+    if not options:
+        return None
+    rng.shuffle(options)
+    extra = options[:1] if own or rng.random() < 0.5 else options[:2]
+    if {"hot", "cold"} <= set(extra):
+        extra = extra[:1]
+    return dict(goal, also=sorted(extra))
+
+
 def _prepare(world: World, goal: dict[str, Any]) -> None:
     """Scene adjustments a task type needs: things to wash start dirty, lamps start off."""
-    if goal["kind"] == "clean_and_place":
+    if "clean" in properties(goal):
         t = goal["object"].get("type") or world.objects[goal["object"]["instance"]].type
         for n in world.of_type(t):
             world.objects[n].is_dirty = True
@@ -254,22 +292,24 @@ def _make_one(subset: str, kind: str, seed: int, rng: random.Random,
               views_for: Any = None) -> dict[str, Any] | None:
     """One candidate task, or None. ``views_for(world)`` (optional) gives rendered views of a scene: then the
     task is kept only if everything it refers to can be seen (:func:`image_problems`)."""
-    room = rng.choice(KIND_ROOMS[kind])
+    long = subset == "long_horizon"
+    room = rng.choice(LONG_ROOMS[kind] if long else KIND_ROOMS[kind])
     size = rng.random()
-    if subset == "long_horizon":
+    if long:
         size = 0.4 + 0.6 * size
-        if kind in ("pick_and_place", "pick_two_and_place", "stack_and_place", "examine_in_light") \
-                and rng.random() < 0.5:  # long tasks outside the kitchen too
-            room = rng.choice(("living_room", "bedroom") if kind in ("stack_and_place", "examine_in_light")
-                              else ("living_room", "bedroom", "bathroom"))
     scene = make_scene(seed, room, size=size)
     world = World.from_scene(scene)
     if not MIN_ACTIONS <= len(scene_actions(world)) <= MAX_ACTIONS:
         return None
-    sliced = subset == "long_horizon" and room == "kitchen" and rng.random() < 0.75
+    sliced = long and room == "kitchen" and rng.random() < 0.6
     goal = propose_goal(rng, kind, world, sliced=sliced)
     if goal is None:
         return None
+    # extra preparation: always for the plain kinds, half the time for washing / heating / chilling
+    if long and (kind not in PROPERTY_OF_KIND or rng.random() < 0.5):
+        goal = _add_preparation(rng, world, goal)
+        if goal is None:
+            return None
     notes = ""
     phrases: dict[str, str] | None = None
     if subset == "visual_appearance":
@@ -340,7 +380,8 @@ def make_tasks(subset: str, seed: int = 0, n: int = 50, render_checks: bool = Tr
     try:
         while len(tasks) < n:
             # The task type with the fewest tasks so far (types that keep failing are given up on).
-            open_kinds = [k for k in GOAL_KINDS if misses[k] < 400]
+            open_kinds = [k for k in GOAL_KINDS if misses[k] < 400
+                          and (subset != "long_horizon" or k in LONG_ROOMS)]
             if not open_kinds:
                 raise RuntimeError(f"could not generate {n} {subset} tasks (got {len(tasks)})")
             kind = min(open_kinds, key=lambda k: (count[k], GOAL_KINDS.index(k)))

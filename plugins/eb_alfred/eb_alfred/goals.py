@@ -10,6 +10,11 @@ place 2, examine in light 2, heat / cool / clean & place 3, stack & place 3; a s
 (``isSliced``), or two for pick two (two slices). As in the original, a sliced goal is about slices: only sliced
 instances count for the other conditions. An unsliced goal is about a whole object: an instance that has been
 sliced no longer counts (so slicing the only apple makes "put a washed apple in the fridge" unreachable).
+
+A goal may combine conditions (long_horizon): ``"also": ["clean", "hot"]`` asks for extra preparation of the
+object -- washed, heated or chilled (not both hot and cold: chilling undoes heating) -- on top of what its type
+asks. Each extra property adds one condition ``(isClean x)``, and the final condition of the type (the object in
+its receptacle, held under the lamp, in the dish on the table) then holds only for an object that has all of them.
 """
 
 from __future__ import annotations
@@ -20,7 +25,8 @@ from typing import Any
 
 from eb_alfred.world import World
 
-__all__ = ["Condition", "GOAL_KINDS", "conditions", "matches", "candidates", "usable", "evaluate", "PROPERTY_OF_KIND"]
+__all__ = ["Condition", "GOAL_KINDS", "conditions", "matches", "candidates", "usable", "evaluate", "PROPERTY_OF_KIND",
+           "look_alike", "failure_label", "properties", "EXTRA_PROPERTIES"]
 
 GOAL_KINDS = (
     "pick_and_place",
@@ -75,6 +81,17 @@ def _inside(world: World, name: str, recep_ref: dict[str, str]) -> bool:
     return parent is not None and not world.is_held(name) and matches(world, recep_ref, parent)
 
 
+#: The extra preparations a goal's ``also`` may ask for.
+EXTRA_PROPERTIES = ("clean", "hot", "cold")
+
+
+def properties(goal: dict[str, Any]) -> list[str]:
+    """Every property the goal's object must end with: the type's own (heat -> hot) then the ``also`` ones."""
+    own = PROPERTY_OF_KIND.get(goal["kind"])
+    out = [own] if own else []
+    return out + [p for p in goal.get("also", ()) if p not in out]
+
+
 def usable(world: World, goal: dict[str, Any]) -> list[str]:
     """The instances that can serve as the goal's object in the current state.
 
@@ -94,12 +111,19 @@ def conditions(goal: dict[str, Any]) -> list[Condition]:
     obj = goal["object"]
     sliced = bool(goal.get("sliced"))
     prop = PROPERTY_OF_KIND.get(kind)
+    extra = [p for p in properties(goal) if p != prop]
     o = _ref_text(obj)
     xo = f"{o}Sliced" if sliced else o
     conds: list[Condition] = []
 
+    def ready(w: World, x: str) -> bool:
+        return all(_has(w, x, p) for p in extra)
+
     def some(pred: Callable[[World, str], bool]) -> Callable[[World], bool]:
         return lambda w: any(pred(w, x) for x in usable(w, goal))
+
+    def and_ready(text: str) -> str:
+        return f"(and {' '.join(f'({_PRED[p]} {xo})' for p in extra)} {text})" if extra else text
 
     def n_sliced(w: World) -> int:
         return sum(1 for x in candidates(w, obj) if w.objects[x].is_sliced)
@@ -108,10 +132,12 @@ def conditions(goal: dict[str, Any]) -> list[Condition]:
         conds.append(Condition(f"(isSliced {o})", lambda w: n_sliced(w) >= 1))
         if kind == "pick_two_and_place":
             conds.append(Condition(f"(isSliced {o}_second)", lambda w: n_sliced(w) >= 2))
+    for p in extra:
+        conds.append(Condition(f"({_PRED[p]} {xo})", some(lambda w, x, p=p: _has(w, x, p))))
 
     if kind == "examine_in_light":
         lamp = goal["lamp"]
-        conds.append(Condition(f"(holds {xo})", some(lambda w, x: w.held == x)))
+        conds.append(Condition(and_ready(f"(holds {xo})"), some(lambda w, x: w.held == x and ready(w, x))))
         conds.append(Condition(f"(and (isToggled {_ref_text(lamp)}) (atLocation agent {_ref_text(lamp)}))",
                                lambda w: any(w.objects[lm].is_on and w.near(lm) for lm in candidates(w, lamp))))
         return conds
@@ -123,12 +149,12 @@ def conditions(goal: dict[str, Any]) -> list[Condition]:
             """Most usable objects inside one receptacle (both must share it, as in the original)."""
             counts: dict[str, int] = {}
             for x in usable(w, goal):
-                if _inside(w, x, recep):
+                if _inside(w, x, recep) and ready(w, x):
                     parent = w.objects[x].parent
                     counts[parent] = counts.get(parent, 0) + 1  # type: ignore[index]
             return max(counts.values(), default=0)
-        conds.append(Condition(f"(inReceptacle {xo} {r})", lambda w: best(w) >= 1))
-        conds.append(Condition(f"(inReceptacle {xo}_second {r})", lambda w: best(w) >= 2))
+        conds.append(Condition(and_ready(f"(inReceptacle {xo} {r})"), lambda w: best(w) >= 1))
+        conds.append(Condition(and_ready(f"(inReceptacle {xo}_second {r})"), lambda w: best(w) >= 2))
         return conds
 
     if kind == "stack_and_place":
@@ -141,15 +167,19 @@ def conditions(goal: dict[str, Any]) -> list[Condition]:
 
         conds.append(Condition(f"(inReceptacle {xo} {m})", some(lambda w, x: x_in_m(w, x) is not None)))
         conds.append(Condition(f"(inReceptacle {m} {r})", lambda w: any(_inside(w, y, recep) for y in candidates(w, mov))))
-        conds.append(Condition(f"(and (inReceptacle {xo} {m}) (inReceptacle {m} {r}))",
-                               some(lambda w, x: (mm := x_in_m(w, x)) is not None and _inside(w, mm, recep))))
+        conds.append(Condition(and_ready(f"(and (inReceptacle {xo} {m}) (inReceptacle {m} {r}))"),
+                               some(lambda w, x: (mm := x_in_m(w, x)) is not None and _inside(w, mm, recep)
+                                    and ready(w, x))))
         return conds
 
+    if prop is None:
+        conds.append(Condition(and_ready(f"(inReceptacle {xo} {r})"),
+                               some(lambda w, x: _inside(w, x, recep) and ready(w, x))))
+        return conds
     conds.append(Condition(f"(inReceptacle {xo} {r})", some(lambda w, x: _inside(w, x, recep))))
-    if prop is not None:
-        conds.append(Condition(f"({_PRED[prop]} {xo})", some(lambda w, x: _has(w, x, prop))))
-        conds.append(Condition(f"(and ({_PRED[prop]} {xo}) (inReceptacle {xo} {r}))",
-                               some(lambda w, x: _inside(w, x, recep) and _has(w, x, prop))))
+    conds.append(Condition(f"({_PRED[prop]} {xo})", some(lambda w, x: _has(w, x, prop))))
+    conds.append(Condition(and_ready(f"(and ({_PRED[prop]} {xo}) (inReceptacle {xo} {r}))"),
+                           some(lambda w, x: _inside(w, x, recep) and _has(w, x, prop) and ready(w, x))))
     return conds
 
 
@@ -159,3 +189,33 @@ def evaluate(goal: dict[str, Any], world: World) -> tuple[bool, float, list[bool
     flags = [c.check(world) for c in conds]
     met = sum(flags)
     return met == len(flags), met / len(flags), flags
+
+
+_ROLES = ("object", "receptacle", "movable", "lamp")
+
+
+def look_alike(world: World, goal: dict[str, Any], name: str) -> bool:
+    """Whether ``name`` is a same-type stand-in for something the goal singles out by instance, colour or shape
+    (``Mug_1`` when the goal wants ``Mug_2``, the red mug when it wants the black one)."""
+    if name not in world.objects:
+        return False
+    kind = world.objects[name].type
+    for key in _ROLES:
+        ref = goal.get(key)
+        if not ref:
+            continue
+        picky = "instance" in ref or "color" in ref or "shape" in ref
+        ref_type = world.objects[ref["instance"]].type if "instance" in ref and ref["instance"] in world.objects \
+            else ref.get("type")
+        if picky and ref_type == kind:
+            return not matches(world, ref, name)
+    return False
+
+
+def failure_label(world: World, goal: dict[str, Any]) -> str | None:
+    """The label of the action that just failed in ``world`` (``World.failure``), with a state failure on a
+    look-alike of the goal's thing reported as ``wrong_target``."""
+    label = world.failure
+    if label == "precondition" and world.last_target is not None and look_alike(world, goal, world.last_target):
+        return "wrong_target"
+    return label

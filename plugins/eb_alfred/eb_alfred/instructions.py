@@ -93,6 +93,30 @@ _SLICED = {
                        "Slice {x}, let a slice get cold and then set it {p} {r}."],
     "examine_in_light": ["Slice {x}, then turn on {l} and look at a slice."],
 }
+# Goals with extra preparation (``also``, long_horizon): {done} lists every property the object must end with
+# ("washed and heated"); heat/cool/clean tasks with an extra property use the pick & place wording.
+_ALSO = {
+    "pick_and_place": ["Get {x} {done}, then put it {p} {r}.", "Make sure {x} is {done} before you put it {p} {r}.",
+                       "Take {x}, have it {done} and leave it {p} {r}."],
+    "pick_two_and_place": ["Get two {xs} {done} and put both {p} {r}.",
+                           "Make sure two {xs} are {done}, then place them {p} {r}."],
+    "stack_and_place": ["Get {x} {done}, put it in {m} and place the {mn} {p} {r}.",
+                        "Make sure {x} is {done}, then set it in {m} and move the {mn} to {r}."],
+    "examine_in_light": ["Get {x} {done}, then turn on {l} and look at it.",
+                         "Make sure {x} is {done} and examine it under {l}."],
+}
+_ALSO_SLICED = {
+    "pick_and_place": ["Slice {x}, get a slice {done} and put it {p} {r}.",
+                       "Cut {x} into slices, make sure one is {done} and leave it {p} {r}."],
+    "pick_two_and_place": ["Slice two {xs}, get a slice of each {done} and put both {p} {r}."],
+    "stack_and_place": ["Slice {x}, get a slice {done}, put it in {m} and place the {mn} {p} {r}."],
+    "examine_in_light": ["Slice {x}, get a slice {done}, then turn on {l} and look at it."],
+}
+for _table in (_ALSO, _ALSO_SLICED):
+    for _kind in ("clean_and_place", "heat_and_place", "cool_and_place"):
+        _table[_kind] = _table["pick_and_place"]
+_DONE = {"clean": "washed", "hot": "heated", "cold": "chilled"}
+
 _CS = {
     "pick_and_place": ["Find {x} and leave it {p} {r}.", "Take {x} over to {r}.",
                        "Bring {x} and put it {p} {r}."],
@@ -198,8 +222,16 @@ def base_instruction(rng: random.Random, goal: dict[str, Any], world: World | No
                      subset: str = "base", **over: str) -> tuple[str, str]:
     """(template id, instruction) with plain or overridden referring phrases."""
     sliced = bool(goal.get("sliced"))
+    words = _ref_words(goal, world, **over)
+    if goal.get("also"):
+        tid, template = _pick(rng, subset, goal["kind"], _ALSO_SLICED if sliced else _ALSO,
+                              ".sliced.also" if sliced else ".also")
+        own = {"clean_and_place": "clean", "heat_and_place": "hot", "cool_and_place": "cold"}.get(goal["kind"])
+        props = ([own] if own else []) + [p for p in goal["also"] if p != own]
+        words["done"] = " and ".join(_DONE[p] for p in props)
+        return tid, _fill(template, words)
     tid, template = _pick(rng, subset, goal["kind"], _SLICED if sliced else _BASE, ".sliced" if sliced else "")
-    return tid, _fill(template, _ref_words(goal, world, **over))
+    return tid, _fill(template, words)
 
 
 def _use(rng: random.Random, type_name: str) -> str:
@@ -333,4 +365,7 @@ def template_count() -> dict[str, int]:
     n_sliced = sum(len(v) for v in _SLICED.values())
     return {"base": n_base, "common_sense": sum(len(v) for v in _CS.values()) + sum(len(v) for v in _CS_SLICED.values()),
             "complex_instruction": sum(len(v) for v in _NEED.values()), "spatial_awareness": n_base,
-            "visual_appearance": n_base, "long_horizon": n_base + n_sliced}
+            "visual_appearance": n_base,
+            "long_horizon": n_base + n_sliced + sum(len(_ALSO[k]) + len(_ALSO_SLICED[k]) for k in
+                                                    ("pick_and_place", "pick_two_and_place", "stack_and_place",
+                                                     "examine_in_light"))}

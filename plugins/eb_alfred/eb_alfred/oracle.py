@@ -26,7 +26,7 @@ from collections.abc import Iterable
 from typing import Any
 
 from eb_alfred.catalog import KNIVES, TYPES, fits
-from eb_alfred.goals import PROPERTY_OF_KIND, candidates, evaluate, usable
+from eb_alfred.goals import PROPERTY_OF_KIND, candidates, evaluate, properties, usable
 from eb_alfred.world import VERBS, World
 
 __all__ = ["expert_plan", "why_unreachable", "DEFAULT_LIMIT"]
@@ -300,13 +300,16 @@ def _sequences(world: World, goal: dict[str, Any]) -> Iterable[tuple[Step, ...]]
     """Every candidate (bindings x sub-goal orderings) as a sequence of macro calls."""
     kind = goal["kind"]
     sliced = bool(goal.get("sliced"))
-    prop = PROPERTY_OF_KIND.get(kind)
+    props = properties(goal)  # the type's own property first, then the goal's extra ones
     xs = _objects(world, goal)
     watch = set(xs)
     anchors = {world.place} | {world.place_of(x) for x in xs}  # type: ignore[misc]
     if kind != "pick_two_and_place":  # pick two needs two of them, interchangeable or not
         xs = _distinct(world, xs)
-    helpers = _helpers(world, prop, watch)
+    treat = {"hot": "heat", "cold": "cool", "clean": "clean"}
+    # every way to bind a helper to each property (one microwave / fridge / basin each), as macro steps per object
+    helper_sets = list(itertools.product(*(_helpers(world, p, watch) for p in props)))
+    helpers = [h for hs in helper_sets for h in hs]
     lamps = _distinct(world, candidates(world, goal["lamp"])) if "lamp" in goal else []
     ms = _distinct(world, candidates(world, goal["movable"]), watch=watch) if "movable" in goal else []
     anchors |= {world.place_of(y) for y in [*helpers, *lamps, *ms] if y is not None}
@@ -319,40 +322,55 @@ def _sequences(world: World, goal: dict[str, Any]) -> Iterable[tuple[Step, ...]]
     def cut(x: str, knife: str | None) -> tuple[Step, ...]:
         return (("slice", x, knife),) if sliced and knife is not None else ()
 
+    def fixes(x: str, hs: tuple[str | None, ...]) -> list[tuple[Step, ...]]:
+        """The preparation macros of ``x`` in every order (chilling after heating would undo it, and the
+        world's rules reject such a candidate at the end)."""
+        steps = [(treat[p], x, h) for p, h in zip(props, hs)]
+        return [tuple(order) for order in itertools.permutations(steps)] if steps else [()]
+
     if kind == "examine_in_light":
-        for x, lamp, knife in itertools.product(xs, lamps, knives):
-            yield (*cut(x, knife), ("light", x, lamp))
+        for x, lamp, knife, hs in itertools.product(xs, lamps, knives, helper_sets):
+            for fix in fixes(x, hs):
+                yield (*cut(x, knife), *fix, ("light", x, lamp))
+                if sliced and fix:
+                    yield (*fix, *cut(x, knife), ("light", x, lamp))
         return
 
     if kind == "stack_and_place":
-        for x, m, knife in itertools.product(xs, ms, knives):
+        for x, m, knife, hs in itertools.product(xs, ms, knives, helper_sets):
             if not fits(world.objects[x].type, world.objects[m].type):
                 continue
             for r in _fitting(world, m, rs):
-                yield (*cut(x, knife), ("place", x, m), ("place", m, r))
-                yield (*cut(x, knife), ("place", m, r), ("place", x, m))
+                for fix in fixes(x, hs):
+                    yield (*cut(x, knife), *fix, ("place", x, m), ("place", m, r))
+                    yield (*cut(x, knife), *fix, ("place", m, r), ("place", x, m))
+                    if sliced and fix:
+                        yield (*fix, *cut(x, knife), ("place", x, m), ("place", m, r))
         return
 
     if kind == "pick_two_and_place":
         for r in rs:
             fit = [x for x in xs if fits(world.objects[x].type, world.objects[r].type)]
-            for (x1, x2), knife in itertools.product(itertools.permutations(fit, 2), knives):
-                yield (*cut(x1, knife), ("place", x1, r), *cut(x2, knife), ("place", x2, r))
-                if sliced:  # cut both, then place both (either order: the last one cut is at hand)
-                    yield (*cut(x1, knife), *cut(x2, knife), ("place", x1, r), ("place", x2, r))
-                    yield (*cut(x1, knife), *cut(x2, knife), ("place", x2, r), ("place", x1, r))
-                    yield (("place", x1, r), ("place", x2, r), *cut(x1, knife), *cut(x2, knife))
+            for (x1, x2), knife, hs in itertools.product(itertools.permutations(fit, 2), knives, helper_sets):
+                for f1, f2 in zip(fixes(x1, hs), fixes(x2, hs)):
+                    yield (*cut(x1, knife), *f1, ("place", x1, r), *cut(x2, knife), *f2, ("place", x2, r))
+                    if f1:  # prepare both, then place both
+                        yield (*cut(x1, knife), *f1, *cut(x2, knife), *f2, ("place", x1, r), ("place", x2, r))
+                        yield (*cut(x1, knife), *cut(x2, knife), *f1, *f2, ("place", x1, r), ("place", x2, r))
+                    if sliced and not f1:  # cut both, then place both (either order: the last one cut is at hand)
+                        yield (*cut(x1, knife), *cut(x2, knife), ("place", x1, r), ("place", x2, r))
+                        yield (*cut(x1, knife), *cut(x2, knife), ("place", x2, r), ("place", x1, r))
+                        yield (("place", x1, r), ("place", x2, r), *cut(x1, knife), *cut(x2, knife))
         return
 
-    treat = {"hot": "heat", "cold": "cool", "clean": "clean"}.get(prop)  # type: ignore[arg-type]
-    for x, helper, knife in itertools.product(xs, helpers, knives):
+    for x, hs, knife in itertools.product(xs, helper_sets, knives):
         for r in _fitting(world, x, rs):
-            fix: tuple[Step, ...] = ((treat, x, helper),) if treat else ()
-            yield (*cut(x, knife), *fix, ("place", x, r))
-            if sliced and fix:
-                yield (*fix, *cut(x, knife), ("place", x, r))
-            if sliced:
-                yield (*fix, ("place", x, r), *cut(x, knife))
+            for fix in fixes(x, hs):
+                yield (*cut(x, knife), *fix, ("place", x, r))
+                if sliced and fix:
+                    yield (*fix, *cut(x, knife), ("place", x, r))
+                if sliced:
+                    yield (*fix, ("place", x, r), *cut(x, knife))
 
 
 def _done(goal: dict[str, Any], world: World) -> bool:
@@ -417,9 +435,9 @@ def why_unreachable(world: World, goal: dict[str, Any], limit: int = DEFAULT_LIM
         if key in goal and not candidates(world, goal[key]):
             other = goal[key].get("instance") or goal[key]["type"]
             return f"there is no {other} in this room"
-    prop = PROPERTY_OF_KIND.get(goal["kind"])
-    if prop is not None and not _helpers(world, prop, set()):
-        return f"nothing in this room can make the {name} {prop}"
+    for prop in properties(goal):
+        if not _helpers(world, prop, set()):
+            return f"nothing in this room can make the {name} {prop}"
     if goal.get("sliced") and not _knives(world):
         return "the task needs a slice, and there is no knife in this room"
     return f"no plan of at most {limit} actions reaches the goal from this state"

@@ -72,9 +72,16 @@ class Goal(_Strict):
     movable: Ref | None = None
     lamp: Ref | None = None
     sliced: bool = False
+    also: list[Literal["clean", "hot", "cold"]] = []
+    """Extra preparation of the object (long_horizon): washed, heated, chilled; not both hot and cold."""
 
     @model_validator(mode="after")
     def _fields_for_kind(self) -> Goal:
+        own = {"heat_and_place": "hot", "cool_and_place": "cold", "clean_and_place": "clean"}.get(self.kind)
+        if {"hot", "cold"} <= {*self.also, own}:
+            raise ValueError("also cannot ask for both 'hot' and 'cold' (chilling undoes heating)")
+        if len(set(self.also)) != len(self.also):
+            raise ValueError("also lists a property twice")
         need = {"examine_in_light": ("lamp",), "stack_and_place": ("movable", "receptacle")}.get(
             self.kind, ("receptacle",))
         for key in need:
@@ -94,6 +101,8 @@ class Goal(_Strict):
                 out[key] = ref.plain()
         if self.sliced:
             out["sliced"] = True
+        if self.also:
+            out["also"] = list(self.also)
         return out
 
 

@@ -31,7 +31,19 @@ from typing import Any
 
 from eb_alfred.catalog import KNIVES, TYPES, fits
 
-__all__ = ["Instance", "World", "parse_action", "instance_index", "VERBS"]
+__all__ = ["Instance", "World", "parse_action", "instance_index", "VERBS", "FAILURES"]
+
+#: The kinds of failure :attr:`World.failure` reports (the core's ``StepResult.info["failure"]`` values):
+#: ``affordance`` -- the thing does not support the action at all (slicing without a knife, picking up a fridge,
+#: opening a table, an object that does not fit the receptacle); ``precondition`` -- the right action in the
+#: wrong state (not close, hidden in or blocked by something closed, hand full or empty, already open/on/sliced,
+#: a running microwave); ``wrong_target`` -- the action names a thing this room does not have. The environment
+#: also reports ``wrong_target`` when a failed action acts on a look-alike of the thing the goal singles out.
+FAILURES = ("affordance", "precondition", "wrong_target")
+
+#: Action verb -> the type property it needs (an object without it does not afford the action).
+_AFFORDS = {"pickup": "pickupable", "open": "openable", "close": "openable", "toggle_on": "toggleable",
+            "toggle_off": "toggleable", "slice": "sliceable"}
 
 #: Verb -> action-name template. ``{}`` is the instance name.
 VERBS: dict[str, str] = {
@@ -57,6 +69,9 @@ _PATTERNS = [
     (re.compile(r"^turn off the (\w+)$"), "toggle_off"),
     (re.compile(r"^slice the (\w+)$"), "slice"),
 ]
+
+_PAST = {"pickup": "picked up", "open": "opened", "close": "closed", "toggle_on": "turned on",
+         "toggle_off": "turned off", "slice": "sliced"}
 
 _SUFFIX = re.compile(r"^([A-Za-z]+)(?:_(\d+))?$")
 
@@ -135,6 +150,10 @@ class World:
     target_recep: str | None = None
     """Where ``put down`` puts the held object."""
     history: list[str] = field(default_factory=list)
+    failure: str | None = field(default=None, compare=False)
+    """Why the last action failed (see :data:`FAILURES`); None after a successful action."""
+    last_target: str | None = field(default=None, compare=False)
+    """The instance the last action acted on (after the nearest-instance rule), None for put down / drop."""
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -280,14 +299,25 @@ class World:
         """Execute one action name; return ``(success, feedback)``. A failed action changes nothing."""
         verb, target = parse_action(action)
         self.history.append(action)
+        self.failure = None
         if target is not None:
             target = self.resolve(verb, target)
+        self.last_target = target
         if target is not None and target not in self.objects:
             base, _ = instance_index(target)
             noun = TYPES[base].noun if base in TYPES else base
+            self.failure = "wrong_target"
             return False, f"Failed: there is no {target} here; no {noun} with that name is in this room."
+        prop = _AFFORDS.get(verb)
+        if target is not None and prop is not None and not getattr(TYPES[self.objects[target].type], prop):
+            self.failure = "affordance"
+            verb_text = VERBS[verb].format("").replace(" the ", " ").strip()
+            return False, f"Failed: the {target} cannot be {_PAST[verb]}; it does not support '{verb_text}'."
         handler = getattr(self, f"_do_{verb}")
-        return handler(target) if target is not None else handler()
+        ok, feedback = handler(target) if target is not None else handler()
+        if not ok and self.failure is None:
+            self.failure = "precondition"
+        return ok, feedback
 
     # Every handler returns (ok, feedback). Check order: existence, hand, distance, visibility, state.
     def _not_near(self, name: str) -> tuple[bool, str]:
@@ -363,6 +393,7 @@ class World:
         if TYPES[rtype].openable and not self.objects[recep].is_open:
             return False, f"Failed: the {recep} is closed. Open the {recep} before putting the {held} in it."
         if not fits(self.objects[held].type, rtype):
+            self.failure = "affordance"
             return False, f"Failed: the {held} does not fit in or on the {recep}."
         o = self.objects[held]
         was_dirty = o.is_dirty
@@ -470,6 +501,7 @@ class World:
     def _do_slice(self, name: str) -> tuple[bool, str]:
         if self.held is None or self.objects[self.held].type not in KNIVES:
             what = "nothing" if self.held is None else f"the {self.held}"
+            self.failure = "affordance"
             return False, f"Failed: slicing needs a knife in your hand, and you are holding {what}."
         bad = self._check_reach(name)
         if bad:
