@@ -347,5 +347,36 @@ class Env(ABC):
         """World-specific shortcut probes for ``eb audit`` (:class:`eb_core.audit.AuditProbe` objects)."""
         return []
 
+    #: Generated task splits besides ``test`` (the shipped tasks) that :meth:`split_tasks` serves.
+    splits: ClassVar[tuple[str, ...]] = ()
+
+    @classmethod
+    def split_tasks(cls, split: str, start: int, count: int, **params: Any) -> list[Task]:
+        """Tasks ``start .. start + count - 1`` of a generated split (``train``, ``val``) for training.
+
+        Task ``i`` must be fixed by ``(world, split, i)`` alone, drawn from scene and generator seeds disjoint
+        from the shipped test tasks, with no test instruction verbatim. Worlds that implement it list the split
+        names in :attr:`splits`. The default has none."""
+        others = ", ".join(_worlds_with_splits()) or "none installed"
+        raise ValueError(f"env {cls.name or cls.__name__!r} has no generated {split!r} split (only 'test', its "
+                         f"shipped tasks); worlds with train/val splits: {others}. Use split=test or one of those.")
+
     def close(self) -> None:
         """Release simulator resources. Called once; must be safe to call again."""
+
+
+def _worlds_with_splits() -> list[str]:
+    """Names of the installed worlds whose env class serves ``train``/``val`` (for the error above)."""
+    try:
+        from eb_core.plugins import Registry
+
+        names = []
+        for name, spec in Registry.create().envs.items():
+            try:
+                if "train" in getattr(spec.load(), "splits", ()):
+                    names.append(name)
+            except Exception:  # a broken plugin must not hide the real error
+                continue
+        return names
+    except Exception:
+        return []

@@ -214,6 +214,15 @@ class HabitatEnv(Env):
         self.expert_reason = None
         return plan
 
+    splits = ("train", "val")
+
+    @classmethod
+    def split_tasks(cls, split: str, start: int, count: int, **params: Any) -> list[Task]:
+        """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_habitat.splits`)."""
+        from eb_habitat.splits import split_tasks
+
+        return split_tasks(split, start, count, task_dir=_params(params).task_dir)
+
     @classmethod
     def audit_probes(cls) -> list[Any]:
         """Habitat's shortcut probes (:mod:`eb_habitat.audit`): word matching on spatial tasks, first branch."""

@@ -1,0 +1,67 @@
+"""Generated ``train`` and ``val`` splits of EB-Habitat, kept apart from the shipped test tasks.
+
+Task ``i`` of a split is fixed by ``(split, i)``: its subset is ``SUBSETS[i % 6]`` and it is drawn by the same
+template builders as the shipped files, from a random stream named ``eb-habitat-split/<generator>/<split>/<i>``
+(the shipped files draw from ``eb-habitat/<generator>/<seed>/<subset>``, so no stream is shared). A draw is
+refused (and the stream drawn again) when its scene -- the apartment with every object's place and the open
+receptacles -- is the scene of a shipped task, or its instruction is a shipped instruction word for word.
+The apartments themselves are the three layouts of the catalog: train, val and test share them (as the
+original's training set shares its scenes); what differs is the arrangement and the task.
+"""
+
+from __future__ import annotations
+
+import random
+from functools import lru_cache
+from typing import Any
+
+from eb_core.env import Task
+
+__all__ = ["SPLITS", "scene_key", "split_tasks", "test_keys"]
+
+SPLITS = ("train", "val")
+
+
+def scene_key(metadata: dict[str, Any]) -> tuple[Any, ...]:
+    """What makes two tasks' starting scenes the same: apartment, object placements, open receptacles."""
+    objects = tuple(sorted((o["name"], o["type"], o.get("color"), o["at"], o.get("slot")) for o in metadata["objects"]))
+    return (metadata["apartment"], objects, tuple(sorted(metadata.get("open", ()))))
+
+
+@lru_cache(maxsize=4)
+def test_keys(task_dir: str | None = None) -> tuple[frozenset[tuple[Any, ...]], frozenset[str]]:
+    """Scene keys and instructions of the shipped (or ``task_dir``) test tasks."""
+    from eb_habitat.tasks import load_tasks
+
+    tasks = load_tasks(task_dir)
+    return frozenset(scene_key(t.metadata) for t in tasks), frozenset(t.instruction for t in tasks)
+
+
+def _one(split: str, index: int, scenes: frozenset[Any], instructions: frozenset[str]) -> Task:
+    from eb_habitat.generate import BUILDERS, GENERATOR_VERSION, _finish, _Reject
+    from eb_habitat.tasks import SUBSETS
+
+    subset = SUBSETS[index % len(SUBSETS)]
+    rng = random.Random(f"eb-habitat-split/{GENERATOR_VERSION}/{split}/{index}")
+    for _ in range(2000):
+        try:
+            draft = BUILDERS[subset](rng)
+        except _Reject:
+            continue
+        entry = _finish(draft, subset, index)
+        if entry is None or entry["instruction"] in instructions or scene_key(entry["metadata"]) in scenes:
+            continue
+        return Task(id=f"{split}-{subset}-{index:06d}", subset=subset, instruction=entry["instruction"],
+                    metadata=entry["metadata"])
+    raise RuntimeError(f"habitat {split} task {index}: no valid draw in 2000 tries (a generator bug)")
+
+
+def split_tasks(split: str, start: int, count: int, task_dir: str | None = None, **_: Any) -> list[Task]:
+    """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``)."""
+    if split not in SPLITS:
+        raise ValueError(f"habitat: unknown split {split!r}; generated splits are {', '.join(SPLITS)} "
+                         f"('test' is the shipped tasks: load_tasks())")
+    if start < 0 or count < 0:
+        raise ValueError(f"habitat: split_tasks needs start >= 0 and count >= 0, got start={start}, count={count}")
+    scenes, instructions = test_keys(task_dir)
+    return [_one(split, i, scenes, instructions) for i in range(start, start + count)]
