@@ -89,6 +89,10 @@ class PlannerConfig(_Strict):
     """Ask for schema-constrained output: auto = when the backend supports it."""
     max_plan_length: int = Field(default=20, ge=1)
     """Plans longer than this are cut (the guidelines tell the model so)."""
+    answer_format: Literal["json", "think"] = "json"
+    """``json``: the benchmark's answer, one JSON object. ``think``: reasoning first, then the JSON object,
+    as ``<think>...</think><answer>{...}</answer>`` (R1-style RL-trained models); the JSON is read from the
+    answer tags, and an answer without them is an output error."""
 
     @model_validator(mode="after")
     def _one_observation_mode(self) -> "PlannerConfig":

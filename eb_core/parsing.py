@@ -17,7 +17,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from eb_core.env import Action, ActionSpace, PlanItemError
 
-__all__ = ["ParseResult", "PlannerOutput", "parse_planner_output", "extract_json_object"]
+__all__ = ["ParseResult", "PlannerOutput", "parse_planner_output", "extract_json_object", "think_answer"]
 
 _FENCE = re.compile(r"```(?:json|JSON)?\s*(.*?)```", re.S)
 _TRAILING_COMMA = re.compile(r",\s*([}\]])")
@@ -170,12 +170,34 @@ def _flatten_plan(plan: list[Any]) -> list[Any]:
     return out
 
 
-def parse_planner_output(text: str, space: ActionSpace, max_plan_length: int = 20) -> ParseResult:
+_ANSWER_TAG = re.compile(r"<answer>(.*?)(?:</answer>|$)", re.DOTALL | re.IGNORECASE)
+
+
+def think_answer(text: str) -> str | None:
+    """The part of a ``<think>...</think><answer>...</answer>`` reply inside the answer tags (the last
+    ``<answer>`` after the reasoning; a missing closing tag runs to the end), or None when there is none."""
+    rest = text
+    end = rest.lower().rfind("</think>")
+    if end >= 0:
+        rest = rest[end + len("</think>"):]
+    found = _ANSWER_TAG.findall(rest)
+    return found[-1] if found else None
+
+
+def parse_planner_output(text: str, space: ActionSpace, max_plan_length: int = 20,
+                         answer_format: str = "json") -> ParseResult:
     """Parse a model answer against the episode's action space.
 
     An answer with no JSON object, or without an ``executable_plan`` list, is an output error. A plan
-    item that is not a valid action cuts the plan there (the paper's rule for out-of-range ids).
+    item that is not a valid action cuts the plan there (the paper's rule for out-of-range ids). Under
+    ``answer_format="think"`` the JSON object is read only from the ``<answer>`` part.
     """
+    if answer_format == "think":
+        inner = think_answer(text)
+        if inner is None:
+            return ParseResult(error="the answer has no <answer>...</answer> part after the reasoning "
+                                     "(planner.answer_format=think)")
+        text = inner
     obj = extract_json_object(text)
     if obj is None:
         return ParseResult(error="the answer contains no JSON object")

@@ -123,6 +123,8 @@ class VLMPlanner:
         n = config.n_shot if config.n_shot is not None else env_config.default_n_shot
         self.n_shot = n
         self.use_schema = config.json_schema == "always" or (config.json_schema == "auto" and supports_json_schema)
+        if config.answer_format == "think":  # a schema would forbid the reasoning before the JSON
+            self.use_schema = False
         self.text_state = config.text_state
         # A model that takes no images runs blind unless the text-state ablation gives it the scene text.
         self.language_only = config.language_only or (not supports_images and not config.text_state)
@@ -204,7 +206,10 @@ class VLMPlanner:
         assert self.space is not None
         fields = answer_fields(self.sends_images)
         help_ = field_descriptions(self.space, self.parts)
-        if self.use_schema:
+        if self.config.answer_format == "think":
+            lines = ["First reason step by step between <think> and </think>. Then write your answer between "
+                     "<answer> and </answer>: exactly one JSON object (no code fences), with these fields in order:"]
+        elif self.use_schema:
             lines = ["Answer with one JSON object following the schema you were given, with these fields in order:"]
         else:
             lines = ["Answer with exactly one JSON object and nothing else (no code fences), with these fields "
@@ -388,4 +393,5 @@ class VLMPlanner:
 
     def parse(self, raw_text: str) -> ParseResult:
         assert self.space is not None
-        return parse_planner_output(raw_text, self.space, self.config.max_plan_length)
+        return parse_planner_output(raw_text, self.space, self.config.max_plan_length,
+                                    answer_format=self.config.answer_format)
