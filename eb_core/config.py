@@ -113,7 +113,17 @@ class AugmenterConfig(BaseModel):
 
 class RunnerConfig(_Strict):
     workers: int = Field(default=1, ge=1, le=256)
-    """Episodes run in parallel worker processes, each owning its env and model backend."""
+    """Environment processes (Ray actors under ``executor: ray``). Each drives ``concurrency / workers``
+    episodes at once, with one env per episode in flight, stepping them on its main thread while their
+    model calls wait on a thread pool."""
+    concurrency: int | None = Field(default=None, ge=1, le=4096)
+    """Episodes in flight across all workers; null = ``workers`` (one episode per process, as before)."""
+    executor: Literal["local", "ray"] = "local"
+    """``local``: worker processes on this machine. ``ray``: env actors on a Ray cluster (``pip install
+    "embodiedbench[ray]"``); the driver (this process) still writes the run directory. See docs/scaling.md."""
+    ray_address: str | None = None
+    """Ray cluster to join under ``executor: ray``: ``auto`` on a cluster node, ``ray://host:10001``...;
+    null = ``$RAY_ADDRESS``, or a local single-machine Ray started for the run when that is unset too."""
     repeats: int = Field(default=1, ge=1, le=100)
     """Play every task this many times (seeds from the run seed, task id and repeat; repeat 0 keeps the
     single-run seed). Intervals then also reflect within-task noise; see docs/statistics.md."""
@@ -121,8 +131,10 @@ class RunnerConfig(_Strict):
     """Write the image the model saw at every planner step as PNG."""
     quiet: bool = False
     """Plain progress lines instead of the live display."""
-    episode_timeout_s: float | None = None
-    """Kill a worker whose episode runs longer than this (recorded as an error episode)."""
+    episode_timeout_s: float | None = Field(default=None, gt=0)
+    """An episode running longer than this is recorded as an error (redone on resume): its worker drops it
+    while it waits for the model, and the worker process is killed if it is stuck in the env (its other
+    in-flight episodes are then recorded as errors too)."""
     expert_labels: bool = False
     """Record in every step what the world's expert would do from the state the agent was in
     (``expert_action`` in steps.jsonl), for error analysis and expert relabelling."""

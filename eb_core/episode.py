@@ -21,18 +21,19 @@ from __future__ import annotations
 import json
 import time
 import traceback
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Generator, Sequence
 from pathlib import Path
 from typing import Any
 
 from eb_core.config import EnvConfig
 from eb_core.env import Env, Observation, Task
 from eb_core.events import EpisodeStartEvent, StepEndEvent
-from eb_core.model import EpisodeContext, ModelBackend, ModelBudgetExceeded, ModelFatalError, Usage
+from eb_core.model import (EpisodeContext, ModelBackend, ModelBudgetExceeded, ModelFatalError, ModelRequest,
+                           ModelResponse, Usage)
 from eb_core.planner import VLMPlanner, encode_png
 from eb_core.records import EpisodeRecord
 
-__all__ = ["BudgetGuard", "run_episode"]
+__all__ = ["BudgetGuard", "EpisodeDriver", "run_episode"]
 
 
 class BudgetGuard:
@@ -83,7 +84,7 @@ def _expert_label(env: Env, space: Any) -> dict[str, Any]:
     return {"expert_action": _jsonable(first), "expert_action_name": name}
 
 
-def run_episode(
+def _episode_flow(
     *,
     env: Env,
     task: Task,
@@ -98,9 +99,9 @@ def run_episode(
     hook: Any = None,
     run_dir: str = "",
     expert_labels: bool = False,
-) -> EpisodeRecord:
-    """Play ``task`` to the end and return its record. Model transient errors and env exceptions give
-    ``status="error"``; :class:`ModelFatalError` and :class:`ModelBudgetExceeded` propagate."""
+) -> Generator[ModelRequest, ModelResponse, EpisodeRecord]:
+    """The episode as a generator: yields each model request, receives its response (or the call's
+    exception, thrown in) and returns the record. Driven by :class:`EpisodeDriver`."""
     started = time.perf_counter()
     usage = Usage()
     rec: dict[str, Any] = dict(task_id=task.id, subset=task.subset, instruction=task.instruction, seed=seed)
@@ -171,7 +172,7 @@ def run_episode(
                             (step_dir / extra_name).write_bytes(encode_png(img))
                             extra.append(extra_name)
                     step_rec["extra_images"] = extra
-            response = backend.complete(request)
+            response = yield request  # the only blocking point: the model call, made by the caller
             call_usage = response.usage if response.usage.calls else response.usage.model_copy(update={"calls": 1})
             usage = usage + call_usage
             if budget is not None:
@@ -273,3 +274,112 @@ def run_episode(
         wall_time_s=time.perf_counter() - started,
         error=error,
     )
+
+
+class EpisodeDriver:
+    """One episode as a resumable state machine whose only blocking point is the model call.
+
+    The caller asks for the next model request, makes the call however it likes (a thread pool, an async
+    client, another machine) and hands the answer back; everything else (env reset, stepping, rendering,
+    step files, hooks) happens inside :meth:`next_request` / :meth:`submit` / :meth:`fail`, on the caller's
+    thread. So one thread can interleave many episodes, each with its own env, while their calls are in
+    flight. The rules and the record are exactly those of :func:`run_episode`, which is a loop over it::
+
+        driver = EpisodeDriver(env=env, task=task, seed=seed, planner=planner, backend=backend, env_config=cfg)
+        request = driver.next_request()
+        while request is not None:
+            driver.submit(backend.complete(request))   # or driver.fail(exc) when the call raised
+            request = driver.next_request()
+        record = driver.record
+
+    ``backend`` is still needed for :meth:`ModelBackend.start_episode` (offline baselines read the episode
+    from it); the driver never calls ``backend.complete`` itself. :class:`ModelFatalError` and
+    :class:`ModelBudgetExceeded` propagate out of :meth:`submit` / :meth:`fail`; every other failure of the
+    call or of the env ends the episode with ``status="error"``. Keyword arguments are those of
+    :func:`run_episode`.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        self._flow = _episode_flow(**kwargs)
+        self._started = False
+        self._request: ModelRequest | None = None
+        self.record: EpisodeRecord | None = None
+        """The episode's record once it has ended (``next_request()`` returned None)."""
+
+    @property
+    def done(self) -> bool:
+        return self.record is not None
+
+    @property
+    def waiting(self) -> bool:
+        """A request was handed out and its answer is due."""
+        return self._request is not None
+
+    def next_request(self) -> ModelRequest | None:
+        """The pending model request (running the episode up to it on first use); None when it has ended."""
+        if self.record is not None:
+            return None
+        if not self._started:
+            self._started = True
+            self._advance(lambda: next(self._flow))
+        return self._request
+
+    def submit(self, response: ModelResponse) -> None:
+        """Hand back the answer to the pending request; runs the episode up to its next request or its end."""
+        self._check_waiting()
+        self._advance(lambda: self._flow.send(response))
+
+    def fail(self, exc: BaseException) -> None:
+        """The pending call raised ``exc``: the episode handles it as :func:`run_episode` would."""
+        self._check_waiting()
+        self._advance(lambda: self._flow.throw(exc))
+
+    def close(self) -> None:
+        """Abandon the episode (closes its step file); no record is produced."""
+        self._flow.close()
+        self._request = None
+
+    def _check_waiting(self) -> None:
+        if self._request is None:
+            raise RuntimeError("no model request is pending: call next_request() first (or the episode has ended)")
+
+    def _advance(self, step: Callable[[], ModelRequest]) -> None:
+        self._request = None
+        try:
+            self._request = step()
+        except StopIteration as stop:
+            self.record = stop.value
+
+
+def run_episode(
+    *,
+    env: Env,
+    task: Task,
+    seed: int,
+    planner: VLMPlanner,
+    backend: ModelBackend,
+    env_config: EnvConfig,
+    step_dir: Path | None = None,
+    save_images: bool = True,
+    augmenters: Sequence[Callable[[Observation], Observation]] = (),
+    budget: BudgetGuard | None = None,
+    hook: Any = None,
+    run_dir: str = "",
+    expert_labels: bool = False,
+) -> EpisodeRecord:
+    """Play ``task`` to the end and return its record. Model transient errors and env exceptions give
+    ``status="error"``; :class:`ModelFatalError` and :class:`ModelBudgetExceeded` propagate."""
+    driver = EpisodeDriver(env=env, task=task, seed=seed, planner=planner, backend=backend, env_config=env_config,
+                           step_dir=step_dir, save_images=save_images, augmenters=augmenters, budget=budget,
+                           hook=hook, run_dir=run_dir, expert_labels=expert_labels)
+    request = driver.next_request()
+    while request is not None:
+        try:
+            response = backend.complete(request)
+        except Exception as exc:
+            driver.fail(exc)
+        else:
+            driver.submit(response)
+        request = driver.next_request()
+    assert driver.record is not None
+    return driver.record

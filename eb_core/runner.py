@@ -22,6 +22,7 @@ from typing import Any
 from eb_core.config import ConfigError, RunConfig
 from eb_core.env import Env, Task
 from eb_core.episode import BudgetGuard, run_episode
+from eb_core.inflight import error_record, node_name, with_node
 from eb_core.events import EpisodeEndEvent, RunEndEvent, RunStartEvent
 from eb_core.metrics import compute_summary
 from eb_core.model import ModelBackend, ModelBudgetExceeded, ModelFatalError, Usage
@@ -145,47 +146,51 @@ def _build_registry(plugin_modules: Sequence[str]) -> Registry:
 
 
 def _worker_main(cfg_dict: dict[str, Any], run_dir: str, plugin_modules: list[str], conn: Any,
-                 shared_cost: Any) -> None:
-    """A worker process: owns one env and one backend, plays the tasks sent over its own pipe.
+                 shared_cost: Any, slots: int = 1) -> None:
+    """A worker process: plays up to ``slots`` episodes at once (:class:`eb_core.inflight.InflightLoop`),
+    each with its own env from the process's pool; jobs arrive over its own pipe, records go back over it.
 
     Each worker has a private pipe, so a worker that dies mid-message can only break its own channel.
     """
+    from multiprocessing.connection import wait
+
+    from eb_core.inflight import InflightLoop
+
     if _HELD_LOCK is not None:  # forked: the parent alone holds the run directory's lock
         _HELD_LOCK.forget_in_child()
     cfg = RunConfig.model_validate(cfg_dict)
     registry = _build_registry(plugin_modules)
     comps = Components(cfg, registry)
-    env = comps.make_env()
-    backend = comps.make_backend()
     files = RunFiles(run_dir)
-    budget = BudgetGuard(cfg.model.max_cost_usd, shared_cost)
+    loop = InflightLoop(comps, files, slots=slots, budget=BudgetGuard(cfg.model.max_cost_usd, shared_cost),
+                        hook=registry.pm.hook, seed_of=lambda t, r: episode_seed(cfg.seed, t, r),
+                        on_record=lambda key, rec: conn.send(("done", rec.model_dump_json())),
+                        timeout_s=cfg.runner.episode_timeout_s)
     try:
         while True:
-            item = conn.recv()
-            if item is None:
-                break
-            job = json.loads(item)
-            task, repeat = Task.model_validate(job["task"]), int(job["repeat"])
+            ready = wait([conn, loop.wake_fd], timeout=0.25)
+            stop = False
             try:
-                record = run_episode(
-                    env=env, task=task, seed=episode_seed(cfg.seed, task.id, repeat),
-                    planner=comps.make_planner(backend),
-                    backend=backend, env_config=cfg.env, step_dir=files.staging_dir(task.id, repeat),
-                    save_images=cfg.runner.save_images, augmenters=comps.augmenters, budget=budget,
-                    hook=registry.pm.hook, run_dir=run_dir, expert_labels=cfg.runner.expert_labels,
-                )
+                while conn in ready and conn.poll():
+                    item = conn.recv()
+                    if item is None:
+                        stop = True
+                        break
+                    job = json.loads(item)
+                    loop.start(job["key"], Task.model_validate(job["task"]), int(job["repeat"]))
+                if stop:
+                    break
+                loop.pump()
             except ModelFatalError as exc:
                 conn.send(("fatal", str(exc)))
                 break
             except ModelBudgetExceeded as exc:
                 conn.send(("budget", str(exc)))
                 break
-            conn.send(("done", record.model_copy(update={"repeat": repeat}).model_dump_json()))
-    except (EOFError, KeyboardInterrupt):
+    except (EOFError, OSError, KeyboardInterrupt):
         pass
     finally:
-        env.close()
-        backend.close()
+        loop.close()
         conn.close()
     # Everything is flushed and closed: skip the interpreter's slow teardown of a big process.
     os._exit(0)
@@ -329,7 +334,11 @@ def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: di
                     return usage.cost_usd
                 return 0.0
 
-            if cfg.runner.workers <= 1:
+            if cfg.runner.executor == "ray":
+                from eb_core.ray_executor import run_on_ray  # imports ray; only here
+
+                stopped = run_on_ray(cfg, cfg_dict, files, pending, progress, hook, plugin_modules, preflight)
+            elif cfg.runner.workers <= 1 and _concurrency(cfg) <= 1:
                 stopped = _run_inline(cfg, comps, files, pending, progress, hook, preflight)
             else:  # workers start up while the preflight call is in flight
                 stopped = _run_workers(cfg, cfg_dict, files, pending, progress, hook, plugin_modules, preflight)
@@ -416,11 +425,27 @@ def _run_inline(cfg: RunConfig, comps: Components, files: RunFiles, pending: lis
                 raise RunError(str(exc)) from None
             except ModelBudgetExceeded as exc:
                 return f"budget: {exc}"
-            _finish(files, rec.model_copy(update={"repeat": repeat}), progress, hook)
+            _finish(files, with_node(rec.model_copy(update={"repeat": repeat}), node_name()), progress, hook)
     finally:
         env.close()
         backend.close()
     return None
+
+
+def _concurrency(cfg: RunConfig) -> int:
+    """Episodes in flight: ``runner.concurrency``, or one per worker."""
+    return cfg.runner.concurrency or cfg.runner.workers
+
+
+def split_slots(concurrency: int, workers: int, pending: int) -> list[int]:
+    """Episodes in flight per worker: ``min(concurrency, pending)`` spread evenly over at most ``workers``."""
+    total = max(1, min(concurrency, pending))
+    n = max(1, min(workers, total))
+    return [total // n + (1 if i < total % n else 0) for i in range(n)]
+
+
+def job_key(task_id: str, repeat: int) -> str:
+    return f"{task_id}#{repeat}"
 
 
 def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pending: list[Job],
@@ -432,31 +457,34 @@ def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pend
     shared_cost = ctx.Value("d", 0.0)
     queue_: list[Job] = list(pending)
     timeout = cfg.runner.episode_timeout_s
+    # A worker drops an episode that waits for its model past the timeout itself; the process is killed
+    # only when an episode is still running a little after that (stuck in the env on the main thread).
+    kill_after = None if timeout is None else timeout + max(1.0, 0.1 * timeout)
 
     class Worker:
-        def __init__(self) -> None:
+        def __init__(self, slots: int) -> None:
+            self.slots = slots
             self.conn, child = ctx.Pipe(duplex=True)
             self.proc = ctx.Process(target=_worker_main, daemon=True,
-                                    args=(cfg_dict, str(files.root), plugin_modules, child, shared_cost))
+                                    args=(cfg_dict, str(files.root), plugin_modules, child, shared_cost, slots))
             self.proc.start()
             child.close()
-            self.job: Job | None = None
-            self.started = 0.0
+            self.jobs: dict[str, tuple[Job, float]] = {}
 
         def give(self, job: Job) -> None:
-            self.job, self.started = job, time.monotonic()
-            self.conn.send(json.dumps({"task": job[0].model_dump(mode="json"), "repeat": job[1]}))
+            key = job_key(job[0].id, job[1])
+            self.jobs[key] = (job, time.monotonic())
+            self.conn.send(json.dumps({"key": key, "task": job[0].model_dump(mode="json"), "repeat": job[1]}))
 
-    def lost(w: Worker, why: str) -> None:
-        if w.job is not None:
-            t, repeat = w.job
-            _finish(files, EpisodeRecord(task_id=t.id, subset=t.subset, instruction=t.instruction, status="error",
-                                         end_reason="error", error=why, seed=episode_seed(cfg.seed, t.id, repeat),
-                                         repeat=repeat),
+    def lost(w: Worker, why: str, culprit: str | None = None) -> None:
+        for key, ((t, repeat), _started) in list(w.jobs.items()):
+            msg = why if culprit in (None, key) else (
+                f"{why.split(' (', 1)[0]} -- killed with episode {culprit} of the same worker process")
+            _finish(files, with_node(error_record(t, repeat, episode_seed(cfg.seed, t.id, repeat), msg), node_name()),
                     progress, hook)
-            w.job = None
+        w.jobs.clear()
 
-    workers = [Worker() for _ in range(min(cfg.runner.workers, len(pending)))]
+    workers = [Worker(n) for n in split_slots(_concurrency(cfg), cfg.runner.workers, len(pending))]
     stopped: str | None = None
     try:
         if preflight is not None:
@@ -468,41 +496,46 @@ def _run_workers(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pend
                 stopped = f"budget: {exc}"
         while stopped is None:
             for w in workers:
-                if w.job is None and queue_:
+                while len(w.jobs) < w.slots and queue_:
                     w.give(queue_.pop(0))
-            busy = [w for w in workers if w.job is not None]
+            busy = [w for w in workers if w.jobs]
             if not busy:
                 break
             ready = wait([w.conn for w in busy] + [w.proc.sentinel for w in busy], timeout=0.5)
             for w in list(busy):
-                msg = None
-                if w.conn in ready:
+                got_message = False
+                while w.conn in ready:
                     try:
+                        if not w.conn.poll():
+                            break
                         msg = w.conn.recv()
                     except (EOFError, OSError):
-                        msg = None
-                if msg is not None:
+                        break
+                    got_message = True
                     kind, payload = msg
                     if kind == "done":
-                        w.job = None
-                        _finish(files, EpisodeRecord.model_validate_json(payload), progress, hook)
+                        rec = EpisodeRecord.model_validate_json(payload)
+                        w.jobs.pop(job_key(*rec.key), None)
+                        _finish(files, rec, progress, hook)
                     elif kind == "fatal":
                         raise RunError(payload)
                     elif kind == "budget":
-                        w.job = None
                         stopped = f"budget: {payload}"
+                        break
+                if got_message and w.proc.is_alive():
                     continue
-                hung = timeout is not None and time.monotonic() - w.started > timeout
+                now = time.monotonic()
+                hung = [k for k, (_j, t0) in w.jobs.items() if kill_after is not None and now - t0 > kill_after]
                 if hung or not w.proc.is_alive():
                     if hung:
                         w.proc.kill()
                     w.proc.join(5)
                     why = (f"episode exceeded runner.episode_timeout_s={timeout}" if hung
                            else f"worker process died (exit code {w.proc.exitcode})")
-                    lost(w, why)
+                    lost(w, why, culprit=hung[0] if hung else None)
                     workers.remove(w)
                     if queue_:
-                        workers.append(Worker())
+                        workers.append(Worker(w.slots))
     finally:
         for w in workers:
             try:

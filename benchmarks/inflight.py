@@ -1,0 +1,159 @@
+"""Many EB-ALFRED episodes in flight on few worker processes: memory and wall time against the model-bound ideal.
+
+Plays N EB-ALFRED episodes with N in flight on ``--workers`` processes (default 2) through the real runner
+(``eb_core.runner.run``) and the real ``litellm`` backend against the stub OpenAI-compatible server
+(``eb_models.stub_server``) answering every request after a fixed latency (default 2 s). Every answer is the
+same three-action plan, so episodes step and render the world between calls (``env.max_steps`` 9 keeps them
+short: at most a few calls each). Rendering is on (``env.params.render=true``, 500 px) unless ``--no-render``.
+
+Printed per run:
+
+* peak RSS of the whole process tree (this process, the workers and anything they start), sampled every
+  0.2 s from /proc, and that peak divided by the episodes in flight;
+* wall time of ``run()`` (start-up included), start-up (until the first episode request reached the server),
+  the model-bound ideal = latency x max(most calls of one episode, ceil(all calls / in flight)), and
+  ideal / (wall - start-up) as the fraction of ideal (goal: wall <= 1.5 x ideal + start-up, i.e. >= 0.67).
+
+Usage::
+
+    python benchmarks/inflight.py [--inflight 8,32,64,128] [--workers 2] [--latency 2.0] [--no-render]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+PLAN = json.dumps({
+    "visual_state_description": "a kitchen",
+    "reasoning_and_reflection": "try the first actions",
+    "language_plan": "three actions",
+    "executable_plan": [{"action_id": 0}, {"action_id": 1}, {"action_id": 2}],
+})
+
+
+def tree_rss_mb(root: int) -> float:
+    """Resident memory of ``root`` and all its descendants, in MB (from /proc)."""
+    total, stack, seen = 0, [root], set()
+    while stack:
+        pid = stack.pop()
+        if pid in seen:
+            continue
+        seen.add(pid)
+        try:
+            total += int(Path(f"/proc/{pid}/statm").read_text().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+            for task in Path(f"/proc/{pid}/task").iterdir():
+                kids = (task / "children").read_text().split()
+                stack.extend(int(k) for k in kids)
+        except (OSError, ValueError):
+            continue
+    return total / 2**20
+
+
+class PeakSampler:
+    def __init__(self, period_s: float = 0.2) -> None:
+        self.period_s, self.peak, self._stop = period_s, 0.0, threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+
+    def _run(self) -> None:
+        while not self._stop.is_set():
+            self.peak = max(self.peak, tree_rss_mb(os.getpid()))
+            self._stop.wait(self.period_s)
+
+    def __enter__(self) -> "PeakSampler":
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self._stop.set()
+        self._thread.join()
+
+
+def alfred_env(render: bool) -> dict[str, Any]:
+    import yaml
+
+    import eb_alfred
+
+    conf = Path(list(eb_alfred.__path__)[0]) / "conf" / "env" / "alfred.yaml"
+    env = yaml.safe_load(conf.read_text())
+    env["max_steps"] = 9
+    env["params"] = {**env.get("params", {}), "render": render}
+    return env
+
+
+def one_run(url: str, inflight: int, workers: int, root: Path, render: bool) -> dict[str, Any]:
+    import eb_alfred.plugin
+    import eb_models.plugin
+    from eb_core.config import validate_config
+    from eb_core.runner import run
+
+    cfg = validate_config({
+        "env": alfred_env(render),
+        "model": {"name": "stub", "backend": "litellm", "model_id": "openai/stub-bench", "api_base": url,
+                  "input_cost_per_token": 0.0, "output_cost_per_token": 0.0, "timeout_s": 120},
+        "planner": {"name": "vlm"},
+        "ablation": {"name": "none"},
+        "limit": inflight,
+        "runner": {"workers": workers, "concurrency": inflight, "quiet": True, "save_images": False},
+    })
+    out = root / f"inflight-{inflight}"
+    t0 = time.perf_counter()
+    with PeakSampler() as sampler:
+        started = time.time()
+        summary = run(cfg, out, plugins=[eb_alfred.plugin, eb_models.plugin])
+    wall = time.perf_counter() - t0
+    recs = [json.loads(x) for x in (out / "episodes.jsonl").read_text().splitlines()]
+    assert summary["n_finished"] == inflight, summary
+    steps = sum(r["env_steps"] for r in recs)
+    return {"wall": wall, "peak": sampler.peak, "started": started, "calls": [r["model_calls"] for r in recs],
+            "steps": steps}
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--inflight", default="8,32,64,128", help="comma-separated episodes in flight (= episodes)")
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--latency", type=float, default=2.0, help="seconds the stub server takes per answer")
+    ap.add_argument("--no-render", action="store_true", help="env.params.render=false (text-only observations)")
+    args = ap.parse_args(argv)
+    os.environ["EB_DISABLE_PLUGIN_AUTOLOAD"] = "1"
+    os.environ.pop("EB_PLUGINS", None)
+
+    from eb_models.litellm_backend import _import_litellm
+    from eb_models.stub_server import StubOpenAIServer, StubReply
+
+    _import_litellm()
+    render = not args.no_render
+    print(f"EB-ALFRED, {args.workers} worker processes, stub latency {args.latency:g} s, render={render}, "
+          f"{os.cpu_count()} CPU(s)")
+    print(f"{'in flight':>9} {'peak MB':>8} {'MB/ep':>6} | {'wall s':>7} {'start-up s':>10} {'ideal s':>7} "
+          f"{'of ideal':>8} {'calls':>5} {'max in flight':>13} {'env steps':>9}")
+    with tempfile.TemporaryDirectory(prefix="eb_inflight_") as tmp, \
+            StubOpenAIServer(default=StubReply(content=PLAN), latency_s=args.latency) as server:
+        for n in [int(x) for x in args.inflight.split(",")]:
+            first = len(server.requests)
+            server.max_in_flight = 0
+            r = one_run(server.url, n, args.workers, Path(tmp), render)
+            reqs = [q for q in server.requests[first:] if q.path.endswith("/chat/completions")
+                    and isinstance(q.body, dict) and q.body.get("max_tokens") != 8]  # leave out the preflight
+            startup = min(q.received_at for q in reqs) - r["started"]
+            calls = r["calls"]
+            ideal = args.latency * max(max(calls), math.ceil(sum(calls) / n))
+            frac = ideal / max(1e-9, r["wall"] - startup)
+            print(f"{n:>9} {r['peak']:>8.0f} {r['peak'] / n:>6.1f} | {r['wall']:>7.1f} {startup:>10.1f} "
+                  f"{ideal:>7.1f} {frac:>8.2f} {sum(calls):>5} {server.max_in_flight:>13} {r['steps']:>9}",
+                  flush=True)
+    print("goals at 64 in flight: peak <= 3000 MB; wall <= 1.5 x ideal + start-up (of ideal >= 0.67)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
