@@ -60,6 +60,10 @@ class BudgetGuard:
         return self.max_cost_usd is not None and total >= self.max_cost_usd
 
 
+#: World ``StepResult.info`` keys copied into each action's record for error analysis (docs/error_analysis.md).
+_INFO_KEYS_RECORDED = ("distance_to_goal", "wrong_target")
+
+
 def _jsonable(obj: Any) -> Any:
     if isinstance(obj, tuple):
         return list(obj)
@@ -219,7 +223,8 @@ def _episode_flow(
                                           result.action_success, result.feedback)
                     actions_log.append({"env_step": env_steps, "action": _jsonable(action), "action_name": name,
                                         "success": result.action_success, "feedback": result.feedback,
-                                        "progress": progress, "failure": result.info.get("failure"), **label})
+                                        "progress": progress, "failure": result.info.get("failure"), **label,
+                                        **{k: result.info[k] for k in _INFO_KEYS_RECORDED if k in result.info}})
                     if hook is not None:
                         hook.eb_on_step_end(event=StepEndEvent(
                             run_dir=run_dir, task_id=task.id, env_step=env_steps, planner_step=planner_steps,

@@ -290,7 +290,11 @@ def label_episode(steps: Sequence[dict[str, Any]], record: dict[str, Any] | None
                 failing[name] = failing.get(name, 0) + 1
                 if failing[name] >= 2:
                     labels.append(_label("repetition", f"{name!r} failed {failing[name]} times", env_step))
-            elif len(history) >= 3:
+            if ok and a.get("wrong_target"):
+                # the world says a successful action acted on the wrong instance (a look-alike, a wrong place)
+                labels.append(_label("wrong_target", f"{name!r} succeeded on an object or place the goal does "
+                                     f"not name", env_step))
+            if ok and len(history) >= 3:
                 # a two-action cycle (A B A B) that made no progress
                 a1, a2, a3 = history[-3][0], history[-2][0], history[-1][0]
                 if a1 == a3 and a2 == name and a1 != a2 and progress <= before:

@@ -75,6 +75,37 @@ def test_world_failure_reasons_and_the_unclassified_fallback():
     assert cats(lab) == ["failed_action"]
 
 
+def test_a_successful_action_on_the_wrong_thing_is_a_wrong_target():
+    lab = label_episode([step(1, [act(1, "pick up the apple", wrong_target=True), act(2, "open the fridge")])])
+    assert cats(lab) == ["wrong_target"] and lab["steps"][0]["labels"][0]["env_step"] == 1
+
+
+def test_the_episode_records_the_world_keys_the_labeller_reads(tmp_path):
+    """distance_to_goal and wrong_target travel from StepResult.info into steps.jsonl, and drift is labelled."""
+    from eb_core.episode import run_episode
+    from eb_core.planner import VLMPlanner
+
+    class Walker(fixture_plugin.CorridorEnv):
+        def step(self, action):
+            result = super().step(action)
+            result.info.update(distance_to_goal=float(abs(self.goal - self.pos)), wrong_target=self.pos == 1)
+            return result
+
+    cfg = make_config()
+    answer = json.dumps({"visual_state_description": "", "reasoning_and_reflection": "", "language_plan": "",
+                         "executable_plan": [{"action_id": 0}] * 2 + [{"action_id": 1}] * 4})
+    task = fixture_plugin.CorridorEnv.load_tasks()[2]  # near-2: start 2, goal 4
+    rec = run_episode(env=Walker(), task=task, seed=1, planner=VLMPlanner(cfg.planner, cfg.env),
+                      backend=fixture_plugin.ScriptedBackend(answers=[answer]), env_config=cfg.env,
+                      step_dir=tmp_path)
+    assert rec.success
+    steps = [json.loads(x) for x in (tmp_path / "steps.jsonl").read_text().splitlines()]
+    acts = steps[0]["actions"]
+    assert [a["distance_to_goal"] for a in acts] == [3.0, 4.0, 3.0, 2.0, 1.0, 0.0]
+    assert [a["wrong_target"] for a in acts] == [True, False, True, False, False, False]
+    assert "wrong_target" in cats(label_episode(steps)) and "navigation_drift" not in cats(label_episode(steps))
+
+
 def test_repetition_of_a_failing_action_and_a_two_action_cycle():
     lab = label_episode([step(1, [act(1, "open the fridge", ok=False)]), step(2, [act(2, "open the fridge", ok=False)])])
     assert cats(lab, 0) == ["failed_action"] and cats(lab, 1) == ["failed_action", "repetition"]
