@@ -117,7 +117,10 @@ def sigint(rng: random.Random, tmp: Path) -> Row:
     extra = ("+env.params.sleep_s=0.04", "runner.workers=2", "runner.repeats=2")
     proc = subprocess.Popen(_cmd(run_dir, *extra), env=_env(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                             text=True)
-    time.sleep(rng.uniform(0.8, 2.0))
+    deadline = time.time() + 60
+    while time.time() < deadline and not _records(run_dir):  # interrupt a run that is under way
+        time.sleep(0.05)
+    time.sleep(rng.uniform(0.0, 1.5))
     t0 = time.perf_counter()
     proc.send_signal(signal.SIGINT)
     try:
