@@ -133,7 +133,7 @@ def _add_preparation(rng: random.Random, world: World, goal: dict[str, Any]) -> 
     dest = rec["type"] if "type" in rec else world.objects[rec["instance"]].type if rec else None
     options = [p for p in ("clean", "hot", "cold") if p != own and _can_be(xt, p) and world.of_type(_HELPER_TYPE[p])
                and (own is None or _can_be(xt, own)) and {p, own} != {"hot", "cold"} and dest not in _UNDOES[p]]
-    if not options:
+    if not options or (own is not None and dest in _UNDOES[own]):
         return None
     rng.shuffle(options)
     extra = options[:1] if own or rng.random() < 0.5 else options[:2]
