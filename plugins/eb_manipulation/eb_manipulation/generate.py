@@ -204,7 +204,8 @@ def _describe(o: ObjectSpec) -> str:
     return f"{o.colour} {o.shape}" if o.kind == "shape" else f"{o.colour} {o.kind}"
 
 
-def _spatial_ref(rng: np.random.Generator, objs: list[ObjectSpec], target: ObjectSpec, noun: str = "object") -> str | None:
+def _spatial_ref(rng: np.random.Generator, objs: list[ObjectSpec], target: ObjectSpec,
+                 noun: str = "object") -> str | None:
     """A location-based reference that picks out exactly ``target`` among ``objs`` and needs the image too.
 
     Either the target is the extreme one of its own shape on some side while another object lies further that

@@ -149,7 +149,8 @@ TEMPLATES: dict[str, dict[str, tuple[str, ...] | dict[str, tuple[str, ...]]]] = 
                    "three": ("Stack the {0} cube first, then the {1} cube on it, then the {2} cube on top.",)},
     },
     "sorter": {
-        "base": ("Put the {c} object into the shape sorter.", "Insert the {c} object into its hole in the shape sorter.",
+        "base": ("Put the {c} object into the shape sorter.",
+                 "Insert the {c} object into its hole in the shape sorter.",
                  "Drop the {c} object into the matching hole of the shape sorter."),
         "common_sense": ("Put the object that has the colour of {c} into the shape sorter.",
                          "Find the object as coloured as {c} and slot it into the shape sorter.",
