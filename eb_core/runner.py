@@ -166,9 +166,12 @@ def _worker_main(cfg_dict: dict[str, Any], run_dir: str, plugin_modules: list[st
                         hook=registry.pm.hook, seed_of=lambda t, r: episode_seed(cfg.seed, t, r),
                         on_record=lambda key, rec: conn.send(("done", rec.model_dump_json())),
                         timeout_s=cfg.runner.episode_timeout_s)
+    parent = os.getppid()
     try:
         while True:
             ready = wait([conn, loop.wake_fd], timeout=0.25)
+            if os.getppid() != parent:  # the run's process died (kill -9): its pipe may never report EOF
+                break
             stop = False
             try:
                 while conn in ready and conn.poll():
@@ -271,6 +274,11 @@ def run(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, 
 
 def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: dict[str, Any] | None,
                 plugins: Iterable[Any], registry: Registry | None) -> dict[str, Any]:
+    if cfg.runner.executor == "ray":
+        import importlib.util
+
+        if importlib.util.find_spec("ray") is None:  # checked without importing it
+            raise RunError('runner.executor=ray needs Ray, which is not installed: pip install "embodiedbench[ray]"')
     plugins = list(plugins)
     plugin_modules = [p.__name__ for p in plugins]
     registry = registry or Registry(get_plugin_manager(plugins=plugins))

@@ -188,6 +188,20 @@ def test_kill_9_of_an_in_flight_run_loses_nothing_finished(tmp_path):
     proc.wait()
     before = RunFiles(tmp_path).load_episodes()
     assert 6 <= len(before) < 20
+    # its worker process notices and exits (no orphan holding envs, writing on)
+    def orphans():
+        out = []
+        for d in Path("/proc").iterdir():
+            try:
+                if d.name.isdigit() and str(tmp_path).encode() in (d / "cmdline").read_bytes():
+                    out.append(d.name)
+            except OSError:
+                pass
+        return out
+    deadline = time.time() + 20
+    while orphans() and time.time() < deadline:
+        time.sleep(0.1)
+    assert not orphans()
     done = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     after = [(r["task_id"], r["repeat"]) for r in lines(tmp_path)]

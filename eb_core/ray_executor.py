@@ -1,0 +1,261 @@
+"""``runner.executor=ray``: env actors on a Ray cluster, the run directory written by the driver as always.
+
+* ``runner.workers`` env actors (``num_cpus=1`` each), each playing up to ``concurrency / workers`` episodes at
+  once with :class:`eb_core.inflight.InflightLoop` (env work on the actor's one thread, model calls on its thread
+  pool) and reusing its envs across episodes.
+* The driver (the ``eb run`` process) hands jobs to the actors and collects finished episodes: the record, the
+  Ray node id that played it, and the episode's step files (written on the actor's node into a private staging
+  directory, shipped back as bytes). It alone writes ``episodes.jsonl`` and the episode directories, with the
+  same crash-safe append as a local run, so re-running the command after the driver died resumes.
+* A lost actor (its node removed, its process killed) loses no episode: the episodes it had in flight go back
+  to the queue and are played by the remaining actors (once; an episode that takes down two actors is recorded
+  as an error, redone on the next resume). Nothing is doubled: results of an actor are taken only from its
+  answered calls, and an actor declared dead is never asked again.
+* An episode stuck in the env past ``runner.episode_timeout_s`` kills its actor (recorded as an error; the
+  actor's other episodes go back to the queue) and a new actor takes its place.
+* ``model.max_cost_usd`` holds per actor and, between answers, across the run (the driver stops handing out
+  work once finished episodes reach the cap).
+
+Importing this module imports ``ray``; the runner does so only when ``runner.executor=ray``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import sys
+import tempfile
+import time
+from typing import Any
+
+from eb_core.config import RunConfig
+from eb_core.env import Task
+from eb_core.records import EpisodeRecord, RunFiles
+
+INSTALL_HINT = 'runner.executor=ray needs Ray, which is not installed: pip install "embodiedbench[ray]"'
+
+try:
+    import ray
+except ImportError:  # pragma: no cover - exercised without the extra
+    ray = None  # type: ignore[assignment]
+
+__all__ = ["EnvActor", "INSTALL_HINT", "connect", "run_on_ray"]
+
+
+def require_ray() -> Any:
+    if ray is None:
+        from eb_core.runner import RunError
+
+        raise RunError(INSTALL_HINT)
+    return ray
+
+
+def connect(address: str | None) -> bool:
+    """Join the cluster at ``address`` (or ``$RAY_ADDRESS``; a local single-machine Ray when neither is set).
+    Returns whether this call started the connection (the caller then shuts it down)."""
+    require_ray()
+    if ray.is_initialized():
+        return False
+    address = address or os.environ.get("RAY_ADDRESS") or None
+    ray.init(address=address, include_dashboard=False, log_to_driver=False, configure_logging=False)
+    return True
+
+
+class _EnvActor:
+    """One Ray actor: an :class:`InflightLoop` over this node's envs. Every call runs on the actor's one
+    thread (a plain, non-async actor), so all env and GL work of the actor stays on it."""
+
+    def __init__(self, cfg_dict: dict[str, Any], plugin_modules: list[str], slots: int,
+                 sys_path: list[str]) -> None:
+        for p in reversed(sys_path):  # plugin modules the driver imported by name (tests, benchmarks)
+            if p not in sys.path:
+                sys.path.insert(0, p)
+        from eb_core.episode import BudgetGuard
+        from eb_core.inflight import InflightLoop
+        from eb_core.runner import Components, _build_registry, episode_seed
+
+        cfg = RunConfig.model_validate(cfg_dict)
+        registry = _build_registry(plugin_modules)
+        self.node = ray.get_runtime_context().get_node_id()
+        self.staging = tempfile.mkdtemp(prefix="eb_ray_actor_")
+        self.done: list[tuple[str, str]] = []
+        self.loop = InflightLoop(
+            Components(cfg, registry), RunFiles(self.staging), slots=slots,
+            budget=BudgetGuard(cfg.model.max_cost_usd), hook=registry.pm.hook,
+            seed_of=lambda t, r: episode_seed(cfg.seed, t, r),
+            on_record=lambda key, rec: self.done.append((key, rec.model_dump_json())),
+            timeout_s=cfg.runner.episode_timeout_s, node=self.node)
+
+    def node_id(self) -> str:
+        return self.node
+
+    def step(self, jobs: list[dict[str, Any]], wait_s: float) -> dict[str, Any]:
+        """Start ``jobs``, then run the episodes until one finishes or ``wait_s`` passes. Returns the finished
+        episodes (record and step files), or the reason to stop the run."""
+        import select
+
+        from eb_core.model import ModelBudgetExceeded, ModelFatalError
+
+        try:
+            for job in jobs:
+                self.loop.start(job["key"], Task.model_validate(job["task"]), int(job["repeat"]))
+            deadline = time.monotonic() + wait_s
+            self.loop.pump()
+            while not self.done and self.loop.active and time.monotonic() < deadline:
+                select.select([self.loop.wake_fd], [], [], max(0.0, min(0.2, deadline - time.monotonic())))
+                self.loop.pump()
+        except ModelFatalError as exc:
+            return {"stop": "fatal", "why": str(exc)}
+        except ModelBudgetExceeded as exc:
+            return {"stop": "budget", "why": str(exc)}
+        out = []
+        for key, rec_json in self.done:
+            rec = EpisodeRecord.model_validate_json(rec_json)
+            out.append({"key": key, "record": rec_json, "files": self._take_files(rec.task_id, rec.repeat)})
+        self.done.clear()
+        return {"done": out, "node": self.node}
+
+    def _take_files(self, task_id: str, repeat: int) -> dict[str, bytes]:
+        from eb_core.records import episode_dir_name
+
+        d = os.path.join(self.staging, "episodes", f".{episode_dir_name(task_id, repeat)}.partial")
+        files: dict[str, bytes] = {}
+        if os.path.isdir(d):
+            for root, _dirs, names in os.walk(d):
+                for n in names:
+                    path = os.path.join(root, n)
+                    with open(path, "rb") as fh:
+                        files[os.path.relpath(path, d)] = fh.read()
+            shutil.rmtree(d, ignore_errors=True)
+        return files
+
+    def close(self) -> None:
+        self.loop.close()
+        shutil.rmtree(self.staging, ignore_errors=True)
+
+
+EnvActor = None if ray is None else ray.remote(num_cpus=1, max_restarts=0, max_task_retries=0)(_EnvActor)
+
+
+def run_on_ray(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pending: list[Any], progress: Any,
+               hook: Any, plugin_modules: list[str], preflight: Any = None) -> str | None:
+    """Play ``pending`` (task, repeat) jobs on Ray actors; the runner's ``_finish`` writes every record."""
+    require_ray()
+    from eb_core.episode import BudgetGuard
+    from eb_core.inflight import error_record
+    from eb_core.model import ModelBudgetExceeded
+    from eb_core.runner import RunError, _concurrency, _finish, episode_seed, job_key, split_slots
+
+    started_ray = connect(cfg.runner.ray_address)
+    budget = BudgetGuard(cfg.model.max_cost_usd)
+    stopped: str | None = None
+    if preflight is not None:
+        try:
+            budget.add(preflight())
+        except ModelBudgetExceeded as exc:
+            return f"budget: {exc}"
+    timeout = cfg.runner.episode_timeout_s
+    kill_after = None if timeout is None else timeout + max(1.0, 0.1 * timeout)
+    queue_: list[Any] = list(pending)
+    tries: dict[str, int] = {}
+    sys_path = [p for p in sys.path if p]
+
+    class Slot:
+        def __init__(self, slots: int) -> None:
+            self.slots = slots
+            self.actor = EnvActor.remote(cfg_dict, plugin_modules, slots, sys_path)
+            self.jobs: dict[str, tuple[Any, float]] = {}
+            self.call: Any = None
+
+        def ask(self) -> None:
+            new = []
+            while len(self.jobs) < self.slots and queue_ and stopped is None:
+                (task, repeat) = queue_.pop(0)
+                key = job_key(task.id, repeat)
+                self.jobs[key] = ((task, repeat), time.monotonic())
+                new.append({"key": key, "task": task.model_dump(mode="json"), "repeat": repeat})
+            if self.call is None and (new or self.jobs):
+                self.call = self.actor.step.remote(new, 1.0)
+
+    def fail(key: str, job: Any, why: str) -> None:
+        task, repeat = job
+        _finish(files, error_record(task, repeat, episode_seed(cfg.seed, task.id, repeat), why), progress, hook)
+
+    def lost(s: Slot, why: str, culprit: str | None = None) -> None:
+        """An actor is gone: its episodes go back to the queue (an episode lost twice is an error)."""
+        for key, (job, _t0) in s.jobs.items():
+            tries[key] = tries.get(key, 0) + 1
+            if key == culprit:
+                fail(key, job, f"episode exceeded runner.episode_timeout_s={timeout}")
+            elif tries[key] >= 2:
+                fail(key, job, f"{why} (twice; this episode is redone on resume)")
+            else:
+                queue_.insert(0, job)
+        s.jobs.clear()
+
+    sizes = split_slots(_concurrency(cfg), cfg.runner.workers, len(pending))
+    slots = [Slot(n) for n in sizes]
+    try:
+        while stopped is None:
+            for s in slots:
+                s.ask()
+            calls = {s.call: s for s in slots if s.call is not None}
+            if not calls:
+                if queue_ and not slots:  # every actor was lost: start one more
+                    slots.append(Slot(sizes[0]))
+                    continue
+                break
+            ready, _ = ray.wait(list(calls), num_returns=1, timeout=1.0)
+            for ref in ready:
+                s = calls[ref]
+                s.call = None
+                try:
+                    out = ray.get(ref)
+                except ray.exceptions.RayError as exc:
+                    lost(s, f"Ray actor lost ({type(exc).__name__})")
+                    slots.remove(s)
+                    continue
+                if "stop" in out:
+                    if out["stop"] == "fatal":
+                        raise RunError(out["why"])
+                    stopped = f"budget: {out['why']}"
+                    break
+                for item in out["done"]:
+                    job = s.jobs.pop(item["key"], None)
+                    if job is None:
+                        continue  # not ours any more (never happens: a dead actor is never asked again)
+                    rec = EpisodeRecord.model_validate_json(item["record"])
+                    stage = files.staging_dir(rec.task_id, rec.repeat)
+                    for rel, data in item["files"].items():
+                        path = stage / rel
+                        path.parent.mkdir(parents=True, exist_ok=True)
+                        path.write_bytes(data)
+                    _finish(files, rec, progress, hook)
+                    try:
+                        budget.add(rec.cost_usd)
+                    except ModelBudgetExceeded as exc:
+                        stopped = f"budget: {exc}"
+            if kill_after is not None:
+                now = time.monotonic()
+                for s in list(slots):
+                    hung = [k for k, (_j, t0) in s.jobs.items() if now - t0 > kill_after]
+                    if hung:
+                        ray.kill(s.actor, no_restart=True)
+                        lost(s, "actor killed", culprit=hung[0])
+                        slots.remove(s)
+                        if queue_ or any(x.jobs for x in slots):
+                            slots.append(Slot(s.slots))
+    finally:
+        try:  # let live actors remove their staging directories
+            ray.get([s.actor.close.remote() for s in slots], timeout=5)
+        except Exception:
+            pass
+        for s in slots:
+            try:
+                ray.kill(s.actor, no_restart=True)
+            except Exception:
+                pass
+        if started_ray:
+            ray.shutdown()
+    return stopped
