@@ -258,8 +258,7 @@ class EBEnv(gymnasium.Env):
             terms = {k: 0.0 for k in TERMS}
             info = {"error": f"{type(exc).__name__}: {exc}", "traceback": traceback.format_exc(limit=8),
                     "reward_terms": terms, "action_valid": False, "format_ok": False, "task_success": False,
-                    "progress": self._progress, "feedback": "", "plan": None, "executed_actions": [],
-                    "expert_action": None}
+                    "progress": self._progress, "feedback": "", "plan": None, "executed_actions": []}
             return self._last_obs, 0.0, False, True, info
 
     def render(self) -> np.ndarray | None:
@@ -452,10 +451,13 @@ class EBEnv(gymnasium.Env):
 
     def _expert(self) -> dict[str, Any]:
         if not self.expert_labels or self._done or self.env is None:
-            return {"expert_action": None}
+            return {}
         from eb_core.episode import _expert_label
 
-        return _expert_label(self.env, self.env.action_space())
+        label = _expert_label(self.env, self.env.action_space())
+        if label.get("expert_action") is None:  # absent, not None: vector envs batch it into a numeric array
+            label.pop("expert_action", None)
+        return label
 
     def _finish_info(self, progress: float, success: bool, invalid: int, format_error: int) -> dict[str, Any]:
         gained = progress - self._progress

@@ -1,0 +1,116 @@
+"""Throughput of the Gymnasium vector env (eb_core.gym): env steps per second, reset time, memory per env.
+
+    python benchmarks/gym_throughput.py [--worlds navigation,habitat,manipulation,alfred] [--sizes 1,8,32]
+                                        [--steps 20] [--resets 10] [--resolution 500] [--json out.json]
+
+Raw mode with rendering on (every step renders the world's first-person image). For each world:
+
+* ``render_s``: one raw step in this process (mean over ``--steps``), the cost of one env step;
+  ``bound`` = cores / ``render_s``, the most steps per second this machine can give.
+* ``reset_median_s`` / ``reset_max_s``: ``reset()`` of one env over ``--resets`` different tasks.
+* for each size N: an ``AsyncVectorEnv`` of N worker processes (``shared_memory=False``), ``--steps`` batched
+  random steps after a warm-up step; ``steps_per_s`` = N x steps / wall time, ``ratio`` = that / bound;
+  ``pss_mb_per_env`` = proportional set size of the worker processes / N (forked workers share the
+  parent's pages, which PSS splits fairly).
+
+Steps that end an episode are followed by Gymnasium's next-step autoreset, so reset cost is inside the rate.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import time
+from typing import Any
+
+import numpy as np
+
+
+def _pss_mb(pid: int) -> float:
+    try:
+        with open(f"/proc/{pid}/smaps_rollup") as fh:
+            for line in fh:
+                if line.startswith("Pss:"):
+                    return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return float("nan")
+
+
+def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolution: int) -> dict[str, Any]:
+    import gymnasium
+
+    import eb_core.gym as ebgym
+
+    kwargs = dict(obs_mode="raw", expert_labels=False, overrides=(f"env.resolution={resolution}",))
+    gid = ebgym.gym_id(world)
+    env = gymnasium.make(gid, **kwargs)
+    times = []
+    for seed in range(resets):
+        t = time.perf_counter()
+        env.reset(seed=seed)
+        times.append(time.perf_counter() - t)
+    env.reset(seed=0)
+    env.action_space.seed(0)
+    step_times = []
+    for _ in range(steps):
+        t = time.perf_counter()
+        _, _, term, trunc, _ = env.step(env.action_space.sample())
+        step_times.append(time.perf_counter() - t)
+        if term or trunc:
+            env.reset()
+    env.close()
+    render_s = statistics.mean(step_times)
+    cores = os.cpu_count() or 1
+    bound = cores / render_s
+    out: dict[str, Any] = {"world": world, "gym_id": gid, "resolution": resolution, "cores": cores,
+                           "render_s": round(render_s, 4), "bound_steps_per_s": round(bound, 1),
+                           "reset_median_s": round(statistics.median(times), 3), "reset_max_s": round(max(times), 3),
+                           "sizes": {}}
+    for n in sizes:
+        vec = ebgym.make_vector_env(world, n, **kwargs)
+        try:
+            vec.reset(seed=list(range(n)))
+            vec.action_space.seed(1)
+            vec.step(vec.action_space.sample())  # warm-up
+            t = time.perf_counter()
+            for _ in range(steps):
+                vec.step(vec.action_space.sample())
+            wall = time.perf_counter() - t
+            pss = [_pss_mb(p.pid) for p in vec.processes]
+        finally:
+            vec.close()
+        rate = n * steps / wall
+        out["sizes"][n] = {"steps_per_s": round(rate, 1), "ratio_to_bound": round(rate / bound, 2),
+                           "pss_mb_per_env": round(float(np.nanmean(pss)), 1)}
+        print(f"  {world} N={n}: {rate:.1f} steps/s ({rate / bound:.2f} of the bound {bound:.1f}), "
+              f"{np.nanmean(pss):.0f} MB PSS per env", flush=True)
+    return out
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--worlds", default="navigation,habitat,manipulation,alfred")
+    ap.add_argument("--sizes", default="1,8,32")
+    ap.add_argument("--steps", type=int, default=20)
+    ap.add_argument("--resets", type=int, default=10)
+    ap.add_argument("--resolution", type=int, default=500)
+    ap.add_argument("--json", default=None, help="write the results to this file")
+    args = ap.parse_args(argv)
+    sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
+    results = []
+    for world in [w.strip() for w in args.worlds.split(",") if w.strip()]:
+        print(f"{world}:", flush=True)
+        r = bench_world(world, sizes, args.steps, args.resets, args.resolution)
+        print(f"  one raw step {r['render_s'] * 1000:.0f} ms -> bound {r['bound_steps_per_s']} steps/s on "
+              f"{r['cores']} cores; reset median {r['reset_median_s']} s, max {r['reset_max_s']} s", flush=True)
+        results.append(r)
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(results, fh, indent=2)
+
+
+if __name__ == "__main__":
+    main()
