@@ -117,13 +117,55 @@ def one_run(url: str, inflight: int, workers: int, root: Path, render: bool) -> 
             "steps": steps}
 
 
+WORLDS = {"navigation": "eb_navigation", "alfred": "eb_alfred", "habitat": "eb_habitat",
+          "manipulation": "eb_manipulation"}
+
+
+def step_cpu(n: int) -> None:
+    """CPU seconds per env step (render + PNG encode of the image the model sees), each world in this process."""
+    import yaml
+
+    from eb_core.plugins import Registry, get_plugin_manager
+    from eb_core.planner import encode_png
+
+    registry = Registry(get_plugin_manager())
+    print(f"{'world':>12} {'CPU s/step':>10} {'reset CPU s':>11}  (500 px, rendered; PNG encode included)")
+    for world, pkg in WORLDS.items():
+        mod = __import__(pkg)
+        conf = yaml.safe_load((Path(list(mod.__path__)[0]) / "conf" / "env" / f"{world}.yaml").read_text())
+        cls = registry.get("env", world).load()
+        env = cls(resolution=conf.get("resolution", 500), multi_view=False, **conf.get("params", {}))
+        task = cls.load_tasks(**conf.get("params", {}))[0]
+        t0 = time.process_time()
+        env.reset(task, 0)
+        reset_s = time.process_time() - t0
+        plan = list(env.expert_plan() or [])
+        t0, steps = time.process_time(), 0
+        while steps < n:
+            action = plan.pop(0) if plan else 0
+            res = env.step(action)
+            if res.observation.primary_image is not None:
+                encode_png(res.observation.primary_image)
+            steps += 1
+            if res.done:
+                env.reset(task, steps)
+                plan = list(env.expert_plan() or [])
+        print(f"{world:>12} {(time.process_time() - t0) / steps:>10.3f} {reset_s:>11.2f}", flush=True)
+        env.close()
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--inflight", default="8,32,64,128", help="comma-separated episodes in flight (= episodes)")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--latency", type=float, default=2.0, help="seconds the stub server takes per answer")
     ap.add_argument("--no-render", action="store_true", help="env.params.render=false (text-only observations)")
+    ap.add_argument("--step-cpu", type=int, default=0, metavar="N",
+                    help="instead: CPU seconds per env step of every world (N steps each), then exit")
     args = ap.parse_args(argv)
+    if args.step_cpu:
+        step_cpu(args.step_cpu)
+        return 0
     os.environ["EB_DISABLE_PLUGIN_AUTOLOAD"] = "1"
     os.environ.pop("EB_PLUGINS", None)
 

@@ -72,7 +72,8 @@ class InflightLoop:
 
     def __init__(self, comps: Any, files: RunFiles, *, slots: int, budget: BudgetGuard, hook: Any,
                  seed_of: Callable[[str, int], int], on_record: Callable[[str, EpisodeRecord], None],
-                 timeout_s: float | None = None, node: str | None = None) -> None:
+                 timeout_s: float | None = None, node: str | None = None,
+                 call_wrapper: Callable[[Callable[[Any], Any]], Callable[[Any], Any]] | None = None) -> None:
         self.comps = comps
         self.cfg = comps.cfg
         self.files = files
@@ -83,6 +84,8 @@ class InflightLoop:
         self.on_record = on_record
         self.timeout_s = timeout_s
         self.node = node or node_name()
+        self.call_wrapper = call_wrapper
+        """Wraps every ``backend.complete`` (the Ray executor's cluster-wide rate limit)."""
         self.active: dict[str, _Episode] = {}
         self._free_envs: list[Env] = []
         self._free_backends: list[ModelBackend] = []
@@ -189,7 +192,8 @@ class InflightLoop:
             rec = ep.driver.record.model_copy(update={"repeat": ep.repeat})
             self.on_record(ep.key, with_node(rec, self.node))
             return
-        ep.future = self._calls.submit(ep.backend.complete, request)
+        call = ep.backend.complete if self.call_wrapper is None else self.call_wrapper(ep.backend.complete)
+        ep.future = self._calls.submit(call, request)
         ep.future.add_done_callback(self._wake)
 
     def _time_out(self, ep: _Episode) -> None:

@@ -13,6 +13,8 @@
   answered calls, and an actor declared dead is never asked again.
 * An episode stuck in the env past ``runner.episode_timeout_s`` kills its actor (recorded as an error; the
   actor's other episodes go back to the queue) and a new actor takes its place.
+* ``model.max_concurrency`` / ``model.rpm`` hold across the cluster and across all jobs using the model (a
+  sweep): one named, detached limiter actor per model (:func:`get_limiter`).
 * ``model.max_cost_usd`` holds per actor and, between answers, across the run (the driver stops handing out
   work once finished episodes reach the cap).
 
@@ -40,7 +42,7 @@ try:
 except ImportError:  # pragma: no cover - exercised without the extra
     ray = None  # type: ignore[assignment]
 
-__all__ = ["EnvActor", "INSTALL_HINT", "connect", "run_on_ray"]
+__all__ = ["EnvActor", "INSTALL_HINT", "connect", "get_limiter", "run_on_ray"]
 
 
 def require_ray() -> Any:
@@ -67,7 +69,7 @@ class _EnvActor:
     thread (a plain, non-async actor), so all env and GL work of the actor stays on it."""
 
     def __init__(self, cfg_dict: dict[str, Any], plugin_modules: list[str], slots: int,
-                 sys_path: list[str]) -> None:
+                 sys_path: list[str], limiter: Any = None) -> None:
         for p in reversed(sys_path):  # plugin modules the driver imported by name (tests, benchmarks)
             if p not in sys.path:
                 sys.path.insert(0, p)
@@ -85,7 +87,8 @@ class _EnvActor:
             budget=BudgetGuard(cfg.model.max_cost_usd), hook=registry.pm.hook,
             seed_of=lambda t, r: episode_seed(cfg.seed, t, r),
             on_record=lambda key, rec: self.done.append((key, rec.model_dump_json())),
-            timeout_s=cfg.runner.episode_timeout_s, node=self.node)
+            timeout_s=cfg.runner.episode_timeout_s, node=self.node,
+            call_wrapper=None if limiter is None else limited(limiter))
 
     def node_id(self) -> str:
         return self.node
@@ -135,6 +138,73 @@ class _EnvActor:
         shutil.rmtree(self.staging, ignore_errors=True)
 
 
+class _Limiter:
+    """A cluster-wide per-model limit (``model.max_concurrency`` calls in flight, ``model.rpm`` starts per 60 s):
+    one named, detached actor per model key, shared by every job on the cluster that uses that model (all
+    jobs of a sweep). A call takes a lease and returns it; a lease not returned within ``lease_s`` (its
+    node died) expires, so a lost node never leaks a slot. The first job to create it sets the limits."""
+
+    def __init__(self, max_concurrency: int | None, rpm: int | None, lease_s: float = 600.0,
+                 window_s: float = 60.0) -> None:
+        self.max_concurrency, self.rpm, self.lease_s, self.window_s = max_concurrency, rpm, lease_s, window_s
+        self.leases: dict[int, float] = {}
+        self.starts: list[float] = []
+        self.next_id = 0
+
+    def acquire(self) -> tuple[int | None, float]:
+        """(lease id, 0) when the call may start now; (None, seconds to wait) otherwise."""
+        now = time.time()
+        self.leases = {k: t for k, t in self.leases.items() if now - t < self.lease_s}
+        self.starts = [t for t in self.starts if now - t < self.window_s]
+        if self.max_concurrency and len(self.leases) >= self.max_concurrency:
+            return None, 0.05
+        if self.rpm and len(self.starts) >= self.rpm:
+            return None, self.starts[len(self.starts) - self.rpm] + self.window_s - now
+        self.next_id += 1
+        self.leases[self.next_id] = now
+        self.starts.append(now)
+        return self.next_id, 0.0
+
+    def release(self, lease: int) -> None:
+        self.leases.pop(lease, None)
+
+    def limits(self) -> tuple[int | None, int | None]:
+        return self.max_concurrency, self.rpm
+
+
+def limiter_key(model: dict[str, Any]) -> str:
+    return f"{model.get('model_id') or model.get('name')}@{model.get('api_base') or model.get('backend')}"
+
+
+def get_limiter(model: dict[str, Any]) -> Any:
+    """The cluster's shared limiter of this model (created by the first job), or None without limits."""
+    mc, rpm = model.get("max_concurrency"), model.get("rpm")
+    if not (mc or rpm):
+        return None
+    return ray.remote(num_cpus=0)(_Limiter).options(
+        name=f"eb-limit:{limiter_key(model)}"[:120], namespace="embodiedbench", get_if_exists=True,
+        lifetime="detached").remote(mc, rpm)
+
+
+def limited(limiter: Any) -> Any:
+    """A ``call_wrapper`` for :class:`InflightLoop`: every model call waits for a lease of ``limiter``."""
+
+    def wrap(fn: Any) -> Any:
+        def call(request: Any) -> Any:
+            while True:
+                lease, wait = ray.get(limiter.acquire.remote())
+                if lease is not None:
+                    break
+                time.sleep(min(max(wait, 0.02), 1.0))
+            try:
+                return fn(request)
+            finally:
+                limiter.release.remote(lease)
+        return call
+
+    return wrap
+
+
 EnvActor = None if ray is None else ray.remote(num_cpus=1, max_restarts=0, max_task_retries=0)(_EnvActor)
 
 
@@ -160,11 +230,12 @@ def run_on_ray(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pendin
     queue_: list[Any] = list(pending)
     tries: dict[str, int] = {}
     sys_path = [p for p in sys.path if p]
+    limiter = get_limiter(cfg.model.model_dump())  # model.rpm / max_concurrency across the cluster and the sweep
 
     class Slot:
         def __init__(self, slots: int) -> None:
             self.slots = slots
-            self.actor = EnvActor.remote(cfg_dict, plugin_modules, slots, sys_path)
+            self.actor = EnvActor.remote(cfg_dict, plugin_modules, slots, sys_path, limiter)
             self.jobs: dict[str, tuple[Any, float]] = {}
             self.call: Any = None
 

@@ -24,16 +24,17 @@ from ray.cluster_utils import Cluster  # noqa: E402
 class NodeLoggingScripted(fixture_plugin.ScriptedBackend):
     """The scripted oracle, taking ``delay_s`` per call and logging the Ray node of each call to ``log``."""
 
-    def __init__(self, delay_s: float = 0.2, log: str | None = None, **kw):
+    def __init__(self, delay_s: float = 0.2, log: str | None = None, max_concurrency=None, rpm=None, model_id=None, **kw):
         super().__init__(**kw)
         self.delay_s, self.log = delay_s, log
 
     def complete(self, request):
+        t0 = time.time()
         time.sleep(self.delay_s)
         node = ray.get_runtime_context().get_node_id() if ray.is_initialized() else "driver"
         if self.log:
             fd = os.open(self.log, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
-            os.write(fd, f"{node} {time.time()}\n".encode())
+            os.write(fd, f"{node} {time.time()} {t0}\n".encode())
             os.close(fd)
         return super().complete(request)
 
@@ -52,9 +53,9 @@ def lines(run_dir):
     return [json.loads(x) for x in (Path(run_dir) / "episodes.jsonl").read_text().splitlines()]
 
 
-def ray_config(log, delay_s=0.2, **over):
+def ray_config(log, delay_s=0.2, model=None, **over):
     return make_config(model={"name": "node-logging", "backend": "node-logging", "oracle": True, "delay_s": delay_s,
-                              "log": str(log)},
+                              "log": str(log), **(model or {})},
                        runner__executor="ray", runner__workers=2, runner__concurrency=4, **over)
 
 
@@ -87,6 +88,21 @@ def test_episodes_land_on_both_nodes_and_match_a_local_run(cluster, tmp_path):
         assert {r["node"] for r in lines(tmp_path / "ray")} == used
 
 
+def test_max_concurrency_holds_across_the_cluster_and_jobs_share_the_limiter(cluster, tmp_path):
+    from eb_core.ray_executor import get_limiter
+
+    log = tmp_path / "calls.log"
+    model = {"max_concurrency": 1, "model_id": f"limited-{tmp_path.name}"}
+    summary = run(ray_config(log, delay_s=0.15, model=model, limit=6), tmp_path / "run", plugins=PLUGINS)
+    assert summary["complete"]
+    calls = [(float(s), float(e), n) for n, e, s in (ln.split() for ln in log.read_text().splitlines())]
+    assert len({n for _s, _e, n in calls}) == 2  # both nodes called the model...
+    assert max(sum(1 for s, e, _ in calls if s <= t < e) for t, _e, _n in calls) == 1  # ...never two at once
+    full = {"name": "node-logging", "backend": "node-logging", **model}
+    a, b = get_limiter(full), get_limiter(full)  # a second job (another driver) gets the same limiter
+    assert a._actor_id == b._actor_id and ray.get(a.limits.remote()) == (1, None)
+
+
 def test_a_node_lost_mid_run_loses_no_episode_and_doubles_none(cluster, tmp_path):
     c, nodes = cluster
     log = tmp_path / "calls.log"
@@ -109,8 +125,8 @@ def test_a_node_lost_mid_run_loses_no_episode_and_doubles_none(cluster, tmp_path
     assert len(keys) == 30 == len(set(keys))  # none lost, none doubled
     assert all(r["status"] == "ok" and r["success"] for r in recs) and summary["complete"]
     calls = [ln.split() for ln in log.read_text().splitlines()]
-    removed_at = max(float(t) for n, t in calls if n == victim.node_id)
-    assert any(n == nodes[0].node_id and float(t) > removed_at for n, t in calls)  # the survivor took over
+    removed_at = max(float(t) for n, t, _ in calls if n == victim.node_id)
+    assert any(n == nodes[0].node_id and float(t) > removed_at for n, t, _ in calls)  # the survivor took over
 
 
 def test_the_ray_executor_without_ray_is_one_line_naming_the_extra(tmp_path, monkeypatch):
