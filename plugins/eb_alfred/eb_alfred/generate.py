@@ -2,7 +2,8 @@
 
 For every subset it walks through scene seeds, proposes a goal of the next task type for a scene of a fitting
 room, adapts the scene where the subset needs it (dirty objects to wash, look-alike distractors for the
-visual subset, things shut away in drawers for long_horizon), words the instruction, and keeps the task only
+visual subset; for long_horizon: the things it needs shut away in closed drawers, cabinets and the fridge, and
+extra preparation of the object, see :data:`LONG_ROOMS`), words the instruction, and keeps the task only
 if the oracle solves it within the subset's step range, the instruction names the instance the goal singles
 out, and -- for the spatial and visual subsets -- a render of the start state shows what the words refer to
 (:func:`image_problems`, the checks of :mod:`eb_alfred.audit`). The output is deterministic for a given ``seed``.
