@@ -168,8 +168,11 @@ class EBEnv(gymnasium.Env):
         else:
             self.observation_space = spaces.Dict({"image": img, "text": text})
             world_env = self._world()
-            world_env.reset(self.task_at(0), 0)
-            space = world_env.action_space()
+            try:  # fixed-list worlds know their space before a reset: no rendering (no GL context) here
+                space = world_env.action_space()
+            except Exception:
+                world_env.reset(self.task_at(0), 0)
+                space = world_env.action_space()
             if isinstance(space, DiscreteActionSpace):
                 self.action_space = spaces.Discrete(int(raw_action_n or len(space)))
             else:

@@ -34,11 +34,20 @@ def _resolve(world: str) -> str:
                      f"(is its plugin installed? `eb list` shows the worlds)")
 
 
-def make_vector_env(world: str, num_envs: int, *, context: str | None = "fork",
+def make_vector_env(world: str, num_envs: int, *, context: str | None = "forkserver",
                     autoreset_mode: str = "NextStep", env_fns: list[Callable[[], gymnasium.Env]] | None = None,
                     **kwargs: Any) -> AsyncVectorEnv:
     """``num_envs`` copies of ``world`` (an id or env name) with ``kwargs`` for :class:`EBEnv`, each in its own
-    worker process. ``autoreset_mode``: Gymnasium's ``NextStep`` (default), ``SameStep`` or ``Disabled``."""
+    worker process. ``autoreset_mode``: Gymnasium's ``NextStep`` (default), ``SameStep`` or ``Disabled``.
+
+    ``context="forkserver"`` (default): workers fork from a clean server process that has imported the core,
+    never from a process holding an OpenGL context (a forked EGL context hangs the worker's first render).
+    As with any non-fork start method, a script must build the vector env under ``if __name__ == "__main__":``.
+    ``context="fork"`` is faster to start and safe when this process has not rendered yet."""
+    import multiprocessing
+
+    if context == "forkserver":
+        multiprocessing.get_context("forkserver").set_forkserver_preload(["eb_core.gym"])
     if num_envs < 1:
         raise ValueError(f"num_envs must be >= 1, got {num_envs}")
     if env_fns is None:

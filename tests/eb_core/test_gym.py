@@ -233,7 +233,7 @@ def test_a_world_without_generated_splits_says_which_worlds_have_them(installed)
 
 def test_vector_env_of_8_with_a_crashing_environment():
     _corridor_ids()
-    vec = ebgym.make_vector_env("corridor", 8, obs_mode="raw", expert_labels=False)
+    vec = ebgym.make_vector_env("corridor", 8, obs_mode="raw", expert_labels=False, context="fork")
     try:
         obs, info = vec.reset(seed=list(range(8)))
         assert obs["image"].shape[0] == 8 and len(obs["text"]) == 8
