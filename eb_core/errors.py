@@ -56,6 +56,7 @@ FAILURE_LABELS: dict[str, str] = {
     "affordance": "affordance_error",
     "precondition": "precondition_error",
     "wrong_target": "wrong_target",
+    "absent": "hallucinated_object",
     "collision": "collision",
     "grasp": "grasp_failure",
 }

@@ -37,9 +37,10 @@ __all__ = ["Instance", "World", "parse_action", "instance_index", "VERBS", "FAIL
 #: ``affordance`` -- the thing does not support the action at all (slicing without a knife, picking up a fridge,
 #: opening a table, an object that does not fit the receptacle); ``precondition`` -- the right action in the
 #: wrong state (not close, hidden in or blocked by something closed, hand full or empty, already open/on/sliced,
-#: a running microwave); ``wrong_target`` -- the action names a thing this room does not have. The environment
-#: also reports ``wrong_target`` when a failed action acts on a look-alike of the thing the goal singles out.
-FAILURES = ("affordance", "precondition", "wrong_target")
+#: a running microwave); ``absent`` -- the action names a thing this room does not have (the core labels it a
+#: hallucinated object). The environment reports ``wrong_target`` when a failed action acts on a look-alike of
+#: the thing the goal singles out.
+FAILURES = ("affordance", "precondition", "absent", "wrong_target")
 
 #: Action verb -> the type property it needs (an object without it does not afford the action).
 _AFFORDS = {"pickup": "pickupable", "open": "openable", "close": "openable", "toggle_on": "toggleable",
@@ -306,7 +307,7 @@ class World:
         if target is not None and target not in self.objects:
             base, _ = instance_index(target)
             noun = TYPES[base].noun if base in TYPES else base
-            self.failure = "wrong_target"
+            self.failure = "absent"
             return False, f"Failed: there is no {target} here; no {noun} with that name is in this room."
         prop = _AFFORDS.get(verb)
         if target is not None and prop is not None and not getattr(TYPES[self.objects[target].type], prop):

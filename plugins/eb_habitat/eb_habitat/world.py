@@ -45,11 +45,12 @@ def _article(label: str) -> str:
 #: Why a skill failed (the core's ``StepResult.info["failure"]`` values this world reports). Every failure of
 #: the 70 skills is one of these: ``precondition`` -- the right skill in the wrong state (not standing at the
 #: receptacle, hand full or empty, the container closed or already open/closed, no free slot left, the object
-#: lies at another receptacle); ``wrong_target`` -- a pick names a kind of object this apartment does not hold.
+#: lies at another receptacle); ``absent`` -- a pick names a kind of object this apartment does not hold (the
+#: core labels it a hallucinated object).
 #: ``affordance`` never happens: the skill set has no skill that acts on something unable to take it (only the
 #: four containers have open/close skills, place skills exist only for receptacles, pick skills only for
 #: objects), so it is not in this tuple.
-FAILURES = ("precondition", "wrong_target")
+FAILURES = ("precondition", "absent")
 
 
 @dataclass(frozen=True)
@@ -165,7 +166,7 @@ class World:
             elsewhere = any(it.type == type_key for it in self.items.values())
             return Outcome(False, f"Cannot pick up the {name}: there is no {name} {r.preposition} the {r.name} "
                                   f"where you stand. Look for it at other receptacles.",
-                           "precondition" if elsewhere else "wrong_target")
+                           "precondition" if elsewhere else "absent")
         item.loc, item.slot = HAND, 0
         self.held = item.name
         return Outcome(True, f"You picked up the {item_label(item)} from the {r.name}; it is now in your hand.")

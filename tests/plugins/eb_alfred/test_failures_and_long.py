@@ -54,8 +54,8 @@ def scene() -> dict:
     (["find a Microwave", "turn on the Microwave", "open the Microwave"], "precondition"),  # running
     (["find a Microwave", "open the Microwave", "turn on the Microwave"], "precondition"),  # open
     (["find a Mug", "pick up the Mug", "find a Cabinet", "put down the object in hand"], "precondition"),  # closed
-    # wrong target: the room has no such thing
-    (["find a Laptop"], "wrong_target"),
+    # absent: the room has no such thing (a hallucinated object for the error analysis)
+    (["find a Laptop"], "absent"),
 ])
 def test_world_labels_each_failure(actions: list[str], label: str) -> None:
     w = World.from_scene(scene())
@@ -96,7 +96,7 @@ def test_env_reports_labels_in_step_info() -> None:
     assert (aff.action_success, aff.info["failure"]) == (False, "affordance")
     assert (pre.action_success, pre.info["failure"]) == (False, "precondition")
     absent = _do(env, "find a Laptop")[0]
-    assert absent.info["failure"] == "wrong_target"
+    assert absent.info["failure"] == "absent"
 
 
 def test_env_calls_a_state_failure_on_a_look_alike_a_wrong_target() -> None:

@@ -85,7 +85,7 @@ def test_precondition_failures(env: HabitatEnv) -> None:
 
 def test_pick_of_a_kind_the_apartment_lacks_is_a_wrong_target(env: HabitatEnv) -> None:
     _succeeded(env, "navigate", "sofa")
-    _failed(env, "pick", "hammer", "wrong_target")          # there is no hammer anywhere
+    _failed(env, "pick", "hammer", "absent")          # there is no hammer anywhere
     _failed(env, "pick", "ball", "precondition")            # there is one, on the left chair
 
 
