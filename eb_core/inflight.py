@@ -36,10 +36,8 @@ def node_name() -> str:
 
 
 def with_node(rec: EpisodeRecord, node: str) -> EpisodeRecord:
-    """The record with its ``node`` set (when the record format has that field)."""
-    if "node" in EpisodeRecord.model_fields:
-        return rec.model_copy(update={"node": node})
-    return rec
+    """The record with its ``node`` set."""
+    return rec.model_copy(update={"node": node})
 
 
 def error_record(task: Task, repeat: int, seed: int, why: str) -> EpisodeRecord:

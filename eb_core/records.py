@@ -62,6 +62,8 @@ class EpisodeRecord(BaseModel):
     """Automatic error labels of the episode, counted per category (:mod:`eb_core.errors`); None if not labelled."""
     perception_score: float | None = None
     """Mean F1 of the objects the visual-state descriptions named against those in view; None if not measurable."""
+    node: str | None = None
+    """Where the episode ran: the Ray node id under ``runner.executor=ray``, the host name otherwise."""
 
     @property
     def key(self) -> tuple[str, int]:

@@ -44,6 +44,8 @@ def test_run_writes_summary_and_records(tmp_path):
     recs = lines(tmp_path)
     assert {r["task_id"] for r in recs} == {t.id for t in fixture_plugin.CorridorEnv.load_tasks()}
     assert all(r["seed"] == episode_seed(0, r["task_id"]) for r in recs)
+    import socket
+    assert {r["node"] for r in recs} == {socket.gethostname()}  # where each episode ran (a Ray node id on Ray)
 
 
 def test_rerun_resumes_and_never_duplicates(tmp_path):
