@@ -52,18 +52,20 @@ def _eb_run(args: list[str], run_dir: Path) -> subprocess.CompletedProcess:
 
 
 @pytest.fixture(scope="module")
-def llama_server():
+def llama_server(tmp_path_factory):
     port = _free_port()
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "llama_cpp.server", "--model", str(GGUF), "--host", "127.0.0.1", "--port", str(port),
-         "--n_ctx", "8192", "--model_alias", "smollm2"],
-        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    log = tmp_path_factory.mktemp("llama_server") / "server.log"
+    with log.open("w") as fh:  # a file, not a pipe: a full pipe would stall the server
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "llama_cpp.server", "--model", str(GGUF), "--host", "127.0.0.1", "--port",
+             str(port), "--n_ctx", "8192", "--model_alias", "smollm2", "--verbose", "False"],
+            stdout=fh, stderr=subprocess.STDOUT)
     url = f"http://127.0.0.1:{port}/v1"
     deadline = time.monotonic() + 180
     try:
         while True:
             if proc.poll() is not None:
-                pytest.fail(f"llama_cpp.server exited with {proc.returncode}: {proc.stderr.read()[-2000:]}")
+                pytest.fail(f"llama_cpp.server exited with {proc.returncode}: {log.read_text()[-2000:]}")
             try:
                 with urllib.request.urlopen(f"{url}/models", timeout=2) as resp:
                     if resp.status == 200:
@@ -91,10 +93,21 @@ def _check_run(d: Path, structured_output: str) -> list[dict]:
     eps = [json.loads(x) for x in (d / "episodes.jsonl").read_text().splitlines()]
     assert len(eps) == 2 and all(e["status"] == "ok" for e in eps)
     for e in eps:
-        assert e["model_calls"] >= 1 and e["output_errors"] == 0, e
-        assert e["prompt_tokens"] > 100 * e["model_calls"] and e["completion_tokens"] > 10 * e["model_calls"], e
-        steps = d / "episodes" / e["task_id"] / "steps.jsonl"
-        assert steps.is_file() and len(steps.read_text().splitlines()) >= 1
+        assert e["model_calls"] >= 1, e
+        assert e["prompt_tokens"] > 100 * e["model_calls"] and e["completion_tokens"] > 5 * e["model_calls"], e
+        steps = [json.loads(x) for x in (d / "episodes" / e["task_id"] / "steps.jsonl").read_text().splitlines()]
+        assert len(steps) == e["model_calls"]
+        empty = 0
+        for st in steps:
+            # the grammar's guarantee: every answer is one JSON object with exactly the schema's fields
+            answer = json.loads(st["raw_output"])
+            assert set(answer) == {"reasoning_and_reflection", "language_plan", "executable_plan"}, answer
+            assert st["error"] is None and st["parsed"] is not None, st["error"]
+            assert st["usage"]["completion_tokens"] > 0 and st["usage"]["latency_s"] > 0
+            empty += answer["executable_plan"] == []
+        # no format errors: an output error here can only be the model's own empty plan (which Navigation
+        # counts as an output error, as the original); at temperature 0 SmolLM2-135M often plans nothing
+        assert e["output_errors"] == empty, (e["output_errors"], empty)
     summary = json.loads((d / "summary.json").read_text())
     assert summary["n_finished"] == 2 and summary["complete"] is True
     info = json.loads((d / "model_info.json").read_text())
