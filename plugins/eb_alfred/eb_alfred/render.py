@@ -10,7 +10,11 @@ put in front of the place it stands at, looking at what it found.
 
 from __future__ import annotations
 
+import atexit
+import itertools
 import math
+import threading
+import weakref
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -25,7 +29,7 @@ from eb_scenekit.render import SceneRenderer, free_camera
 
 mujoco = import_mujoco()
 
-__all__ = ["AlfredRenderer", "Frame", "KIT"]
+__all__ = ["AlfredRenderer", "Frame", "KIT", "shared_gl_stats"]
 
 #: ALFRED type -> (scene-kit catalogue type, scale). Sink basins, faucets and bathtub basins are parts of their
 #: sink/bathtub (see ``_PARTS_OF``).
@@ -72,6 +76,93 @@ _GLOW_PARTS = {"Microwave": ("window",), "DeskLamp": ("shade",), "FloorLamp": ("
 _CORNER = 0.75
 
 
+# ---------------------------------------------------------------------------------------------- shared GL state
+# Every env of a worker process runs on that process's main thread, so the envs in flight can take turns with one
+# set of GL state per image size: one GL context, one offscreen framebuffer set and one MjvScene, instead of one
+# set per env and size (about 2 x 40 MB each on a CPU renderer). When an env renders and the pooled renderer was
+# last bound to another scene, the model-dependent parts (MjrContext: meshes, textures, framebuffers; MjvScene)
+# are rebuilt for its model. The GL context and everything drawn stay the same, so images are byte-identical to
+# those of a private renderer. The pool is per thread (a GL context is current on one thread at a time) and is
+# freed when the last renderer using it closes or is garbage-collected.
+_POOL: dict[tuple[int, int, int], Any] = {}
+"""(thread id, width, height) -> mujoco.Renderer shared by the scenes drawn on that thread at that size."""
+_BOUND: dict[tuple[int, int, int], int] = {}
+"""Pool key -> token of the scene renderer whose model the pooled renderer is currently set up for."""
+_USERS: "weakref.WeakSet[_PooledSceneRenderer]" = weakref.WeakSet()
+_TOKENS = itertools.count(1)
+_STATS = {"contexts": 0, "rebinds": 0}
+_EXIT_HOOK = False
+
+
+def shared_gl_stats() -> dict[str, int]:
+    """Counters of the per-process GL pool: live pooled renderers, GL contexts made and scene switches."""
+    return {"live": len(_POOL), "users": len(_USERS), **_STATS}
+
+
+def _free_pool() -> None:
+    for r in list(_POOL.values()):
+        r.close()
+    _POOL.clear()
+    _BOUND.clear()
+
+
+def _rebind(r: Any, model: Any) -> None:
+    """Point a pooled ``mujoco.Renderer`` at another compiled model (same GL context, fresh model resources)."""
+    if r._gl_context:
+        r._gl_context.make_current()
+    r._mjr_context.free()
+    r._mjr_context = None
+    r._scene = None  # free the old scene's geom buffer before allocating the new one
+    r._model = model
+    r._scene = mujoco.MjvScene(model=model, maxgeom=10000)
+    r._mjr_context = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150.value)
+    mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN.value, r._mjr_context)
+    r._mjr_context.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
+
+
+class _PooledSceneRenderer(SceneRenderer):
+    """A :class:`SceneRenderer` that borrows its ``mujoco.Renderer`` per image size from the thread's pool."""
+
+    def __init__(self, model: Any, data: Any, width: int, height: int) -> None:
+        super().__init__(model, data, width, height)
+        self._token = next(_TOKENS)
+        self._closed = False
+        _USERS.add(self)
+        weakref.finalize(self, _release)
+
+    def _renderer(self, width: int | None, height: int | None) -> Any:
+        global _EXIT_HOOK
+        assert not self._closed, "renderer is closed"
+        key = (threading.get_ident(), int(width or self.width), int(height or self.height))
+        r = _POOL.get(key)
+        if r is None:
+            r = mujoco.Renderer(self.model, height=key[2], width=key[1])
+            _POOL[key] = r
+            _STATS["contexts"] += 1
+            if not _EXIT_HOOK:  # after the first GL context exists: runs before MuJoCo's own exit hook
+                atexit.register(_free_pool)
+                _EXIT_HOOK = True
+        elif _BOUND.get(key) != self._token:
+            _rebind(r, self.model)
+            _STATS["rebinds"] += 1
+        _BOUND[key] = self._token
+        return r
+
+    def close(self) -> None:
+        if not self._closed:
+            self._closed = True
+            _USERS.discard(self)
+            for key, token in list(_BOUND.items()):
+                if token == self._token:
+                    del _BOUND[key]  # the next user rebinds (the old model may be gone)
+            _release()
+
+
+def _release() -> None:
+    if not _USERS:
+        _free_pool()
+
+
 @dataclass
 class Frame:
     images: dict[str, np.ndarray]
@@ -100,9 +191,11 @@ def _rgb(color: str | None, fallback: str) -> tuple[float, float, float]:
 class AlfredRenderer:
     """Builds one MuJoCo scene per task and renders the agent's view of a :class:`World`."""
 
-    def __init__(self, resolution: int = 500, multi_view: bool = False) -> None:
+    def __init__(self, resolution: int = 500, multi_view: bool = False, shared_gl: bool = True) -> None:
         self.resolution = int(resolution)
         self.multi_view = multi_view
+        self.shared_gl = bool(shared_gl)
+        """Borrow GL context, framebuffers and scene buffer from the process pool (same images, far less memory)."""
         self._renderer: SceneRenderer | None = None
         self.model: Any = None
         self.data: Any = None
@@ -181,7 +274,8 @@ class AlfredRenderer:
         # every pose, door or camera change, stays cheap even with dozens of objects in one cupboard
         self.model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
         mujoco.mj_forward(self.model, self.data)
-        self._renderer = SceneRenderer(self.model, self.data, self.resolution, self.resolution)
+        make = _PooledSceneRenderer if self.shared_gl else SceneRenderer
+        self._renderer = make(self.model, self.data, self.resolution, self.resolution)
         self._geoms: dict[str, list[int]] = {}
         for g in range(self.model.ngeom):
             gname = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, g) or ""
