@@ -75,7 +75,7 @@ class LlamaCppSettings(BackendSettings):
     n_ctx: int = Field(default=8192, ge=0)
     """Context window in tokens (0 = the model's own)."""
     n_threads: int | None = Field(default=None, ge=1)
-    """CPU threads; null = this machine's cores divided among the run's worker processes."""
+    """CPU threads; null = half the logical cores (about the physical ones), divided among the workers."""
     n_gpu_layers: int = 0
     """Layers offloaded to a GPU build of llama.cpp (0 = CPU only)."""
     max_tokens: int = Field(default=1024, ge=1)
@@ -124,8 +124,10 @@ def _sibling_workers() -> int:
 
 
 def default_threads(workers: int | None = None) -> int:
-    """Threads for one model instance: the cores divided among ``workers`` (default: found out)."""
-    return max(1, _cores() // max(1, workers if workers is not None else _sibling_workers()))
+    """Threads for one model instance: half the logical cores (llama-cpp-python's own default: about the
+    physical cores; llama.cpp's spinning thread barriers collapse when threads outnumber free cores),
+    divided among ``workers`` (default: found out)."""
+    return max(1, (_cores() // 2) // max(1, workers if workers is not None else _sibling_workers()))
 
 
 def _is_gguf(path: Path) -> bool:

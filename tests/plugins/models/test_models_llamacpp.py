@@ -36,9 +36,9 @@ def test_an_uninstalled_gguf_package_is_one_line():
 def test_threads_are_divided_among_workers():
     from eb_models.llamacpp_backend import _cores, default_threads
 
-    assert default_threads(1) == _cores()
+    assert default_threads(1) == max(1, _cores() // 2)
     assert default_threads(_cores() * 4) == 1
-    assert default_threads(2) == max(1, _cores() // 2)
+    assert default_threads(2) == max(1, _cores() // 4)
 
 
 # -- with llama-cpp-python and the model installed ----------------------------------------------------
