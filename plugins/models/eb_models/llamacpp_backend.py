@@ -7,7 +7,7 @@ llama-cpp-python ships (``model.chat_format``: ``llava-1-5``, ``llava-1-6``, ``q
 ``minicpm-v-2.6``, ``moondream``...).
 
 The model is loaded at the first request (the runner's preflight backend never loads it), with
-``n_threads`` = this machine's cores divided among the run's worker processes unless set.
+``n_threads`` = half the logical cores divided among the run's worker processes unless set.
 """
 
 from __future__ import annotations
