@@ -79,13 +79,17 @@ class ManipulationEnv(Env):
     def step(self, action: Action) -> StepResult:
         if self._world is None:
             raise RuntimeError("call reset() before step()")
+        from eb_manipulation.world import FAILURES
+
         try:
             parsed = ACTION_SPACE.parse_plan_item(list(action) if not isinstance(action, dict) else action)
         except (PlanItemError, TypeError) as exc:
             obs = self._observe()
             solved, progress = self._world.evaluate()
             return StepResult(observation=obs, action_success=False, done=solved, task_success=solved,
-                              progress=progress, feedback=f"The action was not executed: {exc}. The arm did not move.")
+                              progress=progress, feedback=f"The action was not executed: {exc}. The arm did not move.",
+                              info={**self._info(), "failure": FAILURES["invalid"]})
+        before = {o: self._world.body_pos(o) for o in self._world.free_objects}
         outcome = self._world.execute(parsed)
         self._renumber()  # objects moved: the feedback already uses the numbers of the next object list
         solved, progress = self._world.evaluate()
@@ -94,8 +98,19 @@ class ManipulationEnv(Env):
             feedback += " The task is complete."
         return StepResult(observation=self._observe(), action_success=outcome.ok, feedback=feedback, done=solved,
                           task_success=solved, progress=1.0 if solved else float(progress),
-                          info={"held": self._label(self._world.held) if self._world.held else None,
-                                "gripper_open": self._world.gripper_open})
+                          info={**self._info(), "failure": None if outcome.ok else outcome.failure,
+                                "wrong_target": bool(outcome.grasped
+                                                     and self._world.is_wrong_grasp(outcome.grasped, before))})
+
+    def _info(self) -> dict[str, Any]:
+        world = self._world
+        assert world is not None
+        return {"held": self._label(world.held) if world.held else None, "gripper_open": world.gripper_open,
+                "distance_to_goal": round(world.distance_to_goal(), 4)}
+
+    def distance_to_goal(self) -> float | None:
+        """Metres to the goal in the current state (README: Error labels and distance); None before reset."""
+        return None if self._world is None else self._world.distance_to_goal()
 
     def action_space(self):
         return ACTION_SPACE

@@ -52,6 +52,20 @@ class ActionOutcome:
     feedback: str
     """Our wording; object references use ``{key}`` placeholders resolved by the env (``object 3``)."""
     refs: dict[str, str] = field(default_factory=dict)
+    failure: str | None = None
+    """The core's failure label when ``ok`` is False (see :data:`FAILURES`)."""
+    grasped: str | None = None
+    """The object this action's closing gripper took hold of, if any."""
+
+
+FAILURES: dict[str, str] = {
+    "invalid": "affordance",  # a value outside the action space: the arm does not afford that pose / command
+    "unreachable": "precondition",  # no IK solution for that position and orientation
+    "goal_collision": "collision",  # the goal pose itself is inside the table or an object
+    "path_collision": "collision",  # no collision-free path to the goal pose
+    "empty_grasp": "grasp",  # the gripper closed but holds nothing
+}
+"""Why an action fails -> the core's ``StepResult.info["failure"]`` (README: Error labels and distance)."""
 
 
 class World:
@@ -160,6 +174,8 @@ class World:
         mujoco.mj_forward(self.model, self.data)
         parts = ["The arm reached the requested pose."]
         refs: dict[str, str] = {}
+        grasped: str | None = None
+        missed = False
         if want_open and not self.gripper_open:
             released = self._open()
             if released:
@@ -172,16 +188,22 @@ class World:
             if grabbed:
                 parts.append("The gripper closed and is now holding {obj}.")
                 refs["obj"] = grabbed
+                grasped = grabbed
             else:
-                parts.append("The gripper closed but is not holding anything" + (f" ({note})." if note else "."))
+                missed = True
+                parts.append("The grasp failed: the gripper closed but is not holding anything"
+                             + (f" ({note})." if note else "."))
         self._end_stroke_if_lifted()
         self.settle()
-        return ActionOutcome(ok=True, feedback=" ".join(parts), refs=refs)
+        if missed:
+            return ActionOutcome(ok=False, feedback=" ".join(parts), refs=refs, failure=FAILURES["empty_grasp"])
+        return ActionOutcome(ok=True, feedback=" ".join(parts), refs=refs, grasped=grasped)
 
     def _failure(self, reason: str, blocker: Blocker | None) -> ActionOutcome:
         if reason == "unreachable":
             return ActionOutcome(False, "The action failed: the arm cannot reach that position with that gripper "
-                                        "orientation (no inverse-kinematics solution). The arm did not move.")
+                                        "orientation (no inverse-kinematics solution). The arm did not move.",
+                                 failure=FAILURES["unreachable"])
         refs: dict[str, str] = {}
         if blocker is None:
             what = "an obstacle"
@@ -195,7 +217,7 @@ class World:
             msg = f"The action failed: at that pose {who} would be inside {what}. The arm did not move."
         else:
             msg = f"The action failed: no collision-free path was found, {who} would hit {what}. The arm did not move."
-        return ActionOutcome(False, msg, refs)
+        return ActionOutcome(False, msg, refs, failure=FAILURES.get(reason, "collision"))
 
     # --- held objects -----------------------------------------------------------------------------------
     def _tcp_pose(self) -> tuple[np.ndarray, np.ndarray]:
@@ -394,6 +416,86 @@ class World:
             ok = self.wiped_fraction >= 1.0
             return ok, 1.0 if ok else min(self.wiped_fraction, 0.99)
         return False, 0.0
+
+    def distance_to_goal(self) -> float:
+        """Metres still to cover before the goal holds (0.0 once it does); README: Error labels and distance.
+
+        One object ``o`` must reach one goal point ``g``: pick -> the container's opening centre at rim height,
+        sorter -> the centre of the matching hole on the lid, stack -> one cube height above the top cube
+        already in place (the next cube of the order; the bottom cube's own spot on the table while it is not
+        resting there), wipe -> the area's start edge and then its end edge at the height of a sponge lying
+        on the table. With ``t`` the tool centre point: ``|t - o| + |o - g|`` while the gripper does not hold
+        ``o``, ``|o - g|`` while it does. Wiping adds the area's length ``L`` until a stroke is under way:
+        ``|t - s| + |s - S| + L`` (sponge not held), ``|s - S| + L`` (held, not wiping), ``|s - E|`` (held,
+        touching the table) with ``S``/``E`` the start/end points.
+        """
+        if self.evaluate()[0]:
+            return 0.0
+        mujoco.mj_kinematics(self.model, self.data)
+        tcp = self.arm.tcp()[0]
+        g = self.scene.goal
+        if g.family == "wipe":
+            sid = self._sponge_id()
+            area = self.scene.get(g.area)  # type: ignore[arg-type]
+            axis, _sign, start, end, lo, hi = wipe_axes(area, g.direction)  # type: ignore[arg-type]
+            z = TABLE_TOP + SPONGE.size[2] / 2
+            mid = (lo + hi) / 2
+            S = np.array([start, mid, z]) if axis == 0 else np.array([mid, start, z])
+            E = np.array([end, mid, z]) if axis == 0 else np.array([mid, end, z])
+            s = self.body_pos(sid)  # type: ignore[arg-type]
+            if self.held == sid and self._stroke_open:
+                return float(np.linalg.norm(s - E))
+            rest = float(np.linalg.norm(s - S)) + abs(end - start)
+            return rest if self.held == sid else float(np.linalg.norm(tcp - s)) + rest
+        obj, goal = self._goal_point()
+        o = self.body_pos(obj)
+        to_goal = float(np.linalg.norm(o - goal))
+        return to_goal if self.held == obj else float(np.linalg.norm(tcp - o)) + to_goal
+
+    def _goal_point(self) -> tuple[str, np.ndarray]:
+        """(object, point it must reach) for pick, sorter and stack (see :meth:`distance_to_goal`)."""
+        g = self.scene.goal
+        if g.family == "pick":
+            return g.target, self.reference_point(g.container)  # type: ignore[return-value,arg-type]
+        if g.family == "sorter":
+            shape = self.scene.get(g.target).shape  # type: ignore[arg-type]
+            for wo in self.objects:
+                if wo.kind == "hole":
+                    k = int(wo.key.rsplit("_hole", 1)[1])
+                    if self.scene.get(wo.spec_id).holes[k] == shape:
+                        return g.target, self.reference_point(wo.key)  # type: ignore[return-value]
+            raise KeyError(f"no {shape} hole")
+        base = g.order[0]
+        if not self.resting_on_table(base) or self.held == base:
+            p = self.body_pos(base)
+            return base, np.array([p[0], p[1], TABLE_TOP + CUBE_HALF])
+        done = 0
+        for below, above in zip(g.order[:-1], g.order[1:]):
+            if self.held not in (below, above) and self.on_top_of(above, below):
+                done += 1
+            else:
+                break
+        below, nxt = g.order[done], g.order[done + 1]
+        return nxt, self.body_pos(below) + np.array([0.0, 0.0, 2 * CUBE_HALF])
+
+    def is_wrong_grasp(self, obj: str, before: dict[str, np.ndarray]) -> bool:
+        """Whether taking hold of ``obj`` is off-task: it is none of the task's objects (the target shape,
+        the tower's cubes, the sponge) and, in stacking, did not stand on one of the tower's cubes (a cube
+        that must be put aside). ``before``: object positions before the action."""
+        g = self.scene.goal
+        wanted = set(self.scene.target_ids) | {g.target} | set(g.order)
+        sid = self._sponge_id()
+        if g.family == "wipe" and sid is not None:
+            wanted.add(sid)
+        if obj in wanted:
+            return False
+        if g.family == "stack":
+            p = before[obj]
+            for c in g.order:
+                q = before[c]
+                if np.linalg.norm(p[:2] - q[:2]) < 2 * CUBE_HALF and p[2] > q[2] + CUBE_HALF:
+                    return False
+        return True
 
     def in_container(self, obj: str, container: str) -> bool:
         spec = self.scene.get(container)
