@@ -266,7 +266,8 @@ class LlamaCppBackend(ModelBackend):
             raise ModelTransientError(f"llamacpp: request rejected: {exc} (model.n_ctx={s.n_ctx})") from None
         text = out["choices"][0]["message"].get("content") or ""
         u = out.get("usage") or {}
-        usage = Usage(prompt_tokens=int(u.get("prompt_tokens", 0)), completion_tokens=int(u.get("completion_tokens", 0)),
+        usage = Usage(prompt_tokens=int(u.get("prompt_tokens", 0)),
+                      completion_tokens=int(u.get("completion_tokens", 0)),
                       cost_usd=0.0, latency_s=time.perf_counter() - t0, calls=1)
         return ModelResponse(text=text, usage=usage, model=self.gguf.stem)
 
