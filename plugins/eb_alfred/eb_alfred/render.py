@@ -112,12 +112,21 @@ def _rebind(r: Any, model: Any) -> None:
         r._gl_context.make_current()
     r._mjr_context.free()
     r._mjr_context = None
-    r._scene = None  # free the old scene's geom buffer before allocating the new one
+    old = r._model
+    if _skinless(old) and _skinless(model):
+        pass  # the scene's buffers depend on the model only through skins and flexes: keep it (mjv_updateScene
+        # refills it every frame), which saves building ~10,000 geom wrappers per switch
+    else:
+        r._scene = None  # free the old scene's geom buffer before allocating the new one
+        r._scene = mujoco.MjvScene(model=model, maxgeom=10000)
     r._model = model
-    r._scene = mujoco.MjvScene(model=model, maxgeom=10000)
     r._mjr_context = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150.value)
     mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN.value, r._mjr_context)
     r._mjr_context.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
+
+
+def _skinless(model: Any) -> bool:
+    return int(model.nskin) == 0 and int(model.nflex) == 0
 
 
 class _PooledSceneRenderer(SceneRenderer):
