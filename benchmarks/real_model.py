@@ -57,9 +57,12 @@ def start_server(gguf: Path) -> tuple[subprocess.Popen, str]:
     raise SystemExit("llama_cpp.server did not start within 180 s")
 
 
-def eb_run(model_args: list[str], run_dir: Path, episodes: int, max_steps: int) -> dict[str, Any]:
+def eb_run(model_args: list[str], run_dir: Path, episodes: int, max_steps: int,
+           max_tokens: int | None = None) -> dict[str, Any]:
     args = [sys.executable, "-m", "eb_core", "run", "env=navigation", "ablation=language_only", "subset=base",
             f"limit={episodes}", f"env.max_steps={max_steps}", "--quiet", f"hydra.run.dir={run_dir}", *model_args]
+    if max_tokens is not None:
+        args.append(f"model.max_tokens={max_tokens}")
     t0 = time.perf_counter()
     r = subprocess.run(args, capture_output=True, text=True)
     wall = time.perf_counter() - t0
@@ -83,6 +86,7 @@ def main() -> None:
     ap.add_argument("--episodes", type=int, default=2)
     ap.add_argument("--max-steps", type=int, default=3)
     ap.add_argument("--modes", default=",".join(MODES))
+    ap.add_argument("--max-tokens", type=int, default=None, help="model.max_tokens (default: the preset's)")
     ap.add_argument("--no-inprocess", action="store_true")
     a = ap.parse_args()
 
@@ -97,14 +101,14 @@ def main() -> None:
         try:
             for mode in a.modes.split(","):
                 res = eb_run(["model=openai-compatible", "model.name=smollm2", f"model.api_base={url}",
-                              f"model.structured_output={mode}"], Path(tmp) / mode, a.episodes, a.max_steps)
+                              f"model.structured_output={mode}"], Path(tmp) / mode, a.episodes, a.max_steps, a.max_tokens)
                 rows.append((f"server  {mode}", res))
                 print(fmt(rows[-1]), flush=True)
         finally:
             proc.terminate()
             proc.wait(10)
         if not a.no_inprocess:
-            res = eb_run(["model=smollm2-135m"], Path(tmp) / "inproc", a.episodes, a.max_steps)
+            res = eb_run(["model=smollm2-135m"], Path(tmp) / "inproc", a.episodes, a.max_steps, a.max_tokens)
             rows.append(("in-process llamacpp", res))
             print(fmt(rows[-1]), flush=True)
 
