@@ -78,15 +78,16 @@ _CORNER = 0.75
 
 # ---------------------------------------------------------------------------------------------- shared GL state
 # Every env of a worker process runs on that process's main thread, so the envs in flight can take turns with one
-# set of GL state per image size: one GL context, one offscreen framebuffer set and one MjvScene, instead of one
-# set per env and size (about 2 x 40 MB each on a CPU renderer). When an env renders and the pooled renderer was
-# last bound to another scene, the model-dependent parts (MjrContext: meshes, textures, framebuffers; MjvScene)
-# are rebuilt for its model. The GL context and everything drawn stay the same, so images are byte-identical to
-# those of a private renderer. The pool is per thread (a GL context is current on one thread at a time) and is
-# freed when the last renderer using it closes or is garbage-collected.
-_POOL: dict[tuple[int, int, int], Any] = {}
-"""(thread id, width, height) -> mujoco.Renderer shared by the scenes drawn on that thread at that size."""
-_BOUND: dict[tuple[int, int, int], int] = {}
+# set of GL state: one GL context, one MjrContext (offscreen framebuffers, uploaded meshes and textures) and one
+# MjvScene, instead of one set per env and image size (measured: 8 rendered envs at 500 px took 123 MB each,
+# 64 envs now take about 12 MB each). When an env renders and the pooled renderer was last set up for another
+# scene, the model-dependent parts are rebuilt for its model; every image size draws into the same offscreen
+# buffer with its own viewport, as a private renderer of that size does, so images are byte-identical to those
+# of private renderers. The pool is per thread (a GL context is current on one thread at a time) and is freed
+# when the last renderer using it closes or is garbage-collected.
+_POOL: dict[int, Any] = {}
+"""Thread id -> the mujoco.Renderer shared by the scenes drawn on that thread (at every image size)."""
+_BOUND: dict[int, int] = {}
 """Pool key -> token of the scene renderer whose model the pooled renderer is currently set up for."""
 _USERS: "weakref.WeakSet[_PooledSceneRenderer]" = weakref.WeakSet()
 _TOKENS = itertools.count(1)
@@ -130,7 +131,7 @@ def _skinless(model: Any) -> bool:
 
 
 class _PooledSceneRenderer(SceneRenderer):
-    """A :class:`SceneRenderer` that borrows its ``mujoco.Renderer`` per image size from the thread's pool."""
+    """A :class:`SceneRenderer` that borrows the thread's pooled ``mujoco.Renderer`` for every image size."""
 
     def __init__(self, model: Any, data: Any, width: int, height: int) -> None:
         super().__init__(model, data, width, height)
@@ -142,10 +143,15 @@ class _PooledSceneRenderer(SceneRenderer):
     def _renderer(self, width: int | None, height: int | None) -> Any:
         global _EXIT_HOOK
         assert not self._closed, "renderer is closed"
-        key = (threading.get_ident(), int(width or self.width), int(height or self.height))
+        w, h = int(width or self.width), int(height or self.height)
+        off = (int(self.model.vis.global_.offwidth), int(self.model.vis.global_.offheight))
+        if w > off[0] or h > off[1]:
+            raise ValueError(f"image size {w}x{h} is larger than this scene's offscreen buffer {off[0]}x{off[1]}; "
+                             f"ask for at most {off[0]}x{off[1]} or build the scene with a larger `offscreen`")
+        key = threading.get_ident()
         r = _POOL.get(key)
         if r is None:
-            r = mujoco.Renderer(self.model, height=key[2], width=key[1])
+            r = mujoco.Renderer(self.model, height=h, width=w)
             _POOL[key] = r
             _STATS["contexts"] += 1
             if not _EXIT_HOOK:  # after the first GL context exists: runs before MuJoCo's own exit hook
@@ -155,6 +161,11 @@ class _PooledSceneRenderer(SceneRenderer):
             _rebind(r, self.model)
             _STATS["rebinds"] += 1
         _BOUND[key] = self._token
+        if (r._width, r._height) != (w, h):
+            # every size draws into the same offscreen buffer (offwidth x offheight), as a private renderer of
+            # that size would: only the viewport differs, so one renderer serves the image and the boxes pass
+            r._width, r._height = w, h
+            r._rect = mujoco.MjrRect(0, 0, w, h)
         return r
 
     def close(self) -> None:

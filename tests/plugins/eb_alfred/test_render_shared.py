@@ -50,7 +50,7 @@ def test_shared_pool_gives_identical_images_interleaved() -> None:
         stats = alfred_render.shared_gl_stats()
         assert stats["users"] == 2
         assert stats["rebinds"] - before["rebinds"] >= 2 * steps  # the pool really switched scenes
-        assert stats["live"] == 2  # one pooled renderer per image size (image + half-size boxes), not per env
+        assert stats["live"] == 1  # one pooled renderer for both envs and both sizes (image, half-size boxes)
     finally:
         ea.close()
         eb.close()
