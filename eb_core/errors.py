@@ -291,6 +291,9 @@ def label_episode(steps: Sequence[dict[str, Any]], record: dict[str, Any] | None
                 failing[name] = failing.get(name, 0) + 1
                 if failing[name] >= 2:
                     labels.append(_label("repetition", f"{name!r} failed {failing[name]} times", env_step))
+            if ok and failure == "grasp":
+                # executed as asked, but the grasp it was for did not happen (manipulation's empty close)
+                labels.append(_label("grasp_failure", str(a.get("feedback") or "the gripper holds nothing"), env_step))
             if ok and a.get("wrong_target"):
                 # the world says a successful action acted on the wrong instance (a look-alike, a wrong place)
                 labels.append(_label("wrong_target", f"{name!r} succeeded on an object or place the goal does "

@@ -98,7 +98,7 @@ class ManipulationEnv(Env):
             feedback += " The task is complete."
         return StepResult(observation=self._observe(), action_success=outcome.ok, feedback=feedback, done=solved,
                           task_success=solved, progress=1.0 if solved else float(progress),
-                          info={**self._info(), "failure": None if outcome.ok else outcome.failure,
+                          info={**self._info(), "failure": outcome.failure,
                                 "wrong_target": bool(outcome.grasped
                                                      and self._world.is_wrong_grasp(outcome.grasped, before))})
 

@@ -53,7 +53,8 @@ class ActionOutcome:
     """Our wording; object references use ``{key}`` placeholders resolved by the env (``object 3``)."""
     refs: dict[str, str] = field(default_factory=dict)
     failure: str | None = None
-    """The core's failure label when ``ok`` is False (see :data:`FAILURES`)."""
+    """The core's failure label (see :data:`FAILURES`): set when ``ok`` is False, and also on a successful close
+    that holds nothing (``grasp``: the original counts that action as executed, so it stays a success)."""
     grasped: str | None = None
     """The object this action's closing gripper took hold of, if any."""
 
@@ -191,12 +192,12 @@ class World:
                 grasped = grabbed
             else:
                 missed = True
-                parts.append("The grasp failed: the gripper closed but is not holding anything"
+                parts.append("The gripper closed but is not holding anything"
                              + (f" ({note})." if note else "."))
         self._end_stroke_if_lifted()
         self.settle()
-        if missed:
-            return ActionOutcome(ok=False, feedback=" ".join(parts), refs=refs, failure=FAILURES["empty_grasp"])
+        if missed:  # executed as asked (as in the original), but the grasp it was for did not happen
+            return ActionOutcome(ok=True, feedback=" ".join(parts), refs=refs, failure=FAILURES["empty_grasp"])
         return ActionOutcome(ok=True, feedback=" ".join(parts), refs=refs, grasped=grasped)
 
     def _failure(self, reason: str, blocker: Blocker | None) -> ActionOutcome:

