@@ -298,12 +298,16 @@ def label_episode(steps: Sequence[dict[str, Any]], record: dict[str, Any] | None
                 # the world says a successful action acted on the wrong instance (a look-alike, a wrong place)
                 labels.append(_label("wrong_target", f"{name!r} succeeded on an object or place the goal does "
                                      f"not name", env_step))
-            if ok and len(history) >= 3:
-                # a two-action cycle (A B A B) that made no progress
-                a1, a2, a3 = history[-3][0], history[-2][0], history[-1][0]
-                if a1 == a3 and a2 == name and a1 != a2 and progress <= before:
-                    labels.append(_label("repetition", f"cycle between {a1!r} and {a2!r}", env_step))
             expert = _expert_name(a)
+            agrees = expert is not None and expert == name  # the expert would do the same: not a loop, not drift
+            dist = _distance(a)
+            if ok and len(history) >= 3 and not agrees:
+                # a two-action cycle (A B A B) that made no progress (and, where the world reports it, did not get
+                # closer to the goal: a zig-zag towards the target is not a loop)
+                a1, a2, a3 = history[-3][0], history[-2][0], history[-1][0]
+                closer = dist is not None and len(distances) >= 3 and dist < distances[-3] - 1e-6
+                if a1 == a3 and a2 == name and a1 != a2 and progress <= before and not closer:
+                    labels.append(_label("repetition", f"cycle between {a1!r} and {a2!r}", env_step))
             if expert is not None and expert != name:
                 if not ok:
                     rest = planned[planned.index(name) + 1:] if name in planned else planned[j + 1:]
@@ -316,11 +320,10 @@ def label_episode(steps: Sequence[dict[str, Any]], record: dict[str, Any] | None
                 elif progress <= before:
                     labels.append(_label("extra_step", f"{name!r} is not needed (the expert would {expert!r}) "
                                          f"and made no progress", env_step))
-            dist = _distance(a)
             if dist is not None:
                 distances.append(dist)
                 last = distances[-(DRIFT_WINDOW + 1):]
-                if len(last) == DRIFT_WINDOW + 1 and all(y > x for x, y in zip(last, last[1:])):
+                if len(last) == DRIFT_WINDOW + 1 and all(y > x for x, y in zip(last, last[1:])) and not agrees:
                     labels.append(_label("navigation_drift", f"the distance to the goal grew for {DRIFT_WINDOW} "
                                          f"actions ({last[0]:.2f} -> {last[-1]:.2f})", env_step))
             history.append((name, ok, failure))

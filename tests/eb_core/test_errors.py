@@ -144,6 +144,17 @@ def test_navigation_drift_from_the_distance_to_the_goal():
     assert cats(label_episode([step(1, near, prompt="")])) == []
 
 
+def test_a_zig_zag_that_closes_in_or_that_the_expert_agrees_with_is_neither_a_loop_nor_drift():
+    names = ["move forward", "turn left"] * 2
+    closing = [act(i + 1, n, distance_to_goal=d) for i, (n, d) in enumerate(zip(names, [3.0, 2.8, 2.6, 2.4]))]
+    assert cats(label_episode([step(1, closing, prompt="")])) == []
+    stuck = [act(i + 1, n, distance_to_goal=3.0) for i, n in enumerate(names)]
+    assert cats(label_episode([step(1, stuck, prompt="")])) == ["repetition"]
+    detour = [act(i + 1, "move forward", distance_to_goal=d, expert_action_name="move forward")
+              for i, d in enumerate([2.0, 2.5, 3.0, 3.5])]  # around a wall: the expert walks the same way
+    assert cats(label_episode([step(1, detour, prompt="")])) == []
+
+
 def test_perception_precision_and_recall_on_hand_built_scenes():
     visible = [{"name": "Apple_1", "type": "Apple"}, {"name": "CounterTop_2", "type": "CounterTop"},
                {"name": "Mug_3", "type": "Mug"}]
