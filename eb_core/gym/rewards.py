@@ -8,8 +8,8 @@ Every step reports the same terms in ``info["reward_terms"]``; the reward is the
 * ``invalid``: how many invalid actions this step made (failed actions, a plan cut at an invalid item, an
   executable plan that named no valid action).
 * ``format``: 1 when the answer could not be read (prompt mode), else 0.
-* ``distance``: metres moved closer to the goal this step, where the world reports ``distance_to_goal``
-  (Navigation); 0 elsewhere.
+* ``distance``: metres moved closer to the goal this step, where the world's env has ``distance_to_goal``
+  (Navigation, Manipulation); 0 elsewhere.
 """
 
 from __future__ import annotations
