@@ -255,3 +255,17 @@ def test_vector_env_of_8_with_a_crashing_environment():
         assert "error" not in info or not info["_error"][3]
     finally:
         vec.close()
+
+
+def test_a_written_val_split_is_what_eb_run_evaluates(installed, tmp_path):
+    from eb_habitat.env import HabitatEnv
+    from eb_habitat.splits import split_tasks, write_split
+
+    write_split(str(tmp_path), "val", 12)
+    loaded = HabitatEnv.load_tasks(task_dir=str(tmp_path))
+    assert sorted(t.id for t in loaded) == sorted(t.id for t in split_tasks("val", 0, 12))
+    env = gymnasium.make("EB/Habitat-v0", obs_mode="raw", overrides=(f"env.params.task_dir={tmp_path}",
+                                                                   "env.params.render=false", "env.resolution=64"))
+    _, info = env.reset(options={"task_id": loaded[0].id})
+    assert info["instruction"] == loaded[0].instruction
+    env.close()

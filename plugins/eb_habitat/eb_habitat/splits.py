@@ -17,7 +17,7 @@ from typing import Any
 
 from eb_core.env import Task
 
-__all__ = ["SPLITS", "scene_key", "split_tasks", "test_keys"]
+__all__ = ["SPLITS", "scene_key", "split_tasks", "test_keys", "write_split"]
 
 SPLITS = ("train", "val")
 
@@ -65,3 +65,30 @@ def split_tasks(split: str, start: int, count: int, task_dir: str | None = None,
         raise ValueError(f"habitat: split_tasks needs start >= 0 and count >= 0, got start={start}, count={count}")
     scenes, instructions = test_keys(task_dir)
     return [_one(split, i, scenes, instructions) for i in range(start, start + count)]
+
+
+def write_split(out: str, split: str, n: int, start: int = 0) -> list[str]:
+    """Write tasks ``start .. start + n - 1`` of ``split`` as task files (one per subset) into the folder ``out``,
+    so that ``eb run env=habitat env.params.task_dir=<out>`` evaluates on them. Returns the paths written."""
+    import json
+    from pathlib import Path
+
+    from eb_habitat.generate import GENERATOR_VERSION
+    from eb_habitat.tasks import FORMAT, SUBSETS, VERSION
+
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    tasks = split_tasks(split, start, n)
+    written = []
+    for subset in SUBSETS:
+        mine = [t.model_dump() for t in tasks if t.subset == subset]
+        if not mine:
+            continue
+        doc = {"format": FORMAT, "version": VERSION, "subset": subset,
+               "generator": {"name": "eb_habitat.splits", "version": GENERATOR_VERSION, "seed": 0,
+                             "split": split, "start": start, "n": n},
+               "tasks": mine}
+        path = folder / f"{subset}.json"
+        path.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
+        written.append(str(path))
+    return written
