@@ -23,6 +23,18 @@ _USAGE = ("usage: eb prompt env=NAME task=TASK_ID [step=N] [ablation=NAME] [out=
           "(step N = the N-th planner call, 0 = the first)")
 
 
+def _sends_schema(model: dict[str, Any], backend_cls: Any) -> bool:
+    """Whether the selected model preset gets the JSON schema (as its backend would decide at run time)."""
+    mode = model.get("structured_output")
+    if mode is not None:
+        return mode in ("json_schema", "json_object_schema") or (mode == "auto" and bool(
+            model.get("supports_json_schema")))
+    if model.get("backend") == "llamacpp":
+        return bool(model.get("constrained", True))
+    flag = model.get("supports_json_schema")
+    return bool(backend_cls.supports_json_schema if flag is None else flag)
+
+
 class _Captured(Exception):
     """Stops the episode once the wanted request is in hand."""
 
@@ -103,8 +115,7 @@ def capture_prompt(cfg: Any, registry: Any, task_id: str, step: int) -> tuple[Mo
     backend_cls = comps.backend_cls
     backend = PromptCapture(step,
                             supports_images=bool(model.get("supports_images", backend_cls.supports_images)),
-                            supports_json_schema=bool(model.get("supports_json_schema",
-                                                                backend_cls.supports_json_schema)))
+                            supports_json_schema=_sends_schema(model, backend_cls))
     env = comps.make_env()
     try:
         rec = run_episode(env=env, task=tasks[task_id], seed=episode_seed(cfg.seed, task_id),
