@@ -333,6 +333,9 @@ def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: di
                 backend = comps.make_backend()
                 try:
                     usage = backend.preflight()
+                    info = getattr(backend, "info", None)
+                    if callable(info):  # what the backend settled on (e.g. its structured-output mode and why)
+                        files.write_json("model_info.json", info())
                 except ModelFatalError as exc:
                     raise RunError(str(exc)) from None
                 finally:
@@ -375,6 +378,7 @@ def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: di
         "stopped_early": stopped,
         **body,
         "preflight": pre,
+        "model_info": _model_info(files),
         "total_cost_usd": round(float(body["overall"].get("cost_usd", 0.0)) + pre["cost_usd"], 6),
         "plugins": plugin_versions(registry.pm),
     }
@@ -395,6 +399,14 @@ def _preflight_usage(files: RunFiles) -> dict[str, Any]:
                 continue  # a torn last line
     return {"calls": total.calls, "prompt_tokens": total.prompt_tokens,
             "completion_tokens": total.completion_tokens, "cost_usd": round(total.cost_usd, 6)}
+
+
+def _model_info(files: RunFiles) -> dict[str, Any] | None:
+    """The backend's ``info()`` as recorded at preflight (``model_info.json``), if it has one."""
+    try:
+        return json.loads((files.root / "model_info.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
 
 
 def _finish(files: RunFiles, rec: EpisodeRecord, progress: _Progress, hook: Any) -> None:

@@ -43,13 +43,15 @@ def run_dir(tmp_path_factory):
              "subset=base", "limit=2", "--quiet", f"hydra.run.dir={d}"],
             capture_output=True, text=True, env=env, timeout=600)
         assert r.returncode == 0, r.stderr[-2000:]
-        requests = [q for q in server.requests if q.path.endswith("/chat/completions")]
+        # the episodes' requests (they carry the image); preflight and structured-output probes are text only
+        requests = [q for q in server.requests if q.path.endswith("/chat/completions")
+                    and isinstance(q.body, dict) and isinstance(q.body["messages"][-1]["content"], list)]
     return d, requests, r
 
 
 def test_requests_carry_the_image_first_then_the_prompt(run_dir):
     _, requests, _ = run_dir
-    first = requests[1].body  # requests[0] is the preflight
+    first = requests[0].body
     parts = first["messages"][-1]["content"]
     assert parts[0]["type"] == "image_url" and parts[-1]["type"] == "text"
     png = base64.b64decode(parts[0]["image_url"]["url"].split(",", 1)[1])
@@ -58,13 +60,13 @@ def test_requests_carry_the_image_first_then_the_prompt(run_dir):
     for section in ("## Action list", "action id 7:", "## Guidelines", "Instruction:", "## Answer format",
                     '"executable_plan"', "Example 1:"):
         assert section in text
-    assert first["temperature"] == 0 and first["max_tokens"] == 2048
-    assert requests[1].headers.get("Authorization") == f"Bearer {KEY}"
+    assert first["temperature"] == 0 and first["max_tokens"] == 1024  # a server on this machine: 1024 by default
+    assert requests[0].headers.get("Authorization") == f"Bearer {KEY}"
 
 
 def test_history_and_feedback_reach_the_next_prompt(run_dir):
     _, requests, _ = run_dir
-    later = [q.body for q in requests[2:]]
+    later = [q.body for q in requests[1:]]
     texts = [next(p["text"] for p in b["messages"][-1]["content"] if p["type"] == "text") for b in later]
     assert any("Step 1: action 0" in t and "Feedback:" in t for t in texts)
 
@@ -73,13 +75,15 @@ def test_results_tokens_and_cost_are_recorded(run_dir):
     d, requests, r = run_dir
     eps = [json.loads(x) for x in (d / "episodes.jsonl").read_text().splitlines()]
     assert len(eps) == 2 and all(e["status"] == "ok" for e in eps)
-    assert sum(e["model_calls"] for e in eps) == len(requests) - 1  # all but the preflight
+    assert sum(e["model_calls"] for e in eps) == len(requests)  # the episodes' calls (not preflight, not probes)
     assert all(e["prompt_tokens"] == 1000 * e["model_calls"] and e["completion_tokens"] == 50 * e["model_calls"]
                for e in eps)
-    assert abs(sum(e["cost_usd"] for e in eps) - (len(requests) - 1) * (1000e-6 + 50 * 2e-6)) < 1e-9
+    assert abs(sum(e["cost_usd"] for e in eps) - len(requests) * (1000e-6 + 50 * 2e-6)) < 1e-9
     assert all(e["output_errors"] == 0 for e in eps)  # the fenced JSON was parsed
     summary = json.loads((d / "summary.json").read_text())
     assert summary["n_finished"] == 2 and "success rate:" in r.stdout
+    # what the backend settled on at preflight is part of the run's summary
+    assert summary["model_info"]["backend"] == "litellm" and summary["model_info"]["structured_output"]
 
 
 def test_the_api_key_is_written_nowhere(run_dir):
