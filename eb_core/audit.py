@@ -458,7 +458,7 @@ def _blind_policies(setup: AuditSetup, spaces: dict[str, ActionSpace]) -> list[B
         freq: Counter[str] = Counter()
         for sp in spaces.values():
             if isinstance(sp, DiscreteActionSpace):
-                freq.update(set(sp.actions))
+                freq.update(list(dict.fromkeys(sp.actions)))  # in list order: no set order (hash seeds differ)
         ranked = sorted(freq, key=lambda a: (-freq[a], rng.random()))
         constant = ranked if len(ranked) <= 16 else ranked[:16]
         policies += [BlindPolicy(f"always '{a}'", (a,)) for a in constant]
