@@ -498,10 +498,18 @@ def cmd_tasks(args: list[str]) -> int:
         raise CliError(str(exc)) from None
     if not spec.task_generator:
         raise CliError(f"env {env_name!r} (plugin {spec.plugin}) ships no task generator")
+    split = kwargs.get("split")
+    if split is not None and split != "test":
+        env_cls = spec.load()
+        if split not in getattr(env_cls, "splits", ()):
+            try:
+                env_cls.split_tasks(str(split), 0, 1)
+            except ValueError as exc:
+                raise CliError(str(exc)) from None
     fn = load_entry_point(spec.task_generator, spec.install_hint)
     try:
         result = fn(**kwargs)
-    except TypeError as exc:
+    except (TypeError, ValueError) as exc:
         raise CliError(f"{spec.task_generator}: {exc}") from None
     if result is not None:
         print(result if isinstance(result, str) else f"generated {result}")

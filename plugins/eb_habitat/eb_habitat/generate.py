@@ -675,8 +675,13 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0) -> list[dict[str, A
     return out
 
 
-def generate(out: str | None = None, seed: int = 0, per_subset: int = 50, subset: str | None = None) -> list[str]:
+def generate(out: str | None = None, seed: int = 0, per_subset: int = 50, subset: str | None = None,
+             split: str = "test", n: int | None = None, start: int = 0) -> list[str]:
     """Write validated task files and return their paths.
+
+    ``split=train|val n=N [start=K] out=DIR`` writes tasks ``K .. K+N-1`` of a generated training split instead
+    (disjoint from the shipped test tasks; :mod:`eb_habitat.splits`), for ``eb run env=habitat
+    env.params.task_dir=DIR``.
 
     Args:
         out: a directory (one ``<subset>.json`` per subset) or a ``.json`` path (one subset only);
@@ -685,6 +690,15 @@ def generate(out: str | None = None, seed: int = 0, per_subset: int = 50, subset
         per_subset: tasks per subset (the benchmark has 50).
         subset: only this subset (comma-separated list allowed); default all six.
     """
+    if split != "test":
+        from eb_habitat.splits import SPLITS, write_split
+
+        if split not in SPLITS:
+            raise ValueError(f"unknown split {split!r}; allowed: test (the shipped tasks), {', '.join(SPLITS)}")
+        if out is None or n is None or int(n) < 1:
+            raise ValueError(f"split={split} needs n=<tasks, >= 1> and out=<folder> (the shipped tasks/ folder "
+                             f"holds the test split only)")
+        return write_split(str(out), split, int(n), int(start))
     subsets = list(SUBSETS) if subset is None else [s.strip() for s in str(subset).split(",") if s.strip()]
     target = Path(out) if out is not None else TASK_DIR
     if target.suffix == ".json" and len(subsets) != 1:

@@ -100,3 +100,26 @@ def test_layout_relations_follow_the_apartment() -> None:
             assert (f" {FRIDGE_END[apt]}_" in goal) == nearer, t.id
         answers[goal.split()[-1].rstrip(")")] += 1
     assert len(answers) >= 2, answers
+
+
+def test_eb_tasks_generate_writes_a_training_split_that_eb_run_plays(tmp_path):
+    """`eb tasks generate env=habitat split=train n=N out=DIR`, then `eb run ... env.params.task_dir=DIR`; a world
+    without generated splits says so in one line."""
+    import json
+    import subprocess
+    import sys
+
+    out = tmp_path / "train"
+    r = subprocess.run([sys.executable, "-m", "eb_core", "tasks", "generate", "env=habitat", "split=train", "n=6",
+                        f"out={out}"], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    ids = [t["id"] for f in sorted(out.glob("*.json")) for t in json.loads(f.read_text())["tasks"]]
+    assert len(ids) == 6
+    run = subprocess.run([sys.executable, "-m", "eb_core", "run", "env=habitat", "model=oracle", "--quiet",
+                          f"env.params.task_dir={out}", "env.params.render=false", f"hydra.run.dir={tmp_path / 'run'}"],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert "success rate: 100.0% (6/6 episodes)" in run.stdout
+    bad = subprocess.run([sys.executable, "-m", "eb_core", "tasks", "generate", "env=navigation", "split=train", "n=2",
+                          f"out={tmp_path / 'x'}"], capture_output=True, text=True, timeout=300)
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1 and "habitat" in bad.stderr
