@@ -123,3 +123,21 @@ def test_eb_tasks_generate_writes_a_training_split_that_eb_run_plays(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "eb_core", "tasks", "generate", "env=navigation", "split=train", "n=2",
                           f"out={tmp_path / 'x'}"], capture_output=True, text=True, timeout=300)
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1 and "habitat" in bad.stderr
+
+
+def test_eb_run_plays_a_generated_split_directly_and_keeps_it_apart_from_test_runs(tmp_path):
+    import json
+    import subprocess
+    import sys
+
+    base = [sys.executable, "-m", "eb_core", "run", "env=habitat", "model=oracle", "--quiet", "env.params.render=false",
+            f"hydra.run.dir={tmp_path / 'run'}"]
+    r = subprocess.run(base + ["split=val", "limit=4"], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    ids = [json.loads(x)["task_id"] for x in (tmp_path / "run" / "episodes.jsonl").read_text().splitlines()]
+    assert len(ids) == 4 and all(i.startswith("val-") for i in ids)
+    missing = subprocess.run(base[:-1] + [f"hydra.run.dir={tmp_path / 'other'}", "split=val"], capture_output=True,
+                             text=True, timeout=300)
+    assert missing.returncode == 2 and "limit=N" in missing.stderr
+    mixed = subprocess.run(base + ["limit=4"], capture_output=True, text=True, timeout=300)  # the test split, same dir
+    assert mixed.returncode == 2 and "split" in mixed.stderr
