@@ -77,6 +77,15 @@ class AlfredEnv(Env):
             for r in records
         ]
 
+    splits: ClassVar[tuple[str, ...]] = ("train", "val")
+
+    @classmethod
+    def split_tasks(cls, split: str, start: int, count: int, **params: Any) -> list[Task]:
+        """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_alfred.splits`)."""
+        from eb_alfred.splits import split_tasks
+
+        return split_tasks(split, start, count, task_dir=_params(params).task_dir)
+
     # ------------------------------------------------------------------ episode
     def reset(self, task: Task, seed: int) -> Observation:
         self._task = task

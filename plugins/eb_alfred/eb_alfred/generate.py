@@ -410,11 +410,24 @@ def _too_common(rec: dict[str, Any], tasks: list[dict[str, Any]]) -> bool:
     return same_len + 1 > max(2, int(0.34 * k) + 1)
 
 
-def generate(out: str | None = None, seed: int = 0, n: int = 50, subset: str | None = None) -> list[str]:
+def generate(out: str | None = None, seed: int = 0, n: int | None = None, subset: str | None = None,
+             split: str = "test", start: int = 0) -> list[str]:
     """Write task files. ``out``: a directory (one ``<subset>.json`` each) or a ``.json`` path with ``subset``.
 
-    Defaults to the package's own ``tasks/`` folder (the shipped, versioned files).
+    Defaults to the package's own ``tasks/`` folder (the shipped, versioned files; ``n`` tasks per subset,
+    50 by default). ``split=train|val n=N [start=K] out=DIR`` writes tasks ``K .. K+N-1`` of a generated
+    training split instead (disjoint from the shipped test tasks; :mod:`eb_alfred.splits`).
     """
+    if split != "test":
+        from eb_alfred.splits import SPLITS, write_split
+
+        if split not in SPLITS:
+            raise ValueError(f"unknown split {split!r}; allowed: test (the shipped tasks), {', '.join(SPLITS)}")
+        if not n or out is None:
+            raise ValueError(f"split={split} needs n=<tasks, >= 1> and out=<folder> (the shipped tasks/ folder "
+                             f"holds the test split only)")
+        return write_split(str(out), split, int(n), int(start))
+    n = 50 if n is None else n
     subsets = [subset] if subset else list(SUBSETS)
     for s in subsets:
         if s not in SUBSETS:
