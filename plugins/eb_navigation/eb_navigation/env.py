@@ -151,6 +151,15 @@ class NavigationEnv(Env):
         p = _params(params)
         return [t.to_task() for t in load_task_file(p.task_file).tasks]
 
+    splits = ("train", "val")
+
+    @classmethod
+    def split_tasks(cls, split: str, start: int, count: int, **params: Any) -> list[Task]:
+        """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_navigation.splits`)."""
+        from eb_navigation.splits import split_tasks
+
+        return split_tasks(split, start, count, task_file=_params(params).task_file)
+
     def action_space(self) -> DiscreteActionSpace:
         return self._space
 
