@@ -60,6 +60,16 @@ class ManipulationEnv(Env):
         p = ManipulationParams(**known)
         return load_task_file(p.task_file)
 
+    splits = ("train", "val")
+
+    @classmethod
+    def split_tasks(cls, split: str, start: int, count: int, **params: Any) -> list[Task]:
+        """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_manipulation.splits`)."""
+        from eb_manipulation.splits import split_tasks
+
+        known = {k: v for k, v in params.items() if k in ManipulationParams.model_fields}
+        return split_tasks(split, start, count, task_file=ManipulationParams(**known).task_file)
+
     # --- episode ----------------------------------------------------------------------------------------
     def reset(self, task: Task, seed: int) -> Observation:
         """Build the task's scene. The layout is fixed by the task file; ``seed`` does not change it."""

@@ -590,7 +590,7 @@ def verify_task(task: dict[str, Any], max_steps: int = MAX_ORACLE_STEPS, closed_
 
 def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, per_family: int = PER_FAMILY,
              subsets: list[str] | tuple[str, ...] | str | None = None, max_attempts: int = 40,
-             quiet: bool = False) -> Path:
+             quiet: bool = False, split: str = "test", n: int | None = None, start: int = 0) -> Path | str:
     """Generate the task file and return its path.
 
     Args:
@@ -599,7 +599,19 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
         verify: Run the oracle on every task, open and closed loop, and redraw layouts it cannot solve.
         per_family: Tasks per (subset, family); 12 gives the paper's 228.
         subsets: Restrict to some subsets (a name or a list).
+        split: ``train`` or ``val`` writes tasks ``start .. start + n - 1`` of a generated training split instead
+            (disjoint from the shipped tasks; :mod:`eb_manipulation.splits`) to ``out`` (a ``.json`` file or a
+            folder), for ``eb run env=manipulation env.params.task_file=<file>``.
     """
+    if split != "test":
+        from eb_manipulation.splits import SPLITS, write_split
+
+        if split not in SPLITS:
+            raise ValueError(f"unknown split {split!r}; allowed: test (the shipped tasks), {', '.join(SPLITS)}")
+        if n is None or int(n) < 1 or out is None:
+            raise ValueError(f"split={split} needs n=<tasks, >= 1> and out=<file.json or folder> (the shipped "
+                             f"task file holds the test split only)")
+        return write_split(str(out), split, int(n), int(start))
     out_path = Path(out) if out is not None else DEFAULT_OUT
     chosen = SUBSETS if subsets is None else ((subsets,) if isinstance(subsets, str) else tuple(subsets))
     unknown = [s for s in chosen if s not in SUBSETS]

@@ -1,0 +1,129 @@
+"""Generated ``train`` and ``val`` splits of EB-Manipulation, kept apart from the shipped test tasks.
+
+Task ``i`` of a split is fixed by ``(split, i)``: its (subset, family) is ``COMBOS[i % 19]`` (the 19 pairs the
+shipped file has, in file order), ``k = i // 19`` picks the stacking mode / wiping direction as ``k`` does in
+:func:`eb_manipulation.generate.make_task`, and the layout is drawn by the same family builders from a scene seed
+hashed from ``eb-manipulation-split/<version>/<split>/<i>/<attempt>`` (the shipped file seeds from
+``SeedSequence([seed, subset, family, k, attempt])``, a different namespace). A draw is refused, and the next
+attempt drawn, when its scene seed or object layout is one of a shipped task, its instruction is a shipped
+instruction word for word, or the scripted expert does not solve it closed loop (first action of each plan,
+then re-plan) within the 15-step budget, checked in the physics-only simulator (no rendering).
+
+``val`` keeps the shipped file's filters (open-loop and closed-loop oracle both solve); ``train`` drops the
+open-loop check and only requires the closed-loop expert (about half the simulation per task).
+"""
+
+from __future__ import annotations
+
+import hashlib
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from eb_core.env import Task
+
+__all__ = ["COMBOS", "SPLITS", "layout_key", "split_tasks", "test_keys", "write_split"]
+
+SPLITS = ("train", "val")
+SPLIT_VERSION = "s1"
+MAX_ATTEMPTS = 200
+
+
+def _combos() -> tuple[tuple[str, str], ...]:
+    from eb_manipulation.generate import SUBSET_FAMILIES, SUBSETS
+
+    return tuple((s, f) for s in SUBSETS for f in SUBSET_FAMILIES[s])
+
+
+COMBOS = _combos()
+
+
+def layout_key(metadata: dict[str, Any]) -> tuple[Any, ...]:
+    """What makes two starting scenes the same: every object's kind, shape, colour and place (rounded to 1 mm)."""
+    return tuple(sorted((o["kind"], o.get("shape"), o.get("colour"), round(float(o["x"]), 3),
+                         round(float(o["y"]), 3)) for o in metadata["objects"]))
+
+
+@lru_cache(maxsize=4)
+def test_keys(task_file: str | None = None) -> tuple[frozenset[int], frozenset[Any], frozenset[str]]:
+    """Scene seeds, layouts and instructions of the shipped (or ``task_file``) test tasks."""
+    from eb_manipulation.tasks import load_task_file
+
+    tasks = load_task_file(task_file)
+    return (frozenset(int(t.metadata["scene_seed"]) for t in tasks), frozenset(layout_key(t.metadata) for t in tasks),
+            frozenset(t.instruction for t in tasks))
+
+
+def _scene_seed(split: str, index: int, attempt: int) -> int:
+    digest = hashlib.sha256(f"eb-manipulation-split/{SPLIT_VERSION}/{split}/{index}/{attempt}".encode()).digest()
+    return int.from_bytes(digest[:4], "little")
+
+
+def _one(split: str, index: int, keys: tuple[frozenset[int], frozenset[Any], frozenset[str]]) -> Task:
+    from eb_manipulation.generate import _FAMILY_FN, _Retry, verify_task
+    from eb_manipulation.spec import SceneSpec
+
+    seeds, layouts, instructions = keys
+    subset, family = COMBOS[index % len(COMBOS)]
+    k = index // len(COMBOS)
+    for attempt in range(MAX_ATTEMPTS):
+        scene_seed = _scene_seed(split, index, attempt)
+        if scene_seed in seeds:
+            continue
+        try:
+            draft = _FAMILY_FN[family](np.random.default_rng(scene_seed), subset, k)
+        except _Retry:
+            continue
+        if draft.instruction in instructions:
+            continue
+        scene = SceneSpec(family=family, variant=draft.variant, scene_seed=scene_seed, objects=tuple(draft.objects),
+                          goal=draft.goal, target_ids=draft.target_ids, template=draft.template)
+        entry = {"id": f"{split}_{subset}_{family}_{index:06d}", "subset": subset, "instruction": draft.instruction,
+                 "metadata": scene.model_dump(mode="json")}
+        if layout_key(entry["metadata"]) in layouts:
+            continue
+        ok, steps = verify_task(entry, closed_loop=True)
+        if not ok:
+            continue
+        if split == "val":
+            ok, steps = verify_task(entry)
+            if not ok:
+                continue
+        entry["metadata"]["oracle_steps"] = steps
+        entry["metadata"]["attempt"] = attempt
+        return Task(**entry)
+    raise RuntimeError(f"manipulation {split} task {index}: no valid draw in {MAX_ATTEMPTS} tries (a generator bug)")
+
+
+def split_tasks(split: str, start: int, count: int, task_file: str | None = None, **_: Any) -> list[Task]:
+    """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``)."""
+    if split not in SPLITS:
+        raise ValueError(f"manipulation: unknown split {split!r}; generated splits are {', '.join(SPLITS)} "
+                         f"('test' is the shipped task file). Use split=train or split=val.")
+    if start < 0 or count < 0:
+        raise ValueError(f"manipulation: split_tasks needs start >= 0 and count >= 0, got start={start}, "
+                         f"count={count}")
+    keys = test_keys(task_file)
+    return [_one(split, i, keys) for i in range(start, start + count)]
+
+
+def write_split(out: str, split: str, n: int, start: int = 0) -> str:
+    """Write tasks ``start .. start + n - 1`` of ``split`` as one task file ``out`` (a ``.json`` path, or a folder
+    that gets ``manipulation_<split>.json``), so that ``eb run env=manipulation env.params.task_file=<file>``
+    evaluates on them. Returns the path written."""
+    import json
+    from pathlib import Path
+
+    from eb_manipulation.spec import TASK_FORMAT
+
+    path = Path(out)
+    if path.suffix != ".json":
+        path = path / f"manipulation_{split}.json"
+    tasks = split_tasks(split, start, n)
+    doc = {"format": TASK_FORMAT, "version": SPLIT_VERSION, "generator": "eb_manipulation.splits:write_split",
+           "split": split, "start": start, "n": n, "verified": True, "count": len(tasks),
+           "tasks": [t.model_dump() for t in tasks]}
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
+    return str(path)
