@@ -258,8 +258,13 @@ def _extra_dict(e: ExtraSpec) -> dict[str, Any]:
 
 def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_distance: float = 3.5,
              out: str | None = None, max_oracle_steps: int = 15, blind_cap: int | None = None,
-             rule_cap: int | None = None, progress: bool = False) -> str:
+             rule_cap: int | None = None, progress: bool = False, split: str = "test", n: int | None = None,
+             start: int = 0) -> str:
     """Write a navigation task file with ``5 * scenes`` tasks; return a one-line summary.
+
+    ``split=train|val n=N [start=K] out=PATH`` writes tasks ``K .. K+N-1`` of a generated training split instead
+    (disjoint from the shipped test tasks; :mod:`eb_navigation.splits`) as one task file, for ``eb run
+    env=navigation env.params.task_file=<file>``.
 
     Args:
         seed: master seed (room seeds, starts and instruction wording all follow from it).
@@ -273,6 +278,17 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
             at least 2).
         progress: print one line per finished room.
     """
+    if split != "test":
+        from eb_navigation.splits import SPLITS, write_split
+
+        if split not in SPLITS:
+            raise ValueError(f"unknown split {split!r}; allowed: test (the shipped tasks), {', '.join(SPLITS)}")
+        if n is None or int(n) < 1 or not out:
+            raise ValueError(f"split={split} needs n=<tasks, >= 1> and out=<file.json or folder> (the shipped task "
+                             f"file holds the test split only)")
+        if int(start) < 0:
+            raise ValueError(f"start must be >= 0, got {start}")
+        return write_split(str(out), split, int(n), int(start))
     seed, scenes = int(seed), int(scenes)
     lo, hi = float(min_distance), float(max_distance)
     if scenes < 1:
