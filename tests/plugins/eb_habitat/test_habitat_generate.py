@@ -103,8 +103,8 @@ def test_layout_relations_follow_the_apartment() -> None:
 
 
 def test_eb_tasks_generate_writes_a_training_split_that_eb_run_plays(tmp_path):
-    """`eb tasks generate env=habitat split=train n=N out=DIR`, then `eb run ... env.params.task_dir=DIR`; a world
-    without generated splits says so in one line."""
+    """`eb tasks generate env=habitat split=train n=N out=DIR`, then `eb run ... env.params.task_dir=DIR`; an
+    unknown split is one line."""
     import json
     import subprocess
     import sys
@@ -120,9 +120,9 @@ def test_eb_tasks_generate_writes_a_training_split_that_eb_run_plays(tmp_path):
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
     assert "success rate: 100.0% (6/6 episodes)" in run.stdout
-    bad = subprocess.run([sys.executable, "-m", "eb_core", "tasks", "generate", "env=navigation", "split=train", "n=2",
+    bad = subprocess.run([sys.executable, "-m", "eb_core", "tasks", "generate", "env=habitat", "split=dev", "n=2",
                           f"out={tmp_path / 'x'}"], capture_output=True, text=True, timeout=300)
-    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1 and "habitat" in bad.stderr
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1 and "split" in bad.stderr
 
 
 def test_eb_run_plays_a_generated_split_directly_and_keeps_it_apart_from_test_runs(tmp_path):
