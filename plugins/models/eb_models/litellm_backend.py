@@ -40,6 +40,7 @@ from urllib.parse import urlparse
 
 from pydantic import Field, field_validator
 
+from eb_models._messages import openai_parts
 from eb_core.model import (
     EpisodeContext,
     ImagePart,
@@ -317,13 +318,7 @@ class LiteLLMBackend(ModelBackend):
             if not has_image and len(m.content) == 1:
                 out.append({"role": m.role, "content": m.content[0].text})  # type: ignore[union-attr]
                 continue
-            parts: list[dict[str, Any]] = []
-            for p in m.content:
-                if isinstance(p, ImagePart):
-                    parts.append({"type": "image_url", "image_url": {"url": p.data_url()}})
-                else:
-                    parts.append({"type": "text", "text": p.text})
-            out.append({"role": m.role, "content": parts})
+            out.append({"role": m.role, "content": openai_parts(m)})
         return out
 
     # -- structured output --------------------------------------------------------------------

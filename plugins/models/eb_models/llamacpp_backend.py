@@ -22,6 +22,7 @@ from typing import Any
 
 from pydantic import Field
 
+from eb_models._messages import openai_parts
 from eb_core.model import (
     EpisodeContext,
     ImagePart,
@@ -240,13 +241,7 @@ class LlamaCppBackend(ModelBackend):
             if not has_image:
                 out.append({"role": m.role, "content": m.text})
                 continue
-            parts: list[dict[str, Any]] = []
-            for p in m.content:
-                if isinstance(p, ImagePart):
-                    parts.append({"type": "image_url", "image_url": {"url": p.data_url()}})
-                else:
-                    parts.append({"type": "text", "text": p.text})
-            out.append({"role": m.role, "content": parts})
+            out.append({"role": m.role, "content": openai_parts(m)})
         return out
 
     def complete(self, request: ModelRequest) -> ModelResponse:
