@@ -17,9 +17,9 @@ import gymnasium
 
 from eb_core.gym.env import CHARSET, IMAGE_PLACEHOLDER, EBEnv, request_observation
 from eb_core.gym.rewards import PRESETS, TERMS, reward_weights
-from eb_core.gym.vector import make_vector_env
+from eb_core.gym.vector import EBVectorEnv, make_vector_env
 
-__all__ = ["CHARSET", "IMAGE_PLACEHOLDER", "PRESETS", "TERMS", "EBEnv", "gym_id", "make_vector_env",
+__all__ = ["CHARSET", "IMAGE_PLACEHOLDER", "PRESETS", "TERMS", "EBEnv", "EBVectorEnv", "gym_id", "make_vector_env",
            "register_worlds", "registered_ids", "request_observation", "reward_weights"]
 
 #: How the four benchmark worlds are spelled in their ids (others: the env name with a capital letter).

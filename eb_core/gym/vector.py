@@ -1,22 +1,46 @@
-"""N EmbodiedBench environments stepped together on worker processes.
+"""N EmbodiedBench environments stepped together on W worker processes (or W Ray actors).
 
-:func:`make_vector_env` builds a Gymnasium ``AsyncVectorEnv`` (one worker process per environment) with
-``shared_memory=False``: the prompt and text observations are ``Text`` spaces, which Gymnasium's shared memory
-would corrupt. Observations come back batched (a tuple of prompts, a tuple of image sequences, a stacked image
-array in raw mode). :class:`~eb_core.gym.env.EBEnv` never raises from ``step``: a world that crashes ends its
-episode with ``truncated=True`` and ``info["error"]``, and is rebuilt on the autoreset that follows, so one
-broken environment never takes the trainer down.
+:func:`make_vector_env` builds an :class:`EBVectorEnv`, a Gymnasium ``VectorEnv``: the N environments are split
+into W groups (``workers``, by default the config's ``runner.workers``), each group living in one worker process
+that holds its N/W environments and steps them in turn on its one thread -- the layout of the runner's in-flight
+workers (issue 13): one interpreter, one set of imported modules and shared renderer resources for many
+environments, so memory per environment falls as N grows. ``executor="ray"`` puts each group in a Ray actor
+instead (the runner's ``runner.executor=ray``), so a trainer on a GPU node steps environments on CPU nodes.
+
+Observations come back batched (Gymnasium's ``concatenate``: a tuple of prompts and a tuple of image tuples in
+prompt mode, a stacked image array and a tuple of texts in raw mode); ``info`` entries are arrays with a
+``_key`` mask. Autoreset is Gymnasium's ``NextStep`` (default), ``SameStep`` or ``Disabled``.
+
+Nothing an environment does takes the trainer down:
+
+* an environment that raises (in ``step`` or in the autoreset that follows) returns ``truncated=True`` with
+  ``info["error"]``; it is rebuilt in its worker and reset on the next step;
+* a worker process that dies (killed, out of memory, a segfault in a renderer) or stops answering for
+  ``step_timeout_s`` loses only its environments' current episodes: they return ``truncated=True`` with
+  ``info["error"]``, the process is started again with fresh environments, and they reset on the next step.
+  A lost Ray actor is replaced the same way.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import os
+import signal
+import sys
+import time
+import traceback
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import gymnasium
-from gymnasium.vector import AsyncVectorEnv, AutoresetMode
+import numpy as np
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space, concatenate, create_empty_array
 
-__all__ = ["make_vector_env"]
+__all__ = ["EBVectorEnv", "EnvGroup", "make_vector_env"]
+
+#: Environment variables a Ray actor takes from the trainer (plugin selection; the renderer's GL backend).
+_RAY_ENV_VARS = ("EB_", "MUJOCO_GL", "PYOPENGL_PLATFORM")
+_START_ATTEMPTS = 3
 
 
 def _resolve(world: str) -> str:
@@ -34,29 +58,578 @@ def _resolve(world: str) -> str:
                      f"(is its plugin installed? `eb list` shows the worlds)")
 
 
-def make_vector_env(world: str, num_envs: int, *, context: str | None = "forkserver",
-                    autoreset_mode: str = "NextStep", env_fns: list[Callable[[], gymnasium.Env]] | None = None,
-                    **kwargs: Any) -> AsyncVectorEnv:
-    """``num_envs`` copies of ``world`` (an id or env name) with ``kwargs`` for :class:`EBEnv`, each in its own
-    worker process. ``autoreset_mode``: Gymnasium's ``NextStep`` (default), ``SameStep`` or ``Disabled``.
+class _MakeEnv:
+    """A picklable environment factory: ``gymnasium.make(gym_id, **kwargs)`` in the worker, after registering
+    the worlds the worker's plugins provide."""
 
-    ``context="forkserver"`` (default): workers fork from a clean server process that has imported the core,
-    never from a process holding an OpenGL context (a forked EGL context hangs the worker's first render).
+    def __init__(self, gid: str, world: str, kwargs: dict[str, Any]) -> None:
+        self.gid, self.world, self.kwargs = gid, world, kwargs
+
+    def __call__(self) -> gymnasium.Env:
+        import eb_core.gym as ebgym
+
+        if self.gid not in gymnasium.registry:
+            ebgym.register_worlds()
+        if self.gid not in gymnasium.registry:  # a world from a plugin the worker cannot see under that id
+            gymnasium.register(self.gid, entry_point="eb_core.gym.env:EBEnv", kwargs={"world": self.world},
+                               disable_env_checker=True)
+        return gymnasium.make(self.gid, **self.kwargs)
+
+
+def _error_line(exc: BaseException) -> str:
+    return f"{type(exc).__name__}: {exc}".splitlines()[0]
+
+
+class EnvGroup:
+    """The environments of one worker (a process or a Ray actor), stepped in turn on the caller's thread.
+
+    :meth:`run` takes one operation per environment -- ``None`` (leave it), ``("reset", seed, options)``,
+    ``("step", action, same_step)`` or ``("call", name, args, kwargs)`` -- and returns one result each. An
+    environment that raises is closed and built again; its result is ``("error", message)``."""
+
+    def __init__(self, env_fns: Sequence[Callable[[], gymnasium.Env]]) -> None:
+        self.env_fns = list(env_fns)
+        self.envs: list[gymnasium.Env | None] = []
+        for fn in self.env_fns:
+            self.envs.append(fn())
+
+    def describe(self) -> dict[str, Any]:
+        env = self.envs[0]
+        return {"observation_space": env.observation_space, "action_space": env.action_space,
+                "metadata": dict(getattr(env, "metadata", {}) or {}), "render_mode": env.render_mode,
+                "pid": os.getpid(), "spec": env.spec}
+
+    def run(self, ops: Sequence[Any]) -> list[Any]:
+        return [None if op is None else self._one(i, op) for i, op in enumerate(ops)]
+
+    def _env(self, i: int) -> gymnasium.Env:
+        if self.envs[i] is None:
+            self.envs[i] = self.env_fns[i]()
+        return self.envs[i]  # type: ignore[return-value]
+
+    def _rebuild(self, i: int) -> None:
+        env, self.envs[i] = self.envs[i], None
+        if env is not None:
+            try:
+                env.close()
+            except Exception:
+                pass
+
+    def _one(self, i: int, op: tuple[Any, ...]) -> Any:
+        kind = op[0]
+        try:
+            if kind == "reset":
+                return ("reset", *self._reset(i, op[1], op[2]))
+            if kind == "step":
+                obs, reward, terminated, truncated, info = self._env(i).step(op[1])
+                if op[2] and (terminated or truncated):  # SameStep autoreset
+                    final_obs, final_info = obs, info
+                    try:
+                        obs, info = self._reset(i, None, None)
+                    except Exception as exc:
+                        info = dict(final_info)
+                        info["error"] = f"autoreset failed: {_error_line(exc)}"
+                        return ("step", final_obs, float(reward), bool(terminated), True, info, True)
+                    info = {"final_info": final_info, "final_obs": final_obs, **info}
+                return ("step", obs, float(reward), bool(terminated), bool(truncated), info, False)
+            if kind == "call":
+                attr = getattr(self._env(i), op[1])
+                return ("call", attr(*op[2], **op[3]) if callable(attr) else attr)
+            raise ValueError(f"unknown operation {kind!r}")
+        except Exception as exc:
+            self._rebuild(i)
+            return ("error", _error_line(exc), traceback.format_exc(limit=8))
+
+    def _reset(self, i: int, seed: int | None, options: dict[str, Any] | None) -> tuple[Any, dict[str, Any]]:
+        try:
+            return self._env(i).reset(seed=seed, options=options)
+        except Exception:  # a broken world: build it again and try once more
+            self._rebuild(i)
+            return self._env(i).reset(seed=seed, options=options)
+
+    def close(self) -> None:
+        for i in range(len(self.envs)):
+            self._rebuild(i)
+
+
+# -- workers -----------------------------------------------------------------------------------------
+
+
+def _apply_context(environ: dict[str, str], prefixes: tuple[str, ...] | None, path: list[str]) -> None:
+    """Take the trainer's environment variables (those starting with ``prefixes``, or all) and import path."""
+    for key in list(os.environ):
+        if (prefixes is None or key.startswith(prefixes)) and key not in environ:
+            del os.environ[key]
+    os.environ.update(environ)
+    for p in reversed(path):
+        if p not in sys.path:
+            sys.path.insert(0, p)
+
+
+def _process_main(conn: Any, payload: bytes) -> None:
+    """A local worker process: build the group, then answer ``run`` messages until ``close`` or the pipe ends."""
+    import pickle
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the trainer's; it closes the workers
+    try:
+        env_fns, environ, path = pickle.loads(payload)
+        _apply_context(environ, None, path)
+        import cloudpickle  # noqa: F401  (the factories were pickled with it)
+
+        group = EnvGroup(cloudpickle.loads(env_fns))
+        conn.send(("ready", group.describe()))
+    except BaseException as exc:
+        conn.send(("failed", f"{_error_line(exc)}\n{traceback.format_exc(limit=8)}"))
+        return
+    while True:
+        try:
+            msg = conn.recv()
+        except (EOFError, OSError):  # the trainer is gone
+            break
+        if msg[0] == "run":
+            conn.send(("ok", group.run(msg[1])))
+        elif msg[0] == "close":
+            group.close()
+            conn.send(("closed", None))
+            break
+    group.close()
+
+
+class _WorkerLost(Exception):
+    """A worker process or actor died or stopped answering."""
+
+
+class _ProcessWorker:
+    """One local worker process holding a group of environments."""
+
+    def __init__(self, payload: bytes, context: str | None, start_timeout_s: float | None) -> None:
+        import multiprocessing as mp
+
+        ctx = mp.get_context(context)
+        self.conn, child = ctx.Pipe()
+        self.proc = ctx.Process(target=_process_main, args=(child, payload), daemon=True, name="eb-gym-worker")
+        self.proc.start()
+        child.close()  # so the parent sees EOF when the child dies
+        self.info = self._ready(start_timeout_s)
+        self.pid = self.proc.pid
+
+    def _ready(self, timeout: float | None) -> dict[str, Any]:
+        try:
+            if not self.conn.poll(timeout):
+                raise _WorkerLost(f"no answer within {timeout} s of starting")
+            kind, data = self.conn.recv()
+        except (EOFError, OSError) as exc:
+            self.kill()
+            raise _WorkerLost(f"the worker process exited while starting (exit code {self.proc.exitcode})") from exc
+        if kind != "ready":
+            self.kill()
+            raise RuntimeError(f"building the environments failed in the worker process: {data}")
+        return data
+
+    def send(self, ops: list[Any]) -> None:
+        try:
+            self.conn.send(("run", ops))
+        except (BrokenPipeError, OSError):
+            pass  # recv reports the death
+
+    def recv(self, timeout: float | None) -> list[Any]:
+        try:
+            if not self.conn.poll(timeout):
+                self.kill()
+                raise _WorkerLost(f"worker process {self.pid} gave no answer within {timeout} s and was killed")
+            kind, data = self.conn.recv()
+        except (EOFError, OSError, BrokenPipeError):
+            self.proc.join(timeout=5)
+            code = self.proc.exitcode
+            why = f"signal {-code}" if code is not None and code < 0 else f"exit code {code}"
+            raise _WorkerLost(f"worker process {self.pid} died ({why})") from None
+        return data
+
+    def kill(self) -> None:
+        if self.proc.is_alive():
+            self.proc.kill()
+        self.proc.join(timeout=10)
+        self.conn.close()
+
+    def close(self, timeout: float = 10.0) -> None:
+        try:
+            self.conn.send(("close", None))
+            if self.conn.poll(timeout):
+                self.conn.recv()
+        except (EOFError, OSError, BrokenPipeError):
+            pass
+        self.proc.join(timeout=timeout)
+        self.kill()
+
+
+class _GroupActor:
+    """The Ray actor body: an :class:`EnvGroup` on the actor's one thread (a plain, non-async actor, so every
+    env and GL call of the actor stays on one thread)."""
+
+    def __init__(self, payload: bytes) -> None:
+        import pickle
+
+        env_fns, environ, path = pickle.loads(payload)
+        _apply_context(environ, _RAY_ENV_VARS, path)
+        import cloudpickle
+
+        self.group = EnvGroup(cloudpickle.loads(env_fns))
+
+    def describe(self) -> dict[str, Any]:
+        return self.group.describe()
+
+    def run(self, ops: list[Any]) -> list[Any]:
+        return self.group.run(ops)
+
+    def close(self) -> None:
+        self.group.close()
+
+
+_ACTOR_CLS: Any = None
+
+
+class _RayWorker:
+    """One Ray actor holding a group of environments."""
+
+    def __init__(self, payload: bytes, options: dict[str, Any], start_timeout_s: float | None) -> None:
+        global _ACTOR_CLS
+        import ray
+
+        if _ACTOR_CLS is None:
+            _ACTOR_CLS = ray.remote(_GroupActor)
+        self.ray = ray
+        self.actor = _ACTOR_CLS.options(**options).remote(payload)
+        self.ref: Any = None
+        try:
+            self.info = ray.get(self.actor.describe.remote(), timeout=start_timeout_s)
+        except ray.exceptions.GetTimeoutError:
+            self.kill()
+            raise _WorkerLost(f"the Ray actor gave no answer within {start_timeout_s} s of starting") from None
+        except ray.exceptions.RayActorError as exc:
+            self.kill()
+            raise RuntimeError(f"building the environments failed in the Ray actor: {_error_line(exc)}") from None
+        self.pid = self.info["pid"]
+
+    def send(self, ops: list[Any]) -> None:
+        self.ref = self.actor.run.remote(ops)
+
+    def recv(self, timeout: float | None) -> list[Any]:
+        ray = self.ray
+        try:
+            return ray.get(self.ref, timeout=timeout)
+        except ray.exceptions.GetTimeoutError:
+            self.kill()
+            raise _WorkerLost(f"Ray actor (pid {self.pid}) gave no answer within {timeout} s and was killed") from None
+        except (ray.exceptions.RayActorError, ray.exceptions.ObjectLostError) as exc:
+            raise _WorkerLost(f"Ray actor (pid {self.pid}) died: {_error_line(exc)}") from None
+
+    def kill(self) -> None:
+        try:
+            self.ray.kill(self.actor, no_restart=True)
+        except Exception:
+            pass
+
+    def close(self, timeout: float = 10.0) -> None:
+        try:
+            self.ray.get(self.actor.close.remote(), timeout=timeout)
+        except Exception:
+            pass
+        self.kill()
+
+
+# -- the vector env ----------------------------------------------------------------------------------
+
+
+class EBVectorEnv(VectorEnv):
+    """``len(env_fns)`` environments in ``workers`` groups, each group in one worker process or Ray actor.
+
+    Args:
+        env_fns: one picklable factory per environment (pickled with cloudpickle, so closures work).
+        workers: worker processes (or actors); each holds ``len(env_fns) / workers`` environments.
+        executor: ``local`` (worker processes on this machine) or ``ray`` (Ray actors, ``num_cpus=1`` each
+            unless ``ray_options`` says otherwise; joins ``ray_address``, ``$RAY_ADDRESS`` or a local Ray).
+        context: multiprocessing start method of local workers. ``forkserver`` (default) forks them from a
+            clean server process, never from a process holding an OpenGL context (a forked EGL context hangs).
+        autoreset_mode: ``NextStep`` (default), ``SameStep`` or ``Disabled`` (Gymnasium's modes).
+        step_timeout_s: a worker that has not answered a step or reset this long is killed and replaced
+            (its environments' episodes end truncated with an error); ``None`` waits for ever.
+    """
+
+    def __init__(self, env_fns: Sequence[Callable[[], gymnasium.Env]], *, workers: int = 1,
+                 executor: str = "local", context: str | None = "forkserver",
+                 autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
+                 step_timeout_s: float | None = None, start_timeout_s: float | None = 600.0,
+                 ray_options: dict[str, Any] | None = None, ray_address: str | None = None) -> None:
+        import pickle
+
+        import cloudpickle
+
+        self.closed, self._ray_started, self.workers = False, False, []
+        n = len(env_fns)
+        if n < 1:
+            raise ValueError("num_envs must be >= 1, got 0")
+        if not isinstance(workers, int) or workers < 1:
+            raise ValueError(f"workers must be an integer >= 1, got {workers!r} (runner.workers=N sets it too)")
+        if executor not in ("local", "ray"):
+            raise ValueError(f"executor must be 'local' or 'ray', got {executor!r}")
+        self.num_envs = n
+        self.executor, self.context = executor, context
+        self.autoreset_mode = autoreset_mode if isinstance(autoreset_mode, AutoresetMode) \
+            else AutoresetMode(autoreset_mode)
+        self.step_timeout_s, self.start_timeout_s = step_timeout_s, start_timeout_s
+        w = min(workers, n)
+        bounds = np.linspace(0, n, w + 1).round().astype(int)
+        self.slices = [range(int(bounds[k]), int(bounds[k + 1])) for k in range(w)]
+        if executor == "ray":
+            self._ray_started = self._connect_ray(ray_address)  # before anything that can fail after it
+            self.ray_options = {"num_cpus": 1, "max_restarts": 0, **(ray_options or {})}
+            environ = {k: v for k, v in os.environ.items() if k.startswith(_RAY_ENV_VARS)}
+        else:
+            self.ray_options = {}
+            environ = dict(os.environ)
+            if context == "forkserver":
+                import multiprocessing
+
+                multiprocessing.get_context("forkserver").set_forkserver_preload(["eb_core.gym"])
+        self.payloads = [pickle.dumps((cloudpickle.dumps([env_fns[i] for i in s]), environ, list(sys.path)))
+                         for s in self.slices]
+        self.workers: list[Any] = [None] * w
+        self.restarts = 0
+        try:
+            for k in range(w):
+                self.workers[k] = self._start(k)
+        except BaseException:
+            self.close()
+            raise
+        info = self.workers[0].info
+        self.single_observation_space = info["observation_space"]
+        self.single_action_space = info["action_space"]
+        self.observation_space = batch_space(self.single_observation_space, n)
+        self.action_space = batch_space(self.single_action_space, n)
+        self.metadata = {**info["metadata"], "autoreset_mode": self.autoreset_mode}
+        self.render_mode = info["render_mode"]
+        self.spec = info["spec"]
+        self._last_obs: list[Any] = [None] * n
+        self._needs_reset = np.ones(n, dtype=bool)  # NextStep: reset on the next step
+
+    # -- workers -----------------------------------------------------------------------------------
+
+    @staticmethod
+    def _connect_ray(address: str | None) -> bool:
+        try:
+            import ray
+        except ImportError:
+            raise RuntimeError('executor="ray" needs Ray, which is not installed: pip install "embodiedbench[ray]" '
+                               '(or use executor="local")') from None
+        if ray.is_initialized():
+            return False
+        address = address or os.environ.get("RAY_ADDRESS") or None
+        ray.init(address=address, include_dashboard=False, log_to_driver=False, configure_logging=False)
+        return True
+
+    def _start(self, k: int) -> Any:
+        last: Exception | None = None
+        for _ in range(_START_ATTEMPTS):
+            try:
+                if self.executor == "ray":
+                    return _RayWorker(self.payloads[k], self.ray_options, self.start_timeout_s)
+                return _ProcessWorker(self.payloads[k], self.context, self.start_timeout_s)
+            except _WorkerLost as exc:
+                last = exc
+        raise RuntimeError(f"worker {k} could not be started ({_START_ATTEMPTS} attempts): {last}")
+
+    @property
+    def worker_pids(self) -> list[int]:
+        """Process id of each worker (the actor's process under Ray), in group order."""
+        return [w.pid for w in self.workers]
+
+    def worker_of(self, env_index: int) -> int:
+        """Which worker holds environment ``env_index``."""
+        for k, s in enumerate(self.slices):
+            if env_index in s:
+                return k
+        raise IndexError(f"env_index must be in [0, {self.num_envs}), got {env_index}")
+
+    def _exchange(self, ops: list[Any]) -> tuple[list[Any], dict[int, str]]:
+        """Send each worker its environments' operations, gather the results. A worker that dies or stops
+        answering is replaced; its environments' results are ``("lost", why)``."""
+        if self.closed:
+            raise RuntimeError("the vector env is closed")
+        busy = [k for k, s in enumerate(self.slices) if any(ops[i] is not None for i in s)]
+        for k in busy:
+            self.workers[k].send([ops[i] for i in self.slices[k]])
+        results: list[Any] = [None] * self.num_envs
+        lost: dict[int, str] = {}
+        deadline = None if self.step_timeout_s is None else time.monotonic() + self.step_timeout_s
+        for k in busy:
+            timeout = None if deadline is None else max(0.0, deadline - time.monotonic())
+            try:
+                out = self.workers[k].recv(timeout)
+            except _WorkerLost as exc:
+                lost[k] = str(exc)
+                continue
+            for i, r in zip(self.slices[k], out):
+                results[i] = r
+        for k, why in lost.items():
+            self.workers[k].kill()
+            self.restarts += 1
+            self.workers[k] = self._start(k)
+            for i in self.slices[k]:
+                self._needs_reset[i] = True
+                if ops[i] is not None:
+                    results[i] = ("lost", f"{why}; its environments were rebuilt in a new worker")
+        return results, lost
+
+    # -- gymnasium API -----------------------------------------------------------------------------
+
+    def reset(self, *, seed: int | Sequence[int | None] | None = None,
+              options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
+        n = self.num_envs
+        if seed is None:
+            seeds: list[int | None] = [None] * n
+        elif isinstance(seed, (int, np.integer)):
+            seeds = [int(seed) + i for i in range(n)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != n:
+                raise ValueError(f"reset(seed=...) needs {n} seeds (one per environment), got {len(seeds)}")
+        options = dict(options or {})
+        mask = options.pop("reset_mask", None)
+        if mask is None:
+            mask = np.ones(n, dtype=bool)
+        elif not (isinstance(mask, np.ndarray) and mask.dtype == np.bool_ and mask.shape == (n,)):
+            raise ValueError(f"options['reset_mask'] must be a numpy bool array of shape ({n},)")
+        opts = options or None
+        ops: list[Any] = [("reset", seeds[i], opts) if mask[i] else None for i in range(n)]
+        results, _ = self._exchange(ops)
+        retry = [i for i in range(n) if results[i] is not None and results[i][0] == "lost"]
+        if retry:  # a worker died during the reset: its replacement resets them
+            again, _ = self._exchange([ops[i] if i in retry else None for i in range(n)])
+            for i in retry:
+                results[i] = again[i]
+        infos: dict[str, Any] = {}
+        for i in range(n):
+            r = results[i]
+            if r is None:
+                if self._last_obs[i] is None:
+                    raise RuntimeError(f"environment {i} has never been reset; include it in reset_mask")
+                continue
+            if r[0] != "reset":
+                raise RuntimeError(f"environment {i} could not be reset: {r[1]}")
+            self._last_obs[i] = r[1]
+            self._needs_reset[i] = False
+            infos = self._add_info(infos, r[2], i)
+        return self._batch(), infos
+
+    def step(self, actions: Any) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        n = self.num_envs
+        acts = list(actions)  # a tuple of answer texts, an (N,) array of ids or an (N, 7) array of vectors
+        if len(acts) != n:
+            raise ValueError(f"step() needs {n} actions (one per environment), got {len(acts)}")
+        next_step = self.autoreset_mode == AutoresetMode.NEXT_STEP
+        same_step = self.autoreset_mode == AutoresetMode.SAME_STEP
+        ops: list[Any] = []
+        for i in range(n):
+            if self._needs_reset[i] and self.autoreset_mode != AutoresetMode.DISABLED:
+                ops.append(("reset", None, None))
+            else:
+                ops.append(("step", acts[i], same_step))
+        results, _ = self._exchange(ops)
+        rewards = np.zeros(n, dtype=np.float64)
+        terminated = np.zeros(n, dtype=np.bool_)
+        truncated = np.zeros(n, dtype=np.bool_)
+        infos: dict[str, Any] = {}
+        for i, r in enumerate(results):
+            kind = r[0]
+            if kind == "reset":
+                self._last_obs[i] = r[1]
+                self._needs_reset[i] = False
+                info = r[2]
+            elif kind == "step":
+                self._last_obs[i] = r[1]
+                rewards[i], terminated[i], truncated[i], info = r[2], r[3], r[4], r[5]
+                done = bool(r[3] or r[4])
+                self._needs_reset[i] = (done and next_step) or bool(r[6])
+            else:  # "error" (the env raised) or "lost" (its worker died): the episode ends, truncated
+                truncated[i] = True
+                self._needs_reset[i] = True
+                info = {"error": r[1]}
+            infos = self._add_info(infos, info, i)
+        return self._batch(), rewards, terminated, truncated, infos
+
+    def _batch(self) -> Any:
+        obs = [o if o is not None else self.single_observation_space.sample() for o in self._last_obs]
+        return concatenate(self.single_observation_space, obs,
+                           create_empty_array(self.single_observation_space, self.num_envs))
+
+    def call(self, name: str, *args: Any, **kwargs: Any) -> tuple[Any, ...]:
+        """Call ``name`` on every environment (or read the attribute); one result each."""
+        results, lost = self._exchange([("call", name, args, kwargs)] * self.num_envs)
+        out = []
+        for i, r in enumerate(results):
+            if r[0] != "call":
+                raise RuntimeError(f"env {i}: {name} failed: {r[1]}")
+            out.append(r[1])
+        return tuple(out)
+
+    def get_attr(self, name: str) -> tuple[Any, ...]:
+        return self.call(name)
+
+    def render(self) -> tuple[Any, ...] | None:
+        return self.call("render")
+
+    def close_extras(self, **kwargs: Any) -> None:
+        for w in self.workers:
+            if w is not None:
+                w.close()
+        if self._ray_started:
+            import ray
+
+            ray.shutdown()
+
+    def close(self, **kwargs: Any) -> None:
+        if self.closed:
+            return
+        self.close_extras(**kwargs)
+        self.closed = True
+
+    def __del__(self) -> None:
+        if not getattr(self, "closed", True):
+            try:
+                self.close()
+            except Exception:
+                pass
+
+
+def make_vector_env(world: str | None, num_envs: int, *, workers: int | None = None, executor: str = "local",
+                    context: str | None = "forkserver", autoreset_mode: str = "NextStep",
+                    env_fns: list[Callable[[], gymnasium.Env]] | None = None, step_timeout_s: float | None = None,
+                    ray_options: dict[str, Any] | None = None, ray_address: str | None = None,
+                    **kwargs: Any) -> EBVectorEnv:
+    """``num_envs`` copies of ``world`` (an id or env name) with ``kwargs`` for :class:`EBEnv`, over ``workers``
+    processes (default: the config's ``runner.workers``, which ``overrides=("runner.workers=4",)`` sets), each
+    holding ``num_envs / workers`` environments; ``executor="ray"`` makes the workers Ray actors.
+
     As with any non-fork start method, a script must build the vector env under ``if __name__ == "__main__":``.
     ``context="fork"`` is faster to start and safe when this process has not rendered yet."""
-    import multiprocessing
-
-    if context == "forkserver":
-        multiprocessing.get_context("forkserver").set_forkserver_preload(["eb_core.gym"])
     if num_envs < 1:
         raise ValueError(f"num_envs must be >= 1, got {num_envs}")
     if env_fns is None:
+        if world is None:
+            raise ValueError("make_vector_env needs a world (an id such as 'EB/Navigation-v0' or an env name) "
+                             "or env_fns")
+        from eb_core.gym import registered_ids
+
         gid = _resolve(world)
+        from eb_core.gym.env import _compose
 
-        def make() -> gymnasium.Env:
-            import eb_core.gym  # noqa: F401  (registers the ids in a spawned worker)
-
-            return gymnasium.make(gid, **kwargs)
-
-        env_fns = [make] * num_envs
-    return AsyncVectorEnv(env_fns, shared_memory=False, context=context, autoreset_mode=AutoresetMode(autoreset_mode))
+        env_fns = [_MakeEnv(gid, registered_ids()[gid], dict(kwargs))] * num_envs
+        # a config error is reported here, in one line, not from inside the workers
+        cfg = _compose(registered_ids()[gid], tuple(kwargs.get("overrides", ())))
+        if workers is None:
+            workers = int(cfg.runner.workers)
+    elif len(env_fns) != num_envs:
+        raise ValueError(f"env_fns has {len(env_fns)} factories but num_envs is {num_envs}")
+    return EBVectorEnv(env_fns, workers=1 if workers is None else workers, executor=executor, context=context,
+                       autoreset_mode=autoreset_mode, step_timeout_s=step_timeout_s, ray_options=ray_options,
+                       ray_address=ray_address)
