@@ -103,12 +103,14 @@ def _episode_flow(
     hook: Any = None,
     run_dir: str = "",
     expert_labels: bool = False,
+    repeat: int = 0,
 ) -> Generator[ModelRequest, ModelResponse, EpisodeRecord]:
     """The episode as a generator: yields each model request, receives its response (or the call's
     exception, thrown in) and returns the record. Driven by :class:`EpisodeDriver`."""
     started = time.perf_counter()
     usage = Usage()
-    rec: dict[str, Any] = dict(task_id=task.id, subset=task.subset, instruction=task.instruction, seed=seed)
+    rec: dict[str, Any] = dict(task_id=task.id, subset=task.subset, instruction=task.instruction, seed=seed,
+                               repeat=repeat)
     env_steps = planner_steps = invalid = output_errors = 0
     progress, success, empty_plan = 0.0, False, False
     end_reason = "max_steps"
@@ -150,7 +152,8 @@ def _episode_flow(
         space = env.action_space()
         planner.reset(task, env.prompt_parts(), space)
         planner.observe(obs)
-        backend.start_episode(EpisodeContext(env=env, task=task, seed=seed, run_dir=run_dir or None))
+        backend.start_episode(EpisodeContext(env=env, task=task, seed=seed, run_dir=run_dir or None,
+                                             repeat=repeat))
         done = False
         while not done and budget_left() > 0:
             if invalid_cap is not None and invalid >= invalid_cap:
@@ -371,12 +374,13 @@ def run_episode(
     hook: Any = None,
     run_dir: str = "",
     expert_labels: bool = False,
+    repeat: int = 0,
 ) -> EpisodeRecord:
     """Play ``task`` to the end and return its record. Model transient errors and env exceptions give
     ``status="error"``; :class:`ModelFatalError` and :class:`ModelBudgetExceeded` propagate."""
     driver = EpisodeDriver(env=env, task=task, seed=seed, planner=planner, backend=backend, env_config=env_config,
                            step_dir=step_dir, save_images=save_images, augmenters=augmenters, budget=budget,
-                           hook=hook, run_dir=run_dir, expert_labels=expert_labels)
+                           hook=hook, run_dir=run_dir, expert_labels=expert_labels, repeat=repeat)
     request = driver.next_request()
     while request is not None:
         try:

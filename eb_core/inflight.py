@@ -120,7 +120,7 @@ class InflightLoop:
             env=env, task=task, seed=self.seed_of(task.id, repeat), planner=self.comps.make_planner(backend),
             backend=backend, env_config=cfg.env, step_dir=self.files.staging_dir(task.id, repeat),
             save_images=cfg.runner.save_images, augmenters=self.comps.augmenters, budget=self.budget,
-            hook=self.hook, run_dir=str(self.files.root), expert_labels=cfg.runner.expert_labels,
+            hook=self.hook, run_dir=str(self.files.root), expert_labels=cfg.runner.expert_labels, repeat=repeat,
         )
         ep = _Episode(key=key, task=task, repeat=repeat, driver=driver, env=env, backend=backend)
         self.active[key] = ep

@@ -121,14 +121,16 @@ class EpisodeContext:
     """What a backend may know about the episode it is about to play.
 
     Real models ignore it; offline baselines use it: ``oracle`` asks ``env.expert_plan()``, ``random``
-    samples from ``action_space`` with ``seed``, ``replay`` looks recorded answers up by ``task.id``.
+    samples from ``action_space`` with ``seed``, ``replay`` looks recorded answers up by ``task.id`` and
+    ``repeat`` (which of the task's ``runner.repeats`` plays this is; 0 for the first).
     """
 
-    def __init__(self, env: "Env", task: "Task", seed: int, run_dir: str | None = None) -> None:
+    def __init__(self, env: "Env", task: "Task", seed: int, run_dir: str | None = None, repeat: int = 0) -> None:
         self.env = env
         self.task = task
         self.seed = seed
         self.run_dir = run_dir
+        self.repeat = repeat
 
     @property
     def action_space(self) -> "ActionSpace":

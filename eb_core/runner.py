@@ -451,7 +451,7 @@ def _run_inline(cfg: RunConfig, comps: Components, files: RunFiles, pending: lis
                     planner=comps.make_planner(backend),
                     backend=backend, env_config=cfg.env, step_dir=files.staging_dir(task.id, repeat),
                     save_images=cfg.runner.save_images, augmenters=comps.augmenters, budget=budget, hook=hook,
-                    run_dir=str(files.root), expert_labels=cfg.runner.expert_labels,
+                    run_dir=str(files.root), expert_labels=cfg.runner.expert_labels, repeat=repeat,
                 )
             except ModelFatalError as exc:
                 raise RunError(str(exc)) from None

@@ -1,7 +1,8 @@
 """The ``replay`` backend: answers with the raw outputs recorded in an earlier run directory.
 
-For each episode it reads ``<run_dir>/episodes/<task_id>/steps.jsonl`` and returns the lines'
-``raw_output`` in ``planner_step`` order. With the same env, planner settings and seed, the replayed run
+For each episode it reads the recorded episode of the same task and repeat
+(``<run_dir>/episodes/<task_id>/steps.jsonl``, ``<task_id>_repeat<k>/`` for repeat k > 0 of
+``runner.repeats``) and returns the lines' ``raw_output`` in ``planner_step`` order. With the same env, planner settings and seed, the replayed run
 comes out identical to the recorded one, without calling a model (re-scoring, debugging, demos). Asking
 for more answers than were recorded means the runs diverged: that is an error, never a made-up answer.
 """
@@ -24,6 +25,7 @@ from eb_core.model import (
     ModelTransientError,
     Usage,
 )
+from eb_core.records import episode_dir_name
 from eb_models._settings import BackendSettings, ModelConfigError, validate_settings
 
 __all__ = ["ReplayBackend", "ReplaySettings", "load_recorded_outputs"]
@@ -78,12 +80,15 @@ class ReplayBackend(ModelBackend):
             raise ModelFatalError("replay: model.run_dir is the run being written; replay into another directory "
                                   "(set experiment=<new name>)")
         self.task_id = ctx.task.id
-        self.steps_file = self.run_dir / "episodes" / ctx.task.id / "steps.jsonl"
+        repeat = ctx.repeat
+        self.steps_file = self.run_dir / "episodes" / episode_dir_name(ctx.task.id, repeat) / "steps.jsonl"
         self.next_index = 0
         self.rows = []
         self.load_error = None
         if not self.steps_file.is_file():
-            self.load_error = f"replay: no recorded steps for task {ctx.task.id!r} ({self.steps_file} is missing)"
+            which = f"task {ctx.task.id!r}" + (f" repeat {repeat}" if repeat else "")
+            more = (" (the recorded run has fewer runner.repeats?)" if repeat else "")
+            self.load_error = f"replay: no recorded steps for {which} ({self.steps_file} is missing){more}"
             return
         self.rows = load_recorded_outputs(self.steps_file)
 

@@ -180,6 +180,57 @@ def test_runner_replay_gives_identical_episodes(tmp_path, monkeypatch):
         assert first["overall"][key] == second["overall"][key]
 
 
+def test_runner_replay_plays_each_repeat_from_its_own_recording(tmp_path, monkeypatch):
+    """runner.repeats=2: each repeat has its own seed, so the random model answers differently; the replay
+    must answer repeat k with repeat k's recorded outputs (not repeat 0's for every repeat)."""
+    from eb_core.runner import run
+
+    monkeypatch.setenv("EB_DISABLE_PLUGIN_AUTOLOAD", "1")
+    monkeypatch.delenv("EB_PLUGINS", raising=False)
+
+    def config(model):
+        return validate_config({
+            "env": ENV_CFG.model_dump(), "model": model, "planner": {"name": "vlm"}, "ablation": {"name": "none"},
+            "runner": {"workers": 1, "quiet": True, "save_images": False, "repeats": 2}, "seed": 11,
+        })
+
+    plugins = [models_toyenv, eb_models.plugin]
+    run(config({"name": "random", "backend": "random"}), tmp_path / "a", plugins=plugins)
+    run(config({"name": "replay", "backend": "replay", "run_dir": str(tmp_path / "a")}), tmp_path / "b",
+        plugins=plugins)
+
+    def outputs(d: Path, task_id: str, repeat: int) -> list[str]:
+        name = task_id if repeat == 0 else f"{task_id}_repeat{repeat}"
+        rows = (d / "episodes" / name / "steps.jsonl").read_text().splitlines()
+        return [json.loads(x)["raw_output"] for x in rows]
+
+    load = lambda d: sorted((json.loads(x) for x in (d / "episodes.jsonl").read_text().splitlines()),  # noqa: E731
+                            key=lambda r: (r["task_id"], r["repeat"]))
+    a, b = load(tmp_path / "a"), load(tmp_path / "b")
+    assert len(a) == 6 and {r["repeat"] for r in a} == {0, 1} and all(r["status"] == "ok" for r in a + b)
+    ids = sorted({r["task_id"] for r in a})
+    # the recording's repeats differ, so replaying repeat 0 for repeat 1 would show
+    assert any(outputs(tmp_path / "a", t, 0) != outputs(tmp_path / "a", t, 1) for t in ids)
+    for t in ids:
+        for k in (0, 1):
+            assert outputs(tmp_path / "b", t, k) == outputs(tmp_path / "a", t, k), (t, k)
+    strip = lambda r: {k: v for k, v in r.items() if k not in TIMING}  # noqa: E731
+    assert [strip(r) for r in a] == [strip(r) for r in b]
+
+
+def test_replay_missing_repeat_is_a_clear_error(tmp_path):
+    task = ButtonLine.load_tasks()[0]
+    play(RandomBackend(), task, step_dir=tmp_path / "rec" / "episodes" / task.id)
+    backend = ReplayBackend(run_dir=str(tmp_path / "rec"))
+    ctx = context()
+    ctx.repeat = 1
+    backend.start_episode(ctx)
+    from eb_core.model import Message, ModelRequest, TextPart
+
+    with pytest.raises(ModelTransientError, match=r"repeat 1 .*_repeat1/steps.jsonl is missing.*fewer runner.repeats"):
+        backend.complete(ModelRequest(messages=(Message(role="user", content=(TextPart(text="go"),)),)))
+
+
 # -- human ----------------------------------------------------------------------------------------------
 
 
