@@ -6,7 +6,9 @@
   ``DIR/README.md`` with the run's config, model, versions and metrics.
 * ``--format chat``: ``DIR/chat.jsonl``, one line per planner call in the chat form of supervised fine-tuning
   sets (LLaVA / ShareGPT style): ``images`` and ``messages`` (user: ``<image>`` markers + the prompt;
-  assistant: the model's answer).
+  assistant: the model's answer). A run played with ``runner.expert_labels=true`` adds the expert's action from
+  the state the model saw to every line, and ``--label expert`` makes it the assistant's answer: with a noisy
+  expert (``model=oracle model.noise=0.2``) the data shows recoveries from off-path states, labelled correctly.
 
 ``--images embed`` puts the PNG bytes in the rows (chat: ``data:`` URIs); ``--images paths`` (default) copies the
 PNGs to ``DIR/images/<episode>/`` and stores paths relative to ``DIR``. pyarrow is imported only here.
@@ -26,6 +28,7 @@ __all__ = ["export_run", "cmd_export"]
 
 IMAGE_MODES = ("embed", "paths")
 EXPORT_FORMATS = ("parquet", "chat")
+LABELS = ("model", "expert")
 SHARD_ROWS = 2000
 
 
@@ -84,6 +87,67 @@ def _rows(run: dict[str, Any], images: str, out: Path, only_success: bool):
                 "error_labels": [x["category"] for x in lab["labels"]],
                 "perception_f1": (lab.get("perception") or {}).get("f1"),
             }
+
+
+def _expert_answer(action: Any, name: str | None, recovery: bool, think: bool) -> str:
+    """A planner answer whose plan is the expert's one action (a vector action as ``{"action": [...]}``)."""
+    item: dict[str, Any] = ({"action": list(action)} if isinstance(action, list)
+                            else {"action_id": action, "action_name": name})
+    why = ("An earlier action left the expert's path; this is the expert's next action from the current state."
+           if recovery else "The expert's next action from the current state.")
+    body = json.dumps({"visual_state_description": "", "reasoning_and_reflection": why,
+                       "language_plan": name or json.dumps(action), "executable_plan": [item]})
+    return f"<think>{why}</think><answer>{body}</answer>" if think else body
+
+
+def _chat_lines(run: dict[str, Any], images: str, out: Path, only_success: bool, label: str) -> list[str]:
+    """One JSON line per planner call. With ``runner.expert_labels`` every line names the expert's action from
+    the state the model saw (``expert_action``), whether the model's first action left it (``off_expert``), and
+    whether an earlier action of the episode did (``recovery``: the state is off the expert's path, and the
+    expert's action shows the way back) -- the data a noisy expert (``model.noise``) is run for."""
+    conf = run.get("config") or {}
+    think = ((conf.get("planner") or {}).get("answer_format") if isinstance(conf, dict) else None) == "think"
+    lines: list[str] = []
+    left_path: dict[tuple[str, int], bool] = {}
+    labelled = skipped = 0
+    for row in _rows(run, images, out, only_success):
+        refs = []
+        for img in row["images"]:
+            if img["bytes"] is not None:
+                refs.append("data:image/png;base64," + base64.b64encode(img["bytes"]).decode("ascii"))
+            else:
+                refs.append(img["path"])
+        key = (row["task_id"], row["repeat"])
+        recovery = left_path.get(key, False)
+        acts = json.loads(row["actions_json"])
+        expert = acts[0] if acts and "expert_action" in acts[0] else None
+        if any("expert_action" in a and a.get("expert_action") is not None and a["action"] != a["expert_action"]
+               for a in acts):
+            left_path[key] = True
+        sample: dict[str, Any] = {
+            "id": f"{row['task_id']}/r{row['repeat']}/step{row['planner_step']}", "task_id": row["task_id"],
+            "subset": row["subset"], "planner_step": row["planner_step"], "episode_success": row["episode_success"],
+            "error_labels": row["error_labels"], "images": refs}
+        answer = row["raw_output"]
+        if expert is not None and expert.get("expert_action") is not None:
+            labelled += 1
+            sample.update({"expert_action": expert["expert_action"],
+                           "expert_action_name": expert.get("expert_action_name"),
+                           "off_expert": acts[0]["action"] != expert["expert_action"], "recovery": recovery})
+            if label == "expert":
+                sample["model_answer"] = answer
+                answer = _expert_answer(expert["expert_action"], expert.get("expert_action_name"), recovery, think)
+        elif label == "expert":
+            skipped += 1  # no executed action (an output error) or no expert plan from this state: no label
+            continue
+        user = "".join("<image>\n" for _ in refs) + row["prompt"]
+        sample["messages"] = [{"role": "user", "content": user}, {"role": "assistant", "content": answer}]
+        lines.append(json.dumps(sample, ensure_ascii=False))
+    if label == "expert" and not labelled and skipped:
+        raise ValueError(f"the run {run['dir']} has no expert labels to export: play it with "
+                         "runner.expert_labels=true (e.g. eb run ... model=oracle model.noise=0.2 "
+                         "runner.expert_labels=true)")
+    return lines
 
 
 def _schema():
@@ -176,14 +240,21 @@ def _card(run: dict[str, Any], out: Path, n_rows: int, files: list[str], fmt: st
 
 
 def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt: str = "parquet",
-               only_success: bool = False, shard_rows: int = SHARD_ROWS) -> dict[str, Any]:
-    """Export ``run_dir`` into ``out``; returns ``{"rows": n, "files": [...]}`` (paths relative to ``out``)."""
+               only_success: bool = False, shard_rows: int = SHARD_ROWS, label: str = "model") -> dict[str, Any]:
+    """Export ``run_dir`` into ``out``; returns ``{"rows": n, "files": [...]}`` (paths relative to ``out``).
+    ``label`` (chat only): ``model`` (the assistant turn is the model's answer) or ``expert`` (the expert's
+    action from the state the model saw, as a one-action answer; needs a run with ``runner.expert_labels``)."""
     from eb_core.report import load_run
 
     if images not in IMAGE_MODES:
         raise ValueError(f"--images {images!r}: use embed or paths")
     if fmt not in EXPORT_FORMATS:
         raise ValueError(f"--format {fmt!r}: use parquet or chat")
+    if label not in LABELS:
+        raise ValueError(f"--label {label!r}: use model (the model's answers) or expert (the expert's actions)")
+    if label != "model" and fmt != "chat":
+        raise ValueError("--label expert is for --format chat; the parquet rows carry the expert labels in "
+                         "actions_json")
     run = load_run(run_dir)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -209,21 +280,7 @@ def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt:
             pq.write_table(pa.Table.from_pylist(chunk, schema=schema), out / name)
             files.append(name)
     else:
-        lines = []
-        for row in _rows(run, images, out, only_success):
-            refs = []
-            for img in row["images"]:
-                if img["bytes"] is not None:
-                    refs.append("data:image/png;base64," + base64.b64encode(img["bytes"]).decode("ascii"))
-                else:
-                    refs.append(img["path"])
-            user = "".join("<image>\n" for _ in refs) + row["prompt"]
-            lines.append(json.dumps({
-                "id": f"{row['task_id']}/r{row['repeat']}/step{row['planner_step']}", "task_id": row["task_id"],
-                "subset": row["subset"], "planner_step": row["planner_step"], "episode_success": row["episode_success"],
-                "error_labels": row["error_labels"], "images": refs,
-                "messages": [{"role": "user", "content": user}, {"role": "assistant", "content": row["raw_output"]}],
-            }, ensure_ascii=False))
+        lines = _chat_lines(run, images, out, only_success, label)
         n = len(lines)
         (out / "chat.jsonl").write_text("".join(x + "\n" for x in lines), encoding="utf-8")
         files.append("chat.jsonl")
@@ -232,16 +289,17 @@ def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt:
 
 
 def cmd_export(args: list[str]) -> int:
-    """``eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] [--only-success]``."""
+    """``eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] [--label model|expert]
+    [--only-success]``."""
     from eb_core.cli import CliError
 
     usage = ("usage: eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] "
-             "[--only-success]")
-    run_dir, out, images, fmt, only_success = None, None, "paths", "parquet", False
+             "[--label model|expert] [--only-success]")
+    run_dir, out, images, fmt, only_success, label = None, None, "paths", "parquet", False, "model"
     it = iter(args)
     for a in it:
         key, eq, val = a.partition("=")
-        if key in ("--out", "--images", "--format"):
+        if key in ("--out", "--images", "--format", "--label"):
             value = val if eq else next(it, "")
             if not value:
                 raise CliError(f"{key} needs a value; {usage}")
@@ -249,6 +307,8 @@ def cmd_export(args: list[str]) -> int:
                 out = value
             elif key == "--images":
                 images = value
+            elif key == "--label":
+                label = value
             else:
                 fmt = value
         elif a == "--only-success":
@@ -269,7 +329,7 @@ def cmd_export(args: list[str]) -> int:
     if not (Path(run_dir) / "episodes.jsonl").exists():
         raise CliError(f"{run_dir} is not a run directory (no episodes.jsonl)")
     try:
-        result = export_run(run_dir, out, images, fmt, only_success)
+        result = export_run(run_dir, out, images, fmt, only_success, label=label)
     except ValueError as exc:
         raise CliError(str(exc)) from None
     print(f"{result['rows']} rows -> {out} ({', '.join(result['files'])}, README.md)")

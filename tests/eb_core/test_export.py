@@ -89,3 +89,65 @@ def test_pyarrow_and_matplotlib_are_imported_only_by_their_commands():
             "print(sorted(m for m in ('pyarrow', 'matplotlib') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+@pytest.fixture(scope="module")
+def noisy_train_run(tmp_path_factory):
+    """``eb run env=navigation model=oracle model.noise=0.3 runner.expert_labels=true split=train limit=3``:
+    a noisy expert on generated training tasks, with images (small), played with the installed plugins."""
+    pytest.importorskip("eb_navigation")
+    import os
+
+    root = tmp_path_factory.mktemp("noisy") / "run"
+    env = {k: v for k, v in os.environ.items() if k not in ("EB_PLUGINS", "EB_DISABLE_PLUGIN_AUTOLOAD")}
+    r = subprocess.run([sys.executable, "-m", "eb_core", "run", "env=navigation", "model=oracle", "model.noise=0.3",
+                        "model.plan_length=1", "runner.expert_labels=true", "split=train", "limit=3",
+                        "env.resolution=64", "--quiet", f"hydra.run.dir={root}"],
+                       capture_output=True, text=True, timeout=600, env=env)
+    assert r.returncode == 0, r.stderr
+    return root
+
+
+def test_chat_export_of_a_noisy_expert_run_labels_every_call_with_the_expert_and_shows_recoveries(
+        noisy_train_run, tmp_path):
+    from eb_navigation.env import NavigationEnv
+
+    out = tmp_path / "sft"
+    assert main(["export", str(noisy_train_run), "--out", str(out), "--format", "chat", "--label", "expert"]) == 0
+    lines = [json.loads(x) for x in (out / "chat.jsonl").read_text().splitlines()]
+    steps = [json.loads(x) for d in sorted((noisy_train_run / "episodes").iterdir())
+             for x in (d / "steps.jsonl").read_text().splitlines()]
+    assert len(lines) == len(steps) and all(s["task_id"].startswith("train_") for s in lines)
+    for s in lines:
+        assert s["images"] and all((out / p).read_bytes()[:4] == b"\x89PNG" for p in s["images"])
+        user, answer = s["messages"][0]["content"], json.loads(s["messages"][1]["content"])
+        assert user.startswith("<image>\n") and "Move forward by 0.25 meters" in user
+        # the label is the expert's action, as a one-action answer the benchmark's parser reads
+        assert answer["executable_plan"] == [{"action_id": s["expert_action"], "action_name": s["expert_action_name"]}]
+    # ...and the expert's action is the world's: replay each episode's first state and ask its expert
+    records = {r["task_id"]: r for r in map(json.loads, (noisy_train_run / "episodes.jsonl").read_text().splitlines())}
+    world = NavigationEnv(resolution=64, render=False)
+    for i, task in enumerate(NavigationEnv.split_tasks("train", 0, 3)):
+        world.reset(task, records[task.id]["seed"])
+        first = next(s for s in lines if s["task_id"] == task.id and s["planner_step"] == 1)
+        assert world.expert_plan()[0] == first["expert_action"]
+    world.close()
+    # the noise put the agent off the expert's path, and later calls show the way back
+    off = [s for s in lines if s["off_expert"]]
+    rec = [s for s in lines if s["recovery"]]
+    assert off and rec and not lines[0]["recovery"]
+    assert all(json.loads(s["model_answer"])["executable_plan"][0]["action_id"] != s["expert_action"] for s in off)
+    assert any(s["episode_success"] for s in rec)  # recovered episodes
+    # the model's own answers stay the default label, the expert's action rides along
+    plain = tmp_path / "plain"
+    assert main(["export", str(noisy_train_run), "--out", str(plain), "--format", "chat"]) == 0
+    first = json.loads((plain / "chat.jsonl").read_text().splitlines()[0])
+    assert first["messages"][1]["content"] == steps[0]["raw_output"] and first["expert_action"] == lines[0]["expert_action"]
+
+
+def test_expert_labels_need_a_run_that_recorded_them(mixed, tmp_path, capsys):
+    assert main(["export", str(mixed), "--out", str(tmp_path / "x"), "--format", "chat", "--label", "expert"]) == 2
+    err = capsys.readouterr().err
+    assert "has no expert labels" in err and "runner.expert_labels=true" in err and err.count("\n") == 1
+    assert main(["export", str(mixed), "--out", str(tmp_path / "x"), "--format", "chat", "--label", "gold"]) == 2
+    assert "use model" in capsys.readouterr().err
