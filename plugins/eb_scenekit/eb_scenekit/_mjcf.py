@@ -6,6 +6,7 @@ for byte on every machine, which is what makes scenes and renders reproducible f
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable
 from xml.sax.saxutils import quoteattr
 
@@ -28,6 +29,14 @@ def fmt_attr(value: object) -> str:
     if isinstance(value, Iterable):
         return " ".join(fmt_attr(v) for v in value)
     raise TypeError(f"cannot write {value!r} as an MJCF attribute")
+
+
+_NEEDS_ESCAPE = re.compile(r'[&<>"\n\r\t]')
+
+
+def quote(value: str) -> str:
+    """``quoteattr`` with a fast path for the usual case (numbers and names: nothing to escape); same output."""
+    return f'"{value}"' if _NEEDS_ESCAPE.search(value) is None else quoteattr(value)
 
 
 class El:
@@ -53,7 +62,7 @@ class El:
 
     def write(self, out: list[str], indent: int = 0) -> None:
         pad = "  " * indent
-        attrs = "".join(f" {k}={quoteattr(fmt_attr(v))}" for k, v in self.attrs.items())
+        attrs = "".join(f" {k}={quote(fmt_attr(v))}" for k, v in self.attrs.items())
         if not self.children:
             out.append(f"{pad}<{self.tag}{attrs}/>")
             return

@@ -603,11 +603,30 @@ class SceneBuilder:
         return root.to_string() + "\n"
 
     def build(self) -> tuple[object, object]:
-        """Compile the scene: returns ``(mujoco.MjModel, mujoco.MjData)`` after one ``mj_forward``."""
+        """Compile the scene: returns ``(mujoco.MjModel, mujoco.MjData)`` after one ``mj_forward`` (without
+        collision detection: :func:`forward_without_contacts`)."""
         from eb_scenekit._mujoco import mujoco
 
         model = mujoco.MjModel.from_xml_string(self.to_xml())
         data = mujoco.MjData(model)
-        mujoco.mj_forward(model, data)
+        forward_without_contacts(model, data)
         return model, data
+
+
+def forward_without_contacts(model: object, data: object) -> None:
+    """``mj_forward`` with collision detection switched off for this one call (the model's flags are restored).
+
+    Poses, cameras and lights come out exactly as from a full ``mj_forward``; only the contact list and the
+    constraint forces are left empty. A freshly built scene parks its movable objects together out of sight, and
+    detecting the thousands of contacts between them took up to 0.7 s of a reset; the next ``mj_step`` detects
+    contacts anew, so a simulation started from here is the same.
+    """
+    from eb_scenekit._mujoco import mujoco
+
+    flags = model.opt.disableflags  # type: ignore[attr-defined]
+    model.opt.disableflags = flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)  # type: ignore[attr-defined]
+    try:
+        mujoco.mj_forward(model, data)
+    finally:
+        model.opt.disableflags = flags  # type: ignore[attr-defined]
 
