@@ -1,17 +1,19 @@
 """Throughput of the Gymnasium vector env (eb_core.gym): env steps per second, reset time, memory per env.
 
-    python benchmarks/gym_throughput.py [--worlds navigation,habitat,manipulation,alfred] [--sizes 1,8,32]
-                                        [--steps 20] [--resets 10] [--resolution 500] [--json out.json]
+    python benchmarks/gym_throughput.py [--worlds navigation,habitat,manipulation,alfred] [--sizes 1,8,32,128]
+                                        [--workers 2] [--steps 10] [--max-env-steps 640] [--resets 10]
+                                        [--resolution 500] [--json out.json]
 
 Raw mode with rendering on (every step renders the world's first-person image). For each world:
 
 * ``render_s``: one raw step in this process (mean over ``--steps``), the cost of one env step;
   ``bound`` = cores / ``render_s``, the most steps per second this machine can give.
 * ``reset_median_s`` / ``reset_max_s``: ``reset()`` of one env over ``--resets`` different tasks.
-* for each size N: an ``AsyncVectorEnv`` of N worker processes (``shared_memory=False``), ``--steps`` batched
-  random steps after a warm-up step; ``steps_per_s`` = N x steps / wall time, ``ratio`` = that / bound;
-  ``pss_mb_per_env`` = proportional set size of the worker processes / N (forked workers share the
-  parent's pages, which PSS splits fairly).
+* for each size N: an :class:`~eb_core.gym.EBVectorEnv` of N environments over ``--workers`` worker processes
+  (default: the cores; N / workers environments in each), ``min(--steps, --max-env-steps / N)`` (at least 2)
+  batched random steps after a warm-up step; ``steps_per_s`` = N x steps / wall time, ``ratio`` = that / bound;
+  ``pss_mb_per_env`` = proportional set size of the worker processes after the steps / N (pages the workers
+  share with each other and the fork server are split between them, so the sum is the memory they really take).
 
 Steps that end an episode are followed by Gymnasium's next-step autoreset, so reset cost is inside the rate.
 """
@@ -39,7 +41,8 @@ def _pss_mb(pid: int) -> float:
     return float("nan")
 
 
-def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolution: int) -> dict[str, Any]:
+def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolution: int, workers: int,
+                max_env_steps: int) -> dict[str, Any]:
     import gymnasium
 
     import eb_core.gym as ebgym
@@ -70,31 +73,43 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
                            "reset_median_s": round(statistics.median(times), 3), "reset_max_s": round(max(times), 3),
                            "sizes": {}}
     for n in sizes:
-        vec = ebgym.make_vector_env(world, n, **kwargs)
+        w = min(workers, n)
+        n_steps = max(2, min(steps, max_env_steps // n))
+        t = time.perf_counter()
+        vec = ebgym.make_vector_env(world, n, workers=w, **kwargs)
         try:
+            start_s = time.perf_counter() - t
+            t = time.perf_counter()
             vec.reset(seed=list(range(n)))
+            reset_s = time.perf_counter() - t
             vec.action_space.seed(1)
             vec.step(vec.action_space.sample())  # warm-up
             t = time.perf_counter()
-            for _ in range(steps):
+            for _ in range(n_steps):
                 vec.step(vec.action_space.sample())
             wall = time.perf_counter() - t
-            pss = [_pss_mb(p.pid) for p in vec.processes]
+            pss = [_pss_mb(pid) for pid in vec.worker_pids]
         finally:
             vec.close()
-        rate = n * steps / wall
-        out["sizes"][n] = {"steps_per_s": round(rate, 1), "ratio_to_bound": round(rate / bound, 2),
-                           "pss_mb_per_env": round(float(np.nanmean(pss)), 1)}
-        print(f"  {world} N={n}: {rate:.1f} steps/s ({rate / bound:.2f} of the bound {bound:.1f}), "
-              f"{np.nanmean(pss):.0f} MB PSS per env", flush=True)
+        rate = n * n_steps / wall
+        per_env = float(np.nansum(pss)) / n
+        out["sizes"][n] = {"workers": w, "steps": n_steps, "steps_per_s": round(rate, 1),
+                           "ratio_to_bound": round(rate / bound, 2), "pss_mb_per_env": round(per_env, 1),
+                           "pss_mb_workers": round(float(np.nansum(pss)), 1), "start_s": round(start_s, 2),
+                           "vector_reset_s": round(reset_s, 2)}
+        print(f"  {world} N={n} over {w} processes: {rate:.1f} steps/s ({rate / bound:.2f} of the bound "
+              f"{bound:.1f}), {per_env:.0f} MB PSS per env ({np.nansum(pss):.0f} MB in all); start {start_s:.1f} s, "
+              f"reset of all {reset_s:.1f} s", flush=True)
     return out
 
 
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--worlds", default="navigation,habitat,manipulation,alfred")
-    ap.add_argument("--sizes", default="1,8,32")
-    ap.add_argument("--steps", type=int, default=20)
+    ap.add_argument("--sizes", default="1,8,32,128")
+    ap.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="worker processes (default: cores)")
+    ap.add_argument("--steps", type=int, default=10)
+    ap.add_argument("--max-env-steps", type=int, default=640, help="cap on N x steps at each size")
     ap.add_argument("--resets", type=int, default=10)
     ap.add_argument("--resolution", type=int, default=500)
     ap.add_argument("--json", default=None, help="write the results to this file")
@@ -103,7 +118,7 @@ def main(argv: list[str] | None = None) -> None:
     results = []
     for world in [w.strip() for w in args.worlds.split(",") if w.strip()]:
         print(f"{world}:", flush=True)
-        r = bench_world(world, sizes, args.steps, args.resets, args.resolution)
+        r = bench_world(world, sizes, args.steps, args.resets, args.resolution, args.workers, args.max_env_steps)
         print(f"  one raw step {r['render_s'] * 1000:.0f} ms -> bound {r['bound_steps_per_s']} steps/s on "
               f"{r['cores']} cores; reset median {r['reset_median_s']} s, max {r['reset_max_s']} s", flush=True)
         results.append(r)
