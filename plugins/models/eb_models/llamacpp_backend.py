@@ -7,13 +7,13 @@ llama-cpp-python ships (``model.chat_format``: ``llava-1-5``, ``llava-1-6``, ``q
 ``minicpm-v-2.6``, ``moondream``...).
 
 The model is loaded at the first request (the runner's preflight backend never loads it), with
-``n_threads`` = half the logical cores divided among the run's worker processes unless set.
+``n_threads`` = the usable cores divided among the run's model instances (``runner.workers``, or
+``runner.concurrency`` when set, read from the run's ``config.yaml``) unless ``model.n_threads`` is set.
 """
 
 from __future__ import annotations
 
 import logging
-import multiprocessing
 import os
 import time
 from importlib import metadata
@@ -76,7 +76,7 @@ class LlamaCppSettings(BackendSettings):
     n_ctx: int = Field(default=8192, ge=0)
     """Context window in tokens (0 = the model's own)."""
     n_threads: int | None = Field(default=None, ge=1)
-    """CPU threads; null = half the logical cores (about the physical ones), divided among the workers."""
+    """CPU threads; null = the usable cores divided among the run's workers (``runner.workers``)."""
     n_gpu_layers: int = 0
     """Layers offloaded to a GPU build of llama.cpp (0 = CPU only)."""
     max_tokens: int = Field(default=1024, ge=1)
@@ -103,32 +103,31 @@ def find_packaged_gguf(dist: str) -> Path:
 
 
 def _cores() -> int:
+    """The cores this process may run on (its CPU affinity, e.g. a container's or ``taskset``'s share)."""
     try:
         return len(os.sched_getaffinity(0))
-    except (AttributeError, OSError):
+    except (AttributeError, OSError):  # not Linux
         return os.cpu_count() or 1
 
 
-def _sibling_workers() -> int:
-    """How many worker processes share this machine: the children of our parent when we are one of the
-    runner's workers (Linux ``/proc``), else 1."""
-    if multiprocessing.parent_process() is None:
+def default_threads(workers: int = 1) -> int:
+    """Threads for one model instance: the usable cores divided among the run's ``workers`` model instances,
+    at least 1 (llama.cpp's spinning thread barriers collapse when threads outnumber free cores)."""
+    return max(1, _cores() // max(1, workers))
+
+
+def run_workers(run_dir: str | None) -> int:
+    """How many model instances the run plays at once: ``runner.concurrency`` (episodes in flight, one model
+    each) or else ``runner.workers``, from the run's ``config.yaml``; 1 without a run directory."""
+    if not run_dir:
         return 1
-    ppid = os.getppid()
     try:
-        children: set[str] = set()
-        for task in Path(f"/proc/{ppid}/task").iterdir():
-            children.update((task / "children").read_text().split())
-        return max(1, len(children))
-    except OSError:
-        return 2
+        import yaml
 
-
-def default_threads(workers: int | None = None) -> int:
-    """Threads for one model instance: half the logical cores (llama-cpp-python's own default: about the
-    physical cores; llama.cpp's spinning thread barriers collapse when threads outnumber free cores),
-    divided among ``workers`` (default: found out)."""
-    return max(1, (_cores() // 2) // max(1, workers if workers is not None else _sibling_workers()))
+        runner = (yaml.safe_load((Path(run_dir) / "config.yaml").read_text()) or {}).get("runner") or {}
+        return max(1, int(runner.get("concurrency") or runner.get("workers") or 1))
+    except (OSError, ValueError, TypeError, AttributeError):
+        return 1
 
 
 def _is_gguf(path: Path) -> bool:
@@ -176,7 +175,8 @@ class LlamaCppBackend(ModelBackend):
             raise ModelConfigError("model.supports_images=true needs model.mmproj (the vision projector)")
         self.supports_json_schema = s.constrained
         self.structured_output = "json_object_schema" if s.constrained else "none"
-        self.n_threads = s.n_threads  # resolved at load time (the worker count is known then)
+        self.n_threads = s.n_threads  # null: resolved when the first episode starts (its run tells the workers)
+        self.workers: int | None = None
         self._llm: Any = None
         self._info_written = False
 
@@ -188,15 +188,15 @@ class LlamaCppBackend(ModelBackend):
         return {"backend": "llamacpp", "gguf": str(self.gguf), "mmproj": str(self.mmproj) if self.mmproj else None,
                 "chat_format": self.settings.chat_format, "structured_output": self.structured_output,
                 "structured_output_why": "grammar from the planner's schema (llama.cpp)" if self.settings.constrained
-                else "model.constrained=false", "n_threads": self.n_threads,
+                else "model.constrained=false", "n_threads": self.n_threads, "workers": self.workers,
                 "llama_cpp_python": getattr(self._llama_cpp, "__version__", "?")}
 
     def _load(self) -> Any:
         if self._llm is not None:
             return self._llm
         s = self.settings
-        if self.n_threads is None:
-            self.n_threads = default_threads()
+        if self.n_threads is None:  # no episode context (e.g. eb prompt): this process alone
+            self.n_threads = default_threads(1)
         handler = None
         if self.mmproj is not None:
             from llama_cpp import llama_chat_format
@@ -225,8 +225,9 @@ class LlamaCppBackend(ModelBackend):
         return None
 
     def start_episode(self, ctx: EpisodeContext) -> None:
-        if self.n_threads is None:  # every worker exists by now: divide the cores among them
-            self.n_threads = default_threads()
+        if self.n_threads is None:  # model.n_threads unset: divide the cores among the run's workers
+            self.workers = run_workers(ctx.run_dir)
+            self.n_threads = default_threads(self.workers)
         if not self._info_written:
             self._info_written = True
             write_model_info(ctx.run_dir, self.info())

@@ -33,12 +33,26 @@ def test_an_uninstalled_gguf_package_is_one_line():
         find_packaged_gguf("no-such-gguf-dist")
 
 
-def test_threads_are_divided_among_workers():
-    from eb_models.llamacpp_backend import _cores, default_threads
+def test_threads_are_the_usable_cores_divided_among_workers(monkeypatch):
+    from eb_models import llamacpp_backend
+    from eb_models.llamacpp_backend import default_threads
 
-    assert default_threads(1) == max(1, _cores() // 2)
-    assert default_threads(_cores() * 4) == 1
-    assert default_threads(2) == max(1, _cores() // 4)
+    monkeypatch.setattr(llamacpp_backend.os, "sched_getaffinity", lambda pid: set(range(8)))
+    assert [default_threads(w) for w in (1, 2, 3, 8, 64)] == [8, 4, 2, 1, 1]
+    monkeypatch.setattr(llamacpp_backend.os, "sched_getaffinity", lambda pid: {0})
+    assert default_threads(1) == 1
+
+
+def test_the_worker_count_comes_from_the_runs_config(tmp_path):
+    import yaml
+
+    from eb_models.llamacpp_backend import run_workers
+
+    assert run_workers(None) == 1 and run_workers(str(tmp_path)) == 1  # no run / no config.yaml yet
+    for runner, want in (({"workers": 3, "concurrency": None}, 3), ({"workers": 2, "concurrency": 6}, 6),
+                         ({"workers": 1}, 1)):
+        (tmp_path / "config.yaml").write_text(yaml.safe_dump({"runner": runner, "model": {"name": "x"}}))
+        assert run_workers(str(tmp_path)) == want
 
 
 # -- with llama-cpp-python and the model installed ----------------------------------------------------
@@ -115,3 +129,23 @@ def test_images_need_a_vision_model(backend):
     req = ModelRequest(messages=(Message(role="user", content=(ImagePart(png=b"\x89PNG"), TextPart(text="hi"))),))
     with pytest.raises(ModelFatalError, match="takes no images.*ablation=language_only"):
         backend.complete(req)
+
+
+def test_a_run_divides_the_cores_among_its_workers_unless_n_threads_is_set(gguf, tmp_path):
+    import yaml
+
+    from eb_core.env import Task
+    from eb_core.model import EpisodeContext
+    from eb_models.llamacpp_backend import LlamaCppBackend, default_threads
+
+    (tmp_path / "config.yaml").write_text(yaml.safe_dump({"runner": {"workers": 2, "concurrency": None}}))
+    ctx = EpisodeContext(env=None, task=Task(id="t", subset="base", instruction="go"), seed=0,  # type: ignore[arg-type]
+                         run_dir=str(tmp_path))
+    auto = LlamaCppBackend(gguf=str(gguf))
+    auto.start_episode(ctx)
+    assert auto.n_threads == default_threads(2) and auto.workers == 2
+    info = json.loads((tmp_path / "model_info.json").read_text())
+    assert info["n_threads"] == default_threads(2) and info["workers"] == 2
+    fixed = LlamaCppBackend(gguf=str(gguf), n_threads=3)
+    fixed.start_episode(ctx)
+    assert fixed.n_threads == 3
