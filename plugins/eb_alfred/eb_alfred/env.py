@@ -93,13 +93,22 @@ class AlfredEnv(Env):
         self._goal = task.metadata["goal"]
         self._space = DiscreteActionSpace(actions=scene_actions(self._world))
         self.expert_reason = None
-        if self.params.render:
-            if self._renderer is None:
-                from eb_alfred.render import AlfredRenderer
+        if not self.params.render:
+            return self._observe()
+        from eb_alfred.render import AlfredRenderer
 
-                self._renderer = AlfredRenderer(self.resolution, multi_view=self.multi_view)
+        # The new task's scene is built and drawn before the previous one is closed: while one scene of the
+        # process still uses the pooled GL context it stays alive and is only pointed at the new model. Closing
+        # first freed it, and every reset paid for a new context (measured: median reset 0.39-0.56 s -> 0.17-0.22 s
+        # under load 8; images are the pool's, byte-identical).
+        previous = self._renderer
+        self._renderer = AlfredRenderer(self.resolution, multi_view=self.multi_view)
+        try:
             self._renderer.load(self._world)
-        return self._observe()
+            return self._observe()
+        finally:
+            if previous is not None:
+                previous.close()
 
     def step(self, action: Any) -> StepResult:
         world, space = self._require()
