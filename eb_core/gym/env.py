@@ -72,6 +72,36 @@ def _compose(world: str, overrides: tuple[str, ...]) -> Any:
         raise ValueError(str(exc)) from None
 
 
+def _registry() -> Any:
+    """The plugin registry of this process, made once per plugin selection (``EB_PLUGINS``,
+    ``EB_DISABLE_PLUGIN_AUTOLOAD``): the many environments of a vector env's worker share it."""
+    import os
+
+    from eb_core.plugins import AUTOLOAD_OFF_ENV_VAR, PLUGINS_ENV_VAR
+
+    return _registry_for(os.environ.get(PLUGINS_ENV_VAR), os.environ.get(AUTOLOAD_OFF_ENV_VAR))
+
+
+@lru_cache(maxsize=4)
+def _registry_for(_plugins: str | None, _autoload_off: str | None) -> Any:
+    from eb_core.plugins import Registry
+
+    return Registry.create()
+
+
+@lru_cache(maxsize=16)
+def _test_tasks(world: str, overrides: tuple[str, ...], subset: str | None, _plugins: int) -> tuple[Task, ...]:
+    """The shipped tasks (of ``subset``), loaded once per process and shared by its environments (read only)."""
+    from eb_core.runner import Components
+
+    tasks = Components(_compose(world, overrides), _registry()).load_tasks()
+    if subset is not None:
+        tasks = [t for t in tasks if t.subset == subset]
+        if not tasks:
+            raise ValueError(f"env {world!r} has no test tasks in subset {subset!r}")
+    return tuple(tasks)
+
+
 def _decode_png(png: bytes) -> np.ndarray:
     from PIL import Image
 
@@ -130,7 +160,6 @@ class EBEnv(gymnasium.Env):
                  reward: str | Mapping[str, float] = "progress", overrides: Sequence[str] = (),
                  subset: str | None = None, expert_labels: bool = True, raw_action_n: int | None = None,
                  render_mode: str | None = None) -> None:
-        from eb_core.plugins import Registry
         from eb_core.runner import Components
 
         if obs_mode not in ("prompt", "raw"):
@@ -141,16 +170,11 @@ class EBEnv(gymnasium.Env):
         self.weights = reward_weights(reward)
         self.expert_labels = bool(expert_labels)
         self.cfg = _compose(world, tuple(overrides))
-        self.comps = Components(self.cfg, Registry.create())
+        self.comps = Components(self.cfg, _registry())
         self.env_cls: type[Env] = self.comps.env_cls
         params = self.cfg.env.params
         if split == "test":
-            tasks = self.comps.load_tasks()
-            if subset is not None:
-                tasks = [t for t in tasks if t.subset == subset]
-                if not tasks:
-                    raise ValueError(f"env {world!r} has no test tasks in subset {subset!r}")
-            self._tasks: list[Task] | None = tasks
+            self._tasks: Sequence[Task] | None = _test_tasks(world, tuple(overrides), subset, id(_registry()))
         else:
             self._tasks = None
             self.env_cls.split_tasks(split, 0, 1, **params)  # one clear error for an unknown split, up front
