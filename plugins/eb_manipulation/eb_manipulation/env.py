@@ -75,16 +75,23 @@ class ManipulationEnv(Env):
         """Build the task's scene. The layout is fixed by the task file; ``seed`` does not change it."""
         from eb_manipulation.world import World
 
-        self._release()
-        self._task = task
-        self._scene = scene_of(task)
-        self._world = World(self._scene, resolution=self.resolution, render_meshes=self.params.render)
-        self._renumber()
-        if self.params.render:
-            from eb_manipulation.render import SceneRenderer
+        # the previous task's renderer is closed only after the new scene is drawn, so that a renderer pooled per
+        # process keeps its GL context across the reset instead of making a new one
+        previous, self._renderer = self._renderer, None
+        self._world = None
+        try:
+            self._task = task
+            self._scene = scene_of(task)
+            self._world = World(self._scene, resolution=self.resolution, render_meshes=self.params.render)
+            self._renumber()
+            if self.params.render:
+                from eb_manipulation.render import SceneRenderer
 
-            self._renderer = SceneRenderer(self._world.model, self.resolution)
-        return self._observe()
+                self._renderer = SceneRenderer(self._world.model, self.resolution)
+            return self._observe()
+        finally:
+            if previous is not None:
+                previous.close()
 
     def step(self, action: Action) -> StepResult:
         if self._world is None:

@@ -188,14 +188,23 @@ class NavigationEnv(Env):
         spec = spec_of(task)
         extras = self._extras_of_scene(spec)
         key = (spec.scene.kind, spec.scene.seed, extras)
-        if key != self._world_key or self._world is None:
-            if self._world is not None:
-                self._world.close()
-                self._world = None
-            room = NavRoom(spec.scene.kind, spec.scene.seed, [e.spec() for e in extras])
-            self._world = _World(room, self.params.render, self.resolution)
-            self._world_key = key
+        previous = None
+        try:
+            if key != self._world_key or self._world is None:
+                # the previous room is closed only after the new one has been drawn, so that a renderer pooled per
+                # process keeps its GL context across the switch instead of making a new one
+                previous, self._world, self._world_key = self._world, None, None
+                room = NavRoom(spec.scene.kind, spec.scene.seed, [e.spec() for e in extras])
+                self._world = _World(room, self.params.render, self.resolution)
+                self._world_key = key
+            return self._start(spec)
+        finally:
+            if previous is not None:
+                previous.close()
+
+    def _start(self, spec: NavTaskSpec) -> Observation:
         world = self._world
+        assert world is not None
         target = check_target(world.room, spec)
         self._spec = spec
         self._present = frozenset(e.id for e in spec.extra_objects)
