@@ -148,3 +148,18 @@ def test_groups_in_ray_actors_step_batched_and_survive_a_killed_actor():
     finally:
         if started:
             ray.shutdown()
+
+
+def test_prompt_mode_batches_texts_and_images_and_takes_answer_texts():
+    vec = ebgym.make_vector_env("corridor", 3, workers=2, context="fork", obs_mode="prompt", expert_labels=False)
+    try:
+        obs, info = vec.reset(seed=[0, 1, 2])
+        assert isinstance(obs["prompt"], tuple) and len(obs["prompt"]) == 3
+        assert all(p.count(ebgym.IMAGE_PLACEHOLDER) == len(imgs) >= 1 for p, imgs in zip(obs["prompt"], obs["images"]))
+        assert all("walk to cell" in p for p in obs["prompt"])
+        right = '{"executable_plan": [{"action_id": 1, "action_name": "step right"}]}'
+        obs, rew, term, trunc, info = vec.step((right, "not an answer", right))
+        assert list(info["format_ok"]) == [True, False, True] and list(info["executed_actions"][0]) == [1]
+        assert all(img.shape == (64, 64, 3) for imgs in obs["images"] for img in imgs)
+    finally:
+        vec.close()
