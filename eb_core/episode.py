@@ -28,8 +28,8 @@ from typing import Any
 from eb_core.config import EnvConfig
 from eb_core.env import Env, Observation, Task
 from eb_core.events import EpisodeStartEvent, StepEndEvent
-from eb_core.model import (EpisodeContext, ModelBackend, ModelBudgetExceeded, ModelFatalError, ModelRequest,
-                           ModelResponse, Usage)
+from eb_core.model import (EpisodeContext, ImagePart, ModelBackend, ModelBudgetExceeded, ModelFatalError,
+                           ModelRequest, ModelResponse, Usage)
 from eb_core.planner import VLMPlanner, encode_png
 from eb_core.records import EpisodeRecord
 
@@ -164,6 +164,8 @@ def _episode_flow(
             planner_steps += 1
             step_rec: dict[str, Any] = {"planner_step": planner_steps, "env_step_before": env_steps,
                                         "prompt": request.messages[-1].text}
+            # what the model was actually sent with this turn (no image under language_only; views, frames)
+            step_rec["sent_images"] = [p.name for p in request.messages[-1].content if isinstance(p, ImagePart)]
             # what the image the model saw shows (objects with a box), for the perception check (eb_core.errors)
             step_rec["visible_objects"] = [{"name": o.name, "type": o.type} for o in obs.objects if o.box is not None]
             if save_images and step_dir is not None and obs.primary_image is not None:

@@ -131,10 +131,10 @@ def _what_was_sent(step: dict[str, Any], conf: dict[str, Any]) -> tuple[bool, st
     planner = conf.get("planner") or {}
     env = conf.get("env") or {}
     if "sent_images" in step:
-        names = list(step.get("sent_images") or [])
+        names = [str(n) for n in step.get("sent_images") or []]
         if not names:
             return False, "The model was sent no image at this step (text only)."
-        return True, f"The model was sent {len(names)} image(s): {', '.join(names)}."
+        return True, f"The model was sent {len(names)} image(s): {_describe_images(names)}."
     if planner.get("language_only") or planner.get("text_state"):
         mode = "language_only" if planner.get("language_only") else "text_state"
         return False, f"planner.{mode}: the model was sent no image, only the prompt's text."
@@ -145,6 +145,26 @@ def _what_was_sent(step: dict[str, Any], conf: dict[str, Any]) -> tuple[bool, st
     if env.get("multi_view"):
         parts.append("the extra view(s) shown under it")
     return True, "The model was sent " + " and ".join(parts) + "."
+
+
+def _describe_images(names: list[str]) -> str:
+    """The images of one request in words: the frames (``frame-i``, oldest first), the views by name and the
+    visual in-context examples' images (``example-i``)."""
+    frames = [n for n in names if n.startswith("frame-")]
+    examples = [n for n in names if n.startswith("example-")]
+    views = [n for n in names if n not in frames and n not in examples]
+    out: list[str] = []
+    if examples:
+        out.append(f"{len(examples)} image(s) of the in-context examples")
+    if len(frames) == 1:
+        out.append("its current view (no earlier frame yet)")
+    elif frames:
+        out.append(f"the last {len(frames)} frames of its view, oldest first: the views after the "
+                   f"{len(frames) - 1} previous environment step(s), then the current one (below)")
+    if views:
+        out.append(" and ".join(f"the {v.replace('_', ' ')} view" for v in views)
+                   + (" (in this order, as below)" if len(views) > 1 else ""))
+    return "; ".join(out)
 
 
 def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path, conf: dict[str, Any] | None = None,
@@ -175,10 +195,10 @@ def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path, conf: dict[
         for extra in s.get("extra_images", []):
             img += f"<img src='{_e(extra)}' alt='extra view {_e(extra)}'>"
         if img and sent:
-            img = (f"<div style='display:flex;flex-direction:column;gap:6px'><p class=sent>{_e(what)}</p>"
-                   f"{img}</div>")
+            img = (f"<div style='display:flex;flex-direction:column;gap:6px;width:300px;flex:none'>"
+                   f"<p class=sent>{_e(what)}</p>{img}</div>")
         elif img:
-            img = (f"<div class=notsent style='display:flex;flex-direction:column;gap:6px'>"
+            img = (f"<div class=notsent style='display:flex;flex-direction:column;gap:6px;width:300px;flex:none'>"
                    f"<p class=tag>NOT SENT TO THE MODEL</p><p class=sent>{_e(what)} The picture is for you.</p>"
                    f"{img}</div>")
         else:
@@ -312,8 +332,10 @@ def write_html(run_dir: str | Path) -> Path:
         rate += f" (95% CI {100 * ci['ci_low']:.1f}–{100 * ci['ci_high']:.1f})"
     method = ci.get("ci_method") or "-"
     reps = f" · {repeats} repeats per task" if repeats > 1 else ""
+    errors = (f"output-error rate {100 * overall['output_error_rate']:.1f}%"
+              if measured and overall.get("output_error_rate") is not None else "output-error rate -")
     body = (f"<h1>{_e(title)}</h1>{banner}<p class=muted>{_e(root)} · {len(records)} episodes{reps} · {rate} · "
-            f"output-error rate {100 * overall.get('output_error_rate', 0):.1f}% · cost "
+            f"{errors} · cost "
             f"${meta.get('total_cost_usd', overall.get('cost_usd', 0)):.4f}</p>"
             "<h2>Subsets</h2><table><tr><th>subset</th><th>episodes</th><th>success % [95% CI]</th><th></th>"
             "<th>subgoal % [95% CI]</th><th></th><th>subgoal % (original's rule)</th></tr>"

@@ -41,30 +41,54 @@ def test_a_run_stopped_before_its_end_is_shown_from_its_episodes(tmp_path):
     page = write_html(tmp_path).read_text()
     assert "Incomplete run" in page and "computed from the 3 episode(s)" in page
     assert "<h1>corridor / scripted-oracle / none</h1>" in page and "?" not in page.split("<h2>")[0]
-    assert "success rate 100.0%" in page
+    assert "success rate 100.0%" in page and "output-error rate 0.0%" in page
     (tmp_path / "episodes.jsonl").write_text("")  # stopped before the first episode finished
     page = write_html(tmp_path).read_text()
-    assert "no measured episode yet" in page and "0.0%" not in page.split("<h2>")[0].split("output-error")[0]
+    head = page.split("<h2>")[0]
+    assert "no measured episode yet" in head and "output-error rate -" in head and "0.0%" not in head
 
 
 def test_language_only_marks_the_image_as_not_sent(tmp_path):
     run(make_config(limit=1, planner__language_only=True), tmp_path / "blind", plugins=[fixture_plugin])
+    steps = tmp_path / "blind" / "episodes" / "near-0" / "steps.jsonl"
+    assert all(json.loads(x)["sent_images"] == [] for x in steps.read_text().splitlines())  # recorded per step
+    write_html(tmp_path / "blind")
+    ep = (tmp_path / "blind" / "episodes" / "near-0" / "index.html").read_text()
+    assert "NOT SENT TO THE MODEL" in ep and "The model was sent no image at this step (text only)." in ep
+    assert "alt='the scene (not sent to the model) at step 1'" in ep
+    # older step files without sent_images are read with the run's config
+    rows = [json.loads(x) for x in steps.read_text().splitlines()]
+    steps.write_text("".join(json.dumps({k: v for k, v in r.items() if k != "sent_images"}) + "\n" for r in rows))
     write_html(tmp_path / "blind")
     ep = (tmp_path / "blind" / "episodes" / "near-0" / "index.html").read_text()
     assert "NOT SENT TO THE MODEL" in ep and "planner.language_only: the model was sent no image" in ep
-    assert "alt='the scene (not sent to the model) at step 1'" in ep
     run(make_config(limit=1), tmp_path / "seeing", plugins=[fixture_plugin])
     write_html(tmp_path / "seeing")
     ep = (tmp_path / "seeing" / "episodes" / "near-0" / "index.html").read_text()
-    assert "NOT SENT" not in ep and "The model was sent the image below." in ep
-    # a step that lists what was in the request is taken at its word
-    steps = tmp_path / "seeing" / "episodes" / "near-0" / "steps.jsonl"
-    rows = [json.loads(x) for x in steps.read_text().splitlines()]
-    rows[0]["sent_images"] = []
-    steps.write_text("".join(json.dumps(r) + "\n" for r in rows))
-    write_html(tmp_path / "seeing")
-    ep = (tmp_path / "seeing" / "episodes" / "near-0" / "index.html").read_text()
-    assert "NOT SENT TO THE MODEL" in ep and "sent no image at this step" in ep
+    assert "NOT SENT" not in ep and "The model was sent 1 image(s): the top view." in ep
+
+
+def test_the_viewer_names_the_frames_and_views_that_were_sent(tmp_path):
+    one_step = json.dumps({"reasoning_and_reflection": "r", "executable_plan": [{"action_id": 1}]})
+    model = {"name": "one-step", "backend": "scripted", "answers": [one_step] * 4}
+    run(make_config(limit=1, planner__multi_step_images=3, model=model), tmp_path / "frames",
+        plugins=[fixture_plugin])
+    steps = [json.loads(x) for x in
+             (tmp_path / "frames" / "episodes" / "near-0" / "steps.jsonl").read_text().splitlines()]
+    assert steps[0]["sent_images"] == ["frame-0"]  # just after reset there is one frame
+    assert len(steps) >= 2 and steps[1]["sent_images"][-1] == f"frame-{len(steps[1]['sent_images']) - 1}"
+    write_html(tmp_path / "frames")
+    ep = (tmp_path / "frames" / "episodes" / "near-0" / "index.html").read_text()
+    n = len(steps[1]["sent_images"])
+    assert n > 1 and f"The model was sent {n} image(s): the last {n} frames of its view, oldest first" in ep
+    assert "The model was sent 1 image(s): its current view (no earlier frame yet)." in ep
+    run(make_config(limit=1, env__multi_view=True), tmp_path / "views", plugins=[fixture_plugin])
+    steps = [json.loads(x) for x in
+             (tmp_path / "views" / "episodes" / "near-0" / "steps.jsonl").read_text().splitlines()]
+    assert steps[0]["sent_images"] == ["top", "side"]
+    write_html(tmp_path / "views")
+    ep = (tmp_path / "views" / "episodes" / "near-0" / "index.html").read_text()
+    assert "The model was sent 2 image(s): the top view and the side view (in this order, as below)." in ep
 
 
 def _two_runs(tmp_path):
