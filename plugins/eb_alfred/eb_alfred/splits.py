@@ -99,6 +99,11 @@ def _one(split: str, index: int, keys: tuple[Any, ...]) -> Task:
     raise RuntimeError(f"alfred {split} task {index}: no valid draw in {_TRIES} tries (a generator bug)")
 
 
+_recent = lru_cache(maxsize=512)(_one)
+"""The last 512 tasks made in this process: drawing and checking a task again (a reset of the same seed, a group
+of rollouts from one task, ``options={"task_id": ...}``) is a dictionary look-up. Callers get deep copies."""
+
+
 def split_tasks(split: str, start: int, count: int, task_dir: str | None = None, **_: Any) -> list[Task]:
     """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``)."""
     if split not in SPLITS:
@@ -107,7 +112,7 @@ def split_tasks(split: str, start: int, count: int, task_dir: str | None = None,
     if start < 0 or count < 0:
         raise ValueError(f"alfred: split_tasks needs start >= 0 and count >= 0, got start={start}, count={count}")
     keys = test_keys(task_dir)
-    return [_one(split, i, keys) for i in range(start, start + count)]
+    return [_recent(split, i, keys).model_copy(deep=True) for i in range(start, start + count)]
 
 
 def write_split(out: str, split: str, n: int, start: int = 0) -> list[str]:

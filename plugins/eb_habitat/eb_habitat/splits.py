@@ -56,6 +56,11 @@ def _one(split: str, index: int, scenes: frozenset[Any], instructions: frozenset
     raise RuntimeError(f"habitat {split} task {index}: no valid draw in 2000 tries (a generator bug)")
 
 
+_recent = lru_cache(maxsize=512)(_one)
+"""The last 512 tasks made in this process: drawing and checking a task again (a reset of the same seed, a group
+of rollouts from one task, ``options={"task_id": ...}``) is a dictionary look-up. Callers get deep copies."""
+
+
 def split_tasks(split: str, start: int, count: int, task_dir: str | None = None, **_: Any) -> list[Task]:
     """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``)."""
     if split not in SPLITS:
@@ -64,7 +69,7 @@ def split_tasks(split: str, start: int, count: int, task_dir: str | None = None,
     if start < 0 or count < 0:
         raise ValueError(f"habitat: split_tasks needs start >= 0 and count >= 0, got start={start}, count={count}")
     scenes, instructions = test_keys(task_dir)
-    return [_one(split, i, scenes, instructions) for i in range(start, start + count)]
+    return [_recent(split, i, scenes, instructions).model_copy(deep=True) for i in range(start, start + count)]
 
 
 def write_split(out: str, split: str, n: int, start: int = 0) -> list[str]:

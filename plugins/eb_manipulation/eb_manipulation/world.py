@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from eb_scenekit.gl import import_mujoco
+from eb_scenekit.scene import compile_model
 
 from eb_manipulation.actions import bin_to_angle, bin_to_pos, euler_to_matrix
 from eb_manipulation.kinematics import Arm, Blocker
@@ -75,7 +76,7 @@ class World:
     def __init__(self, scene: SceneSpec, resolution: int = 500, render_meshes: bool = True):
         self.scene = scene
         built = build_scene(scene, resolution=resolution, visual=render_meshes)
-        self.model = mujoco.MjModel.from_xml_string(built.xml, assets=built.assets)
+        self.model = compile_model(built.xml, built.assets)  # a copy of a recent compile of the same scene
         self.data = mujoco.MjData(self.model)
         m = self.model
         self.geom_owner: dict[int, str] = {}

@@ -158,6 +158,11 @@ def _one(split: str, index: int, rooms: frozenset[tuple[str, int]], instructions
     raise RuntimeError(f"navigation {split} task {index}: no valid draw in {MAX_TRIES} tries (a generator bug)")
 
 
+_recent = lru_cache(maxsize=512)(_one)
+"""The last 512 tasks made in this process: drawing and checking a task again (a reset of the same seed, a group
+of rollouts from one task, ``options={"task_id": ...}``) is a dictionary look-up. Callers get deep copies."""
+
+
 def split_tasks(split: str, start: int, count: int, task_file: str | None = None, **_: Any) -> list[Task]:
     """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``)."""
     if split not in SPLITS:
@@ -166,7 +171,7 @@ def split_tasks(split: str, start: int, count: int, task_file: str | None = None
     if start < 0 or count < 0:
         raise ValueError(f"navigation: split_tasks needs start >= 0 and count >= 0, got start={start}, count={count}")
     rooms, instructions = test_keys(task_file)
-    return [_one(split, i, rooms, instructions) for i in range(start, start + count)]
+    return [_recent(split, i, rooms, instructions).model_copy(deep=True) for i in range(start, start + count)]
 
 
 def write_split(out: str, split: str, n: int, start: int = 0) -> str:

@@ -7,7 +7,9 @@ compiles it. The same calls always produce the same XML string, byte for byte.
 
 from __future__ import annotations
 
+import copy
 import math
+from collections import OrderedDict
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Literal
@@ -28,6 +30,8 @@ __all__ = [
     "RoomShell",
     "SceneBuilder",
     "SceneObject",
+    "compile_model",
+    "forward_without_contacts",
     "lookat_xyaxes",
     "set_agent_pose",
 ]
@@ -607,10 +611,40 @@ class SceneBuilder:
         collision detection: :func:`forward_without_contacts`)."""
         from eb_scenekit._mujoco import mujoco
 
-        model = mujoco.MjModel.from_xml_string(self.to_xml())
+        model = compile_model(self.to_xml())
         data = mujoco.MjData(model)
         forward_without_contacts(model, data)
         return model, data
+
+
+MODEL_CACHE_SIZE = 4
+"""Compiled models :func:`compile_model` keeps per process (the most recently used ones)."""
+_MODELS: OrderedDict[tuple[object, ...], object] = OrderedDict()
+
+
+def compile_model(xml: str, assets: Mapping[str, bytes] | None = None) -> object:
+    """``mujoco.MjModel.from_xml_string(xml, assets)``, compiled once per process for a recently seen document.
+
+    A reset of a task that was reset a moment ago (a group of rollouts from one state, a repeated episode, the
+    same task in another env of the process) gets a copy of the model compiled then: about 1 ms instead of 0.05-0.2
+    s. The copy is a separate model (changing its colours or flags leaves the cached one alone) with the same
+    numbers, so it renders and simulates exactly like a fresh compile. The key is the document and each asset's
+    name, size and hash; at most :data:`MODEL_CACHE_SIZE` models are kept.
+    """
+    from eb_scenekit._mujoco import mujoco
+
+    files = tuple(sorted((name, len(data), hash(data)) for name, data in (assets or {}).items()))
+    key = (xml, files)
+    cached = _MODELS.get(key)
+    if cached is None:
+        cached = mujoco.MjModel.from_xml_string(xml, assets=dict(assets)) if assets else \
+            mujoco.MjModel.from_xml_string(xml)
+        _MODELS[key] = cached
+        while len(_MODELS) > MODEL_CACHE_SIZE:
+            _MODELS.popitem(last=False)
+    else:
+        _MODELS.move_to_end(key)
+    return copy.copy(cached)
 
 
 def forward_without_contacts(model: object, data: object) -> None:
