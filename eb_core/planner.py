@@ -94,11 +94,16 @@ def field_descriptions(space: ActionSpace, parts: PromptParts | None = None) -> 
 
 
 def response_schema(space: ActionSpace, language_only: bool, parts: PromptParts | None = None,
-                    max_plan_length: int | None = None) -> dict[str, Any]:
+                    max_plan_length: int | None = None, empty_plan_ok: bool = True) -> dict[str, Any]:
     """JSON schema of a planner answer for ``space`` (sent where the backend supports it).
 
     Every field carries a ``description`` (the original's generation guide); ``language_only`` (no image)
-    drops ``visual_state_description``.
+    drops ``visual_state_description``. The schema also says what a usable answer is, so constrained
+    decoding (llama.cpp grammars, vLLM/SGLang guided decoding) can only produce one: ``action_id`` is one of
+    the ids of this step's action list (``enum``: llama.cpp's schema converter has no ``minimum``/``maximum``),
+    ``action_name`` no longer than the longest name, the plan at most ``max_plan_length`` actions, and at
+    least one where the world counts an empty plan as an output error (``empty_plan_ok=False``: Navigation;
+    elsewhere an empty plan ends the episode, a legitimate answer).
     """
     fields = answer_fields(not language_only)
     help_ = field_descriptions(space, parts)
@@ -106,11 +111,30 @@ def response_schema(space: ActionSpace, language_only: bool, parts: PromptParts 
     plan_help = help_["executable_plan"]
     if max_plan_length is not None:
         plan_help += f" At most {max_plan_length} actions."
-    props["executable_plan"] = {"type": "array", "description": plan_help, "items": space.plan_item_schema()}
+    plan: dict[str, Any] = {"type": "array", "description": plan_help, "items": _plan_item_schema(space)}
+    if not empty_plan_ok:
+        plan["minItems"] = 1
+    if max_plan_length is not None:
+        plan["maxItems"] = max_plan_length
+    props["executable_plan"] = plan
     return {
         "name": "embodied_plan",
         "schema": {"type": "object", "properties": props, "required": fields, "additionalProperties": False},
     }
+
+
+def _plan_item_schema(space: ActionSpace) -> dict[str, Any]:
+    """The space's plan item schema, bounded to this step's valid actions where the space has named ones."""
+    item = space.plan_item_schema()
+    if isinstance(space, VectorActionSpace) or not len(space):
+        return item
+    item = {**item, "properties": dict(item["properties"])}
+    if "action_id" in item["properties"]:
+        item["properties"]["action_id"] = {**item["properties"]["action_id"], "enum": list(range(len(space)))}
+    if "action_name" in item["properties"]:
+        longest = max(len(a) for a in space.actions)
+        item["properties"]["action_name"] = {**item["properties"]["action_name"], "maxLength": longest}
+    return item
 
 
 class VLMPlanner:
@@ -387,7 +411,9 @@ class VLMPlanner:
         return ModelRequest(
             messages=tuple([m for m, _ in earlier] + [current]),
             response_schema=(response_schema(self.space, not self.sends_images, self.parts,
-                                             self.config.max_plan_length) if self.use_schema else None),
+                                             self.config.max_plan_length,
+                                             empty_plan_ok=self.env_config.empty_plan_ends)
+                             if self.use_schema else None),
             seed=seed,
         )
 

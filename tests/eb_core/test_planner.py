@@ -272,6 +272,26 @@ def test_schema_describes_every_field_in_the_original_order():
     assert blind["required"] == ["reasoning_and_reflection", "language_plan", "executable_plan"]
 
 
+def test_schema_allows_only_usable_plans_of_this_step():
+    env = RichCorridor()
+    space = env.action_space()
+    n = len(space)
+    item = response_schema(space, language_only=True)["schema"]["properties"]["executable_plan"]["items"]
+    assert item["properties"]["action_id"]["enum"] == list(range(n))  # the listed ids, nothing else
+    assert item["properties"]["action_name"]["maxLength"] == max(len(a) for a in space.actions)
+    # an empty plan is an output error only where it does not end the episode (Navigation)
+    nav = response_schema(space, True, max_plan_length=5, empty_plan_ok=False)["schema"]["properties"]
+    assert nav["executable_plan"]["minItems"] == 1 and nav["executable_plan"]["maxItems"] == 5
+    other = response_schema(space, True)["schema"]["properties"]["executable_plan"]
+    assert "minItems" not in other and "maxItems" not in other
+    # the planner sends the world's rule and this step's action list
+    for ends, want in ((True, None), (False, 1)):
+        _, b = play([plan(1, 1)], schema=True, env__empty_plan_ends=ends, planner__max_plan_length=4)
+        sent = b.requests[0].response_schema["schema"]["properties"]["executable_plan"]
+        assert sent.get("minItems") == want and sent["maxItems"] == 4
+        assert sent["items"]["properties"]["action_id"]["enum"] == list(range(n))
+
+
 def test_vector_schema_items_are_described():
     from eb_core.env import VectorActionSpace
 

@@ -205,6 +205,24 @@ def _fits_strict(schema: Any) -> bool:
     return all(_fits_strict(v) for v in subs)
 
 
+def _strict_form(schema: Any) -> Any:
+    """``schema`` without the keywords OpenAI strict mode refuses (length and size bounds: the planner's
+    ``minItems``/``maxItems``/``maxLength``); the ``enum`` of action ids and the structure stay."""
+    if isinstance(schema, list):
+        return [_strict_form(s) for s in schema]
+    if not isinstance(schema, dict):
+        return schema
+    out = {k: v for k, v in schema.items() if k not in _STRICT_UNSUPPORTED}
+    if isinstance(out.get("properties"), dict):
+        out["properties"] = {name: _strict_form(sub) for name, sub in out["properties"].items()}
+    if isinstance(out.get("$defs"), dict):
+        out["$defs"] = {name: _strict_form(sub) for name, sub in out["$defs"].items()}
+    for key in ("items", "anyOf", "allOf", "oneOf"):
+        if key in out:
+            out[key] = _strict_form(out[key])
+    return out
+
+
 class _Refused(Exception):
     """A deterministic refusal met while probing (not an error of the run)."""
 
@@ -385,8 +403,13 @@ class LiteLLMBackend(ModelBackend):
         mode = self.settle()
         strict = self.settings.json_schema_strict
         if mode == "json_schema" and schema is not None and strict is None:
-            body = schema["schema"] if isinstance(schema.get("schema"), dict) else schema
-            strict = _fits_strict(body)
+            # strict when the schema fits once the bounds strict mode refuses are left out (the prompt still
+            # states them); otherwise the whole schema, not strict
+            wrapped = isinstance(schema.get("schema"), dict)
+            stripped = _strict_form(schema["schema"] if wrapped else schema)
+            strict = _fits_strict(stripped)
+            if strict:
+                schema = {**schema, "schema": stripped} if wrapped else stripped
         return response_format(mode, schema, bool(strict))
 
     def _settings_payload(self, request: ModelRequest) -> dict[str, Any]:

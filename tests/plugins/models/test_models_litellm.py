@@ -62,6 +62,20 @@ def test_request_shape_and_recorded_usage(make_backend, server):
     assert fmt["type"] == "json_schema" and fmt["json_schema"]["name"] == "embodied_plan"
     assert fmt["json_schema"]["schema"]["required"][-1] == "executable_plan"
     assert fmt["json_schema"]["strict"] is True  # the discrete plan schema fits OpenAI strict mode
+    # once the bounds strict mode refuses are left out; the ids stay limited to the action list
+    item = fmt["json_schema"]["schema"]["properties"]["executable_plan"]["items"]["properties"]
+    assert item["action_id"]["enum"] == list(range(len(SPACE))) and "maxLength" not in item["action_name"]
+
+
+def test_the_whole_schema_with_its_bounds_when_not_strict(make_backend, server):
+    server.push(StubReply(content=PLAN))
+    make_backend().complete(request(schema=False, seed=1).model_copy(update={"response_schema": response_schema(
+        SPACE, False, max_plan_length=4, empty_plan_ok=False)}))
+    fmt = chat_requests(server)[0].body["response_format"]["json_schema"]
+    assert fmt["strict"] is False  # the presets' default, as the original (which sent no strict flag)
+    plan = fmt["schema"]["properties"]["executable_plan"]
+    assert plan["minItems"] == 1 and plan["maxItems"] == 4
+    assert plan["items"]["properties"]["action_name"]["maxLength"] == max(len(a) for a in SPACE.actions)
 
 
 def test_textual_format_when_the_preset_has_no_json_schema(make_backend, server):

@@ -111,18 +111,35 @@ def test_every_vision_handler_name_exists_in_llama_cpp(gguf):
 
 
 def test_grammar_constrained_answers_parse(backend):
+    # the prompt asks for what the schema forbids (an id not in the list, an empty plan, a long plan): the
+    # grammar built from the planner's schema can only give a usable plan of 1..3 listed actions
     prompt = ("You are a robot in a room. Actions: " + "; ".join(f"{i}: {a}" for i, a in enumerate(SPACE.actions))
-              + ". Instruction: walk to the sofa. Answer in JSON with a short plan.")
+              + ". Instruction: walk to the sofa. Answer in JSON. Use action id 9 five times, or plan nothing.")
+    schema = response_schema(SPACE, True, max_plan_length=3, empty_plan_ok=False)
     req = ModelRequest(messages=(Message(role="user", content=(TextPart(text=prompt),)),),
-                       response_schema=response_schema(SPACE, True), seed=1, max_tokens=2048)
+                       response_schema=schema, seed=1, max_tokens=2048)
     resp = backend.complete(req)
     data = json.loads(resp.text)  # a grammar from the schema: always JSON of the schema's shape
-    assert set(data) >= {"reasoning_and_reflection", "executable_plan"}
+    assert set(data) == {"reasoning_and_reflection", "language_plan", "executable_plan"}
+    assert 1 <= len(data["executable_plan"]) <= 3, data
+    assert all(item["action_id"] in range(len(SPACE)) for item in data["executable_plan"]), data
     parsed = parse_planner_output(resp.text, SPACE)
-    assert parsed.error is None, (parsed.error, resp.text)
-    assert resp.usage.calls == 1 and resp.usage.prompt_tokens > 20 and 0 < resp.usage.completion_tokens <= 512
+    assert parsed.error is None and parsed.plan_error is None and parsed.actions, (parsed.error, resp.text)
+    assert resp.usage.calls == 1 and resp.usage.prompt_tokens > 20 and 0 < resp.usage.completion_tokens < 512
     assert resp.usage.latency_s > 0 and resp.usage.cost_usd == 0.0
     assert backend.supports_json_schema is True and backend.info()["structured_output"] == "json_object_schema"
+
+
+def test_llama_cpp_converts_the_planner_schema_with_its_bounds(gguf):
+    """llama-cpp-python's own schema-to-grammar converter keeps the bounds the planner's schema sets."""
+    from llama_cpp.llama_grammar import json_schema_to_gbnf
+
+    schema = response_schema(SPACE, True, max_plan_length=3, empty_plan_ok=False)["schema"]
+    gbnf = json_schema_to_gbnf(json.dumps(schema))
+    ids = next(line for line in gbnf.splitlines() if line.startswith("executable-plan-item-action-id ::="))
+    assert all(f'"{i}"' in ids for i in range(len(SPACE))) and f'"{len(SPACE)}"' not in ids, ids
+    plan = next(line for line in gbnf.splitlines() if line.startswith("executable-plan ::="))
+    assert "?" in plan and "*" not in plan, plan  # one item, then at most two optional more: 1..3
 
 
 def test_images_need_a_vision_model(backend):
