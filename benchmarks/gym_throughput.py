@@ -6,7 +6,7 @@
 
 Raw mode with rendering on (every step renders the world's first-person image). For each world:
 
-* ``render_s``: one raw step in this process (mean over ``--steps``), the cost of one env step;
+* ``render_s``: one raw step in this process (median over ``--steps``), the cost of one env step;
   ``bound`` = cores / ``render_s``, the most steps per second this machine can give.
 * ``reset_median_s`` / ``reset_max_s``: ``reset()`` of one env over ``--resets`` different tasks.
 * for each size N: an :class:`~eb_core.gym.EBVectorEnv` of N environments over ``--workers`` worker processes
@@ -14,6 +14,9 @@ Raw mode with rendering on (every step renders the world's first-person image). 
   batched random steps after a warm-up step; ``steps_per_s`` = N x steps / wall time, ``ratio`` = that / bound;
   ``pss_mb_per_env`` = proportional set size of the worker processes after the steps / N (pages the workers
   share with each other and the fork server are split between them, so the sum is the memory they really take).
+
+``load_avg_1min``: the machine's load average when a figure was taken (other jobs on the machine make every
+figure, the bound included, noisy).
 
 Steps that end an episode are followed by Gymnasium's next-step autoreset, so reset cost is inside the rate.
 """
@@ -65,13 +68,13 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
         if term or trunc:
             env.reset()
     env.close()
-    render_s = statistics.mean(step_times)
+    render_s = statistics.median(step_times)
     cores = os.cpu_count() or 1
     bound = cores / render_s
     out: dict[str, Any] = {"world": world, "gym_id": gid, "resolution": resolution, "cores": cores,
                            "render_s": round(render_s, 4), "bound_steps_per_s": round(bound, 1),
                            "reset_median_s": round(statistics.median(times), 3), "reset_max_s": round(max(times), 3),
-                           "sizes": {}}
+                           "load_avg_1min": round(os.getloadavg()[0], 1), "sizes": {}}
     for n in sizes:
         w = min(workers, n)
         n_steps = max(2, min(steps, max_env_steps // n))
@@ -96,10 +99,10 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
         out["sizes"][n] = {"workers": w, "steps": n_steps, "steps_per_s": round(rate, 1),
                            "ratio_to_bound": round(rate / bound, 2), "pss_mb_per_env": round(per_env, 1),
                            "pss_mb_workers": round(float(np.nansum(pss)), 1), "start_s": round(start_s, 2),
-                           "vector_reset_s": round(reset_s, 2)}
+                           "vector_reset_s": round(reset_s, 2), "load_avg_1min": round(os.getloadavg()[0], 1)}
         print(f"  {world} N={n} over {w} processes: {rate:.1f} steps/s ({rate / bound:.2f} of the bound "
               f"{bound:.1f}), {per_env:.0f} MB PSS per env ({np.nansum(pss):.0f} MB in all); start {start_s:.1f} s, "
-              f"reset of all {reset_s:.1f} s", flush=True)
+              f"reset of all {reset_s:.1f} s; load {os.getloadavg()[0]:.1f}", flush=True)
     return out
 
 
