@@ -15,7 +15,8 @@ Raw mode with rendering on (every step renders the world's first-person image). 
   ``pss_mb_per_env`` = proportional set size of the worker processes after the steps / N (pages the workers
   share with each other and the fork server are split between them, so the sum is the memory they really take).
 
-``load_avg_1min``: the machine's load average when a figure was taken (other jobs on the machine make every
+A size whose memory (the largest PSS per env so far x N) would exceed 60 % of the available memory is skipped
+and says so. ``load_avg_1min``: the machine's load average when a figure was taken (other jobs on the machine make every
 figure, the bound included, noisy).
 
 Steps that end an episode are followed by Gymnasium's next-step autoreset, so reset cost is inside the rate.
@@ -42,6 +43,14 @@ def _pss_mb(pid: int) -> float:
     except OSError:
         pass
     return float("nan")
+
+
+def _available_mb() -> float:
+    with open("/proc/meminfo") as fh:
+        for line in fh:
+            if line.startswith("MemAvailable:"):
+                return int(line.split()[1]) / 1024
+    return float("inf")
 
 
 def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolution: int, workers: int,
@@ -75,8 +84,15 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
                            "render_s": round(render_s, 4), "bound_steps_per_s": round(bound, 1),
                            "reset_median_s": round(statistics.median(times), 3), "reset_max_s": round(max(times), 3),
                            "load_avg_1min": round(os.getloadavg()[0], 1), "sizes": {}}
+    per_env_mb = 0.0
     for n in sizes:
         w = min(workers, n)
+        need, avail = per_env_mb * n, _available_mb()
+        if need > 0.6 * avail:  # a shared machine: do not push it into the OOM killer
+            out["sizes"][n] = {"skipped": f"would need ~{need / 1024:.1f} GB ({per_env_mb:.0f} MB x {n}), "
+                                          f"{avail / 1024:.1f} GB available"}
+            print(f"  {world} N={n}: skipped, {out['sizes'][n]['skipped']}", flush=True)
+            continue
         n_steps = max(2, min(steps, max_env_steps // n))
         t = time.perf_counter()
         vec = ebgym.make_vector_env(world, n, workers=w, **kwargs)
@@ -96,6 +112,7 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
             vec.close()
         rate = n * n_steps / wall
         per_env = float(np.nansum(pss)) / n
+        per_env_mb = max(per_env_mb, per_env)
         out["sizes"][n] = {"workers": w, "steps": n_steps, "steps_per_s": round(rate, 1),
                            "ratio_to_bound": round(rate / bound, 2), "pss_mb_per_env": round(per_env, 1),
                            "pss_mb_workers": round(float(np.nansum(pss)), 1), "start_s": round(start_s, 2),
