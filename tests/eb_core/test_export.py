@@ -142,7 +142,8 @@ def test_chat_export_of_a_noisy_expert_run_labels_every_call_with_the_expert_and
     plain = tmp_path / "plain"
     assert main(["export", str(noisy_train_run), "--out", str(plain), "--format", "chat"]) == 0
     first = json.loads((plain / "chat.jsonl").read_text().splitlines()[0])
-    assert first["messages"][1]["content"] == steps[0]["raw_output"] and first["expert_action"] == lines[0]["expert_action"]
+    assert first["messages"][1]["content"] == steps[0]["raw_output"]
+    assert first["expert_action"] == lines[0]["expert_action"]
 
 
 def test_expert_labels_need_a_run_that_recorded_them(mixed, tmp_path, capsys):

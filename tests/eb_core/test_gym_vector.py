@@ -142,7 +142,8 @@ def test_groups_in_ray_actors_step_batched_and_survive_a_killed_actor():
             assert trunc[:2].all() and "Ray actor" in info["error"][0] and not trunc[2:].any()
             assert vec.restarts == 1 and vec.worker_pids[0] != pids[0]
             obs, rew, term, trunc, info = vec.step(np.full(4, WAIT))
-            assert list(np.flatnonzero(info["_instruction"])) == [0, 1] and "error" not in info and list(info["steps"][2:]) == [3, 3]
+            assert list(np.flatnonzero(info["_instruction"])) == [0, 1] and "error" not in info
+            assert list(info["steps"][2:]) == [3, 3]
         finally:
             vec.close()
     finally:
