@@ -43,6 +43,7 @@ __all__ = [
     "play_jobs",
     "random_action",
     "run_audit",
+    "find_form_generator",
     "format_audit",
 ]
 
@@ -93,6 +94,8 @@ P50_WARN = 0.8
 RISE_Z = 3.09  # one-sided p < 0.001 for each pair of noise levels
 PARALLEL_ALPHA = 0.01
 PARALLEL_NOISE = 0.5
+FRESH_PER_SUBSET = 20
+"""Tasks per subset of the fresh form the parallel-forms probe generates (docs/audit.md: its power)."""
 MAX_LISTED = 40
 
 
@@ -117,6 +120,12 @@ class AuditSetup:
     quick_per_subset: int = 20
     generator: Callable[..., Any] | None = None
     """The world's ``eb tasks generate`` function, for the parallel-forms probe."""
+    form_generator: Callable[..., Any] | None = None
+    """The world's ``audit_form(out, seed, per_subset)`` (beside its generator, see :func:`find_form_generator`):
+    writes a fresh form of only ``per_subset`` tasks per subset. Without it the whole task set is generated."""
+    parallel_per_subset: int | None = None
+    """Tasks per subset of the fresh form; None = :data:`FRESH_PER_SUBSET`, at most as many as the shipped form
+    plays (see :meth:`fresh_per_subset`)."""
     parallel_source: str | None = None
     """A task file or folder to compare with instead of generating one."""
     parallel_seed: int = 2_718
@@ -146,6 +155,14 @@ class AuditSetup:
         tasks = list(self.tasks if tasks is None else tasks)
         k = self.cap()
         return _spread(tasks, k) if k is not None else tasks
+
+    def fresh_per_subset(self) -> int:
+        """Tasks per subset of the fresh parallel form: ``parallel_per_subset``, else :data:`FRESH_PER_SUBSET` but
+        no more than the shipped form plays per subset."""
+        if self.parallel_per_subset is not None:
+            return self.parallel_per_subset
+        shipped = max((len(ts) for ts in _by_subset(self.tasks).values()), default=1)
+        return min(FRESH_PER_SUBSET, self.cap() or shipped, shipped)
 
     def cap(self) -> int | None:
         if "cap" not in self._cache:
@@ -698,15 +715,21 @@ def probe_grammar(setup: AuditSetup) -> ProbeResult:
 # -- the expert ---------------------------------------------------------------------------------------------
 
 
-def _curve_outcomes(setup: AuditSetup, levels: list[tuple[float, int]],
-                    tasks: list[Task] | None = None) -> dict[tuple[float, int], dict[str, EpisodeOutcome]]:
-    """Noisy-expert outcomes per (noise, repeat) and task, played in one batch and cached on the setup."""
+def _curve_key(params_key: str, noise: float, repeat: int) -> tuple[Any, ...]:
+    return ("curve", noise, repeat) if not params_key else ("curve", params_key, noise, repeat)
+
+
+def _curve_outcomes(setup: AuditSetup, levels: list[tuple[float, int]], tasks: list[Task] | None = None,
+                    params_key: str = "") -> dict[tuple[float, int], dict[str, EpisodeOutcome]]:
+    """Noisy-expert outcomes per (noise, repeat) and task, played in one batch and cached on the setup (so the
+    noise curve, the closed loop and the parallel forms share episodes). ``params_key`` is the JSON of another
+    form's env params (empty: the tasks under audit)."""
     tasks = setup.sampled_tasks() if tasks is None else tasks
-    todo = [_Job(t, noise=noise, repeat=rep) for noise, rep in levels for t in tasks
-            if t.id not in setup._cache.get(("curve", noise, rep), {})]
+    todo = [_Job(t, noise=noise, repeat=rep, params=params_key) for noise, rep in levels for t in tasks
+            if t.id not in setup._cache.get(_curve_key(params_key, noise, rep), {})]
     for job, out in zip(todo, play_jobs(setup, todo)):
-        setup._cache.setdefault(("curve", job.noise, job.repeat), {})[job.task.id] = out
-    return {lv: {t.id: setup._cache[("curve", *lv)][t.id] for t in tasks} for lv in levels}
+        setup._cache.setdefault(_curve_key(params_key, job.noise, job.repeat), {})[job.task.id] = out
+    return {lv: {t.id: setup._cache[_curve_key(params_key, *lv)][t.id] for t in tasks} for lv in levels}
 
 
 def probe_closed_loop(setup: AuditSetup) -> ProbeResult:
@@ -766,21 +789,50 @@ def probe_noise_curve(setup: AuditSetup) -> ProbeResult:
 # -- parallel forms -----------------------------------------------------------------------------------------
 
 
-def _fresh_form(setup: AuditSetup, workdir: Path) -> tuple[list[Task], dict[str, Any], str]:
-    """Tasks of another form (``parallel_source``, or a fresh file from the world's generator) and its params."""
+def find_form_generator(generator: Callable[..., Any] | None) -> Callable[..., Any] | None:
+    """The ``audit_form(out, seed, per_subset)`` function defined beside a world's task generator (in the same
+    module), or None. It writes a fresh form with ``per_subset`` tasks of every subset, drawn the way the
+    shipped set is drawn, to ``out`` (a task file or folder ``load_tasks`` reads): the parallel-forms probe
+    then generates only what it plays instead of the whole task set."""
+    import inspect
+
+    if generator is None:
+        return None
+    fn = getattr(inspect.getmodule(generator), "audit_form", None)
+    return fn if callable(fn) else None
+
+
+def _write_fresh_form(setup: AuditSetup, workdir: Path) -> tuple[str, str, bool]:
+    """Generate a fresh form in ``workdir``: (its path, how it was made, whether it is a per-subset sample)."""
+    if setup.generator is None and setup.form_generator is None:
+        raise LookupError("the world registers no task generator")
+    src = workdir / "parallel"
+    sample = setup.form_generator is not None
+    with contextlib.redirect_stdout(io.StringIO()):
+        if sample:
+            k = setup.fresh_per_subset()
+            setup.form_generator(out=str(src), seed=setup.parallel_seed, per_subset=k)  # type: ignore[misc]
+            how = f"generated with seed={setup.parallel_seed}, {k} tasks per subset"
+        else:
+            setup.generator(out=str(src), seed=setup.parallel_seed)  # type: ignore[misc]
+            how = f"generated with seed={setup.parallel_seed}"
+    if src.is_file():
+        src = src.rename(workdir / "parallel.json")
+    return str(src), how, sample
+
+
+def _fresh_form(setup: AuditSetup, workdir: Path) -> tuple[list[Task], dict[str, Any], str, bool]:
+    """Tasks of another form (``parallel_source``, or a fresh one from the world's generator, made here or already
+    under way in the background), its env params, how it was made and whether it is a per-subset sample."""
     params = dict(setup.env_params)
+    sample = False
     if setup.parallel_source:
         src = Path(setup.parallel_source)
         how = f"given {src}"
     else:
-        if setup.generator is None:
-            raise LookupError("the world registers no task generator")
-        src = workdir / "parallel"
-        with contextlib.redirect_stdout(io.StringIO()):
-            setup.generator(out=str(src), seed=setup.parallel_seed)
-        if src.is_file():
-            src = src.rename(workdir / "parallel.json")
-        how = f"generated with seed={setup.parallel_seed}"
+        pending = setup._cache.pop("fresh_pending", None)
+        path, how, sample = pending.result() if pending is not None else _write_fresh_form(setup, workdir)
+        src = Path(path)
     if src.is_dir():
         params["task_dir"] = str(src)
         params.pop("task_file", None)
@@ -789,24 +841,30 @@ def _fresh_form(setup: AuditSetup, workdir: Path) -> tuple[list[Task], dict[str,
         params.pop("task_dir", None)
     else:
         raise FileNotFoundError(f"no task file or folder at {src}")
-    return setup.env_cls.load_tasks(**params), params, how
+    return setup.env_cls.load_tasks(**params), params, how, sample
 
 
 def probe_parallel_forms(setup: AuditSetup) -> ProbeResult:
+    import json
+
     threshold = (f"no subset differs at p < {PARALLEL_ALPHA} (noise {PARALLEL_NOISE}, "
                  f"{setup.parallel_repeats} runs/task)")
     if setup.quick:
         return ProbeResult(name="parallel_forms", passed=True, skipped=True, value="skipped (--quick)",
                            threshold=threshold)
+    levels = [(PARALLEL_NOISE, r) for r in range(setup.parallel_repeats)]
     with tempfile.TemporaryDirectory(prefix="eb-audit-") as tmp:
         try:
-            fresh, params, how = _fresh_form(setup, Path(tmp))
+            fresh, params, how, sample = _fresh_form(setup, Path(tmp))
         except LookupError as exc:
             return ProbeResult(name="parallel_forms", passed=True, skipped=True, value=f"n/a ({exc})",
                                threshold=threshold)
-        shipped_scores = _form_scores(setup, setup.sampled_tasks(), setup.env_params)
-        fresh_scores = _form_scores(setup, setup.sampled_tasks(fresh), params)
-    a_groups, b_groups = _by_subset(setup.sampled_tasks()), _by_subset(setup.sampled_tasks(fresh))
+        ours, theirs = setup.sampled_tasks(), setup.sampled_tasks(fresh)
+        # the shipped form's episodes at p = 0.5 are shared with the noise curve (same seeds per repeat)
+        shipped_scores = _scores(_curve_outcomes(setup, levels, ours))
+        key = "" if params == setup.env_params else json.dumps(params, sort_keys=True)
+        fresh_scores = _scores(_curve_outcomes(setup, levels, theirs, key))
+    a_groups, b_groups = _by_subset(ours), _by_subset(theirs)
     counts_a, counts_b = Counter(t.subset for t in setup.tasks), Counter(t.subset for t in fresh)
     rows, bad, failing = [], [], []
     for subset in list(dict.fromkeys([*a_groups, *b_groups])):
@@ -826,23 +884,20 @@ def probe_parallel_forms(setup: AuditSetup) -> ProbeResult:
             mb = _mean(b)
             far = sorted(a_groups[subset], key=lambda t: -abs(shipped_scores[t.id] - mb))
             failing += [t.id for t in far[:5]]
-        if counts_a[subset] != counts_b[subset]:
+        if not sample and counts_a[subset] != counts_b[subset]:  # a sample form has fewer tasks by design
             bad.append(f"{subset} (counts differ: {counts_a[subset]} vs {counts_b[subset]})")
     value = f"fresh form {how}; " + ("differs: " + "; ".join(bad) if bad else "every subset within task sampling")
     return ProbeResult(name="parallel_forms", passed=not bad, value=value, threshold=threshold,
                        failing_tasks=_listed(failing), rows=rows)
 
 
-def _form_scores(setup: AuditSetup, tasks: list[Task], params: dict[str, Any]) -> dict[str, float]:
-    import json
-
-    key = "" if params == setup.env_params else json.dumps(params, sort_keys=True)
-    jobs = [_Job(t, noise=PARALLEL_NOISE, repeat=100 + r, params=key) for t in tasks
-            for r in range(setup.parallel_repeats)]
+def _scores(outcomes: dict[tuple[float, int], dict[str, EpisodeOutcome]]) -> dict[str, float]:
+    """Each task's success rate over the given levels' episodes."""
     wins: dict[str, list[float]] = defaultdict(list)
-    for job, out in zip(jobs, play_jobs(setup, jobs)):
-        wins[job.task.id].append(float(out.success))
-    return {t.id: _mean(wins[t.id]) for t in tasks}
+    for per_task in outcomes.values():
+        for tid, out in per_task.items():
+            wins[tid].append(float(out.success))
+    return {tid: _mean(v) for tid, v in wins.items()}
 
 
 # -- running ------------------------------------------------------------------------------------------------
@@ -869,27 +924,120 @@ def generic_probes(setup: AuditSetup) -> list[AuditProbe]:
             for name, desc, fn in _GENERIC]
 
 
+class _Background:
+    """``fn(*args)`` in a forked process; :meth:`result` waits for its return value (pickled back)."""
+
+    def __init__(self, fn: Callable[..., Any], *args: Any) -> None:
+        import multiprocessing
+
+        ctx = multiprocessing.get_context("fork")
+        self._recv, send = ctx.Pipe(duplex=False)
+        self._proc = ctx.Process(target=_background_main, args=(send, fn, args))
+        self._proc.start()
+        send.close()
+
+    def result(self) -> Any:
+        try:
+            ok, value = self._recv.recv()
+        except EOFError:
+            self._proc.join()
+            raise RuntimeError(f"the background process ended without a result (exit code "
+                               f"{self._proc.exitcode})") from None
+        finally:
+            self._recv.close()
+        self._proc.join()
+        if not ok:
+            raise RuntimeError(value)
+        return value
+
+    def cancel(self) -> None:
+        if self._proc.is_alive():
+            self._proc.terminate()
+        self._proc.join()
+        self._recv.close()
+
+
+def _background_main(send: Any, fn: Callable[..., Any], args: tuple[Any, ...]) -> None:
+    try:
+        out = (True, fn(*args))
+    except BaseException as exc:  # noqa: BLE001 - reported by the parent
+        out = (False, f"{type(exc).__name__}: {exc}")
+    send.send(out)
+    send.close()
+
+
+def _run_probe(probe: AuditProbe, tasks: list[Task], params: dict[str, Any]) -> ProbeResult:
+    try:
+        return probe.run(list(tasks), dict(params))
+    except Exception as exc:  # a crashing probe fails the audit, the others still run
+        return ProbeResult(name=probe.name, passed=False, value=f"probe crashed: {type(exc).__name__}: {exc}",
+                           threshold="runs to the end")
+
+
+def _run_probes(probes: list[AuditProbe], tasks: list[Task], params: dict[str, Any]) -> list[ProbeResult]:
+    return [_run_probe(p, tasks, params) for p in probes]
+
+
 def run_audit(setup: AuditSetup, only: Sequence[str] | None = None,
               progress: Callable[[str], None] | None = None) -> list[tuple[AuditProbe, ProbeResult]]:
-    """Run the generic probes, then the world's own (``env_cls.audit_probes()``); ``only`` selects by name."""
-    probes = generic_probes(setup) + list(setup.env_cls.audit_probes())
+    """Run the generic probes, then the world's own (``env_cls.audit_probes()``); ``only`` selects by name.
+
+    With ``setup.workers > 1`` the work that runs on one core is moved beside the episode probes (which use
+    ``workers`` processes): the world's probes run in one forked process and the parallel-forms probe's fresh
+    form is generated in another, both started first. Results do not depend on it.
+    """
+    generic = generic_probes(setup)
+    own = list(setup.env_cls.audit_probes())
+    probes = generic + own
     if only:
         names = [p.name for p in probes]
         unknown = [n for n in only if n not in names]
         if unknown:
             raise KeyError(f"unknown probe {unknown[0]!r}; probes of {setup.env_name}: {', '.join(names)}")
         probes = [p for p in probes if p.name in only]
-    results = []
-    for probe in probes:
-        if progress is not None:
-            progress(probe.name)
-        try:
-            res = probe.run(list(setup.tasks), dict(setup.env_params))
-        except Exception as exc:  # a crashing probe fails the audit, the others still run
-            res = ProbeResult(name=probe.name, passed=False, value=f"probe crashed: {type(exc).__name__}: {exc}",
-                              threshold="runs to the end")
-        results.append((probe, res))
-    return results
+    chosen = {p.name for p in probes}
+    own_ids = {id(p) for p in own}
+    side = [i for i, p in enumerate(probes) if id(p) in own_ids]  # the world's probes
+    results: dict[int, ProbeResult] = {}
+    background = setup.workers > 1
+    pending: _Background | None = None
+    tmp: str | None = None
+    try:
+        if (background and "parallel_forms" in chosen and not setup.quick and not setup.parallel_source
+                and (setup.generator is not None or setup.form_generator is not None)):
+            setup.fresh_per_subset()  # the sample size (and a cost measurement) are made here, once
+            tmp = tempfile.mkdtemp(prefix="eb-audit-form-")
+            setup._cache["fresh_pending"] = _Background(_write_fresh_form, setup, Path(tmp))
+        if background and side:
+            if progress is not None:
+                progress(", ".join(probes[i].name for i in side) + " (in the background)")
+            pending = _Background(_run_probes, [probes[i] for i in side], list(setup.tasks), dict(setup.env_params))
+        for i, probe in enumerate(probes):
+            if pending is not None and i in side:
+                continue
+            if progress is not None:
+                progress(probe.name)
+            results[i] = _run_probe(probe, setup.tasks, setup.env_params)
+        if pending is not None:
+            try:
+                for i, res in zip(side, pending.result()):
+                    results[i] = res
+            except RuntimeError as exc:
+                for i in side:
+                    results[i] = ProbeResult(name=probes[i].name, passed=False, value=f"probe crashed: {exc}",
+                                             threshold="runs to the end")
+            pending = None
+    finally:
+        if pending is not None:
+            pending.cancel()
+        left = setup._cache.pop("fresh_pending", None)
+        if left is not None:
+            left.cancel()
+        if tmp is not None:
+            import shutil
+
+            shutil.rmtree(tmp, ignore_errors=True)
+    return [(p, results[i]) for i, p in enumerate(probes)]
 
 
 def _status(res: ProbeResult) -> str:
@@ -1034,7 +1182,8 @@ def cmd_audit(args: list[str]) -> int:
         raise CliError(f"parallel={extra['parallel']} does not exist; give a task file or folder of the same world")
     setup = AuditSetup(env_name=cfg.env.name, env_cls=env_cls, tasks=tasks, max_steps=cfg.env.max_steps,
                        max_invalid_actions=cfg.env.max_invalid_actions, env_params=dict(cfg.env.params),
-                       seed=cfg.seed, quick=quick, generator=generator, parallel_source=extra.get("parallel"),
+                       seed=cfg.seed, quick=quick, generator=generator,
+                       form_generator=find_form_generator(generator), parallel_source=extra.get("parallel"),
                        parallel_seed=ints.get("parallel_seed", 2_718),
                        parallel_repeats=ints.get("repeats", 10), per_subset=ints.get("per_subset"),
                        workers=ints.get("workers", min(2, os.cpu_count() or 1)))

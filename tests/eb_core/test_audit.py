@@ -12,6 +12,7 @@ import pytest
 
 from eb_core import DiscreteActionSpace, Env, Observation, PromptParts, StepResult, Task
 from eb_core.audit import (
+    FRESH_PER_SUBSET,
     AuditProbe,
     AuditSetup,
     BlindPolicy,
@@ -341,3 +342,83 @@ def test_two_workers_give_the_same_results_as_one(tmp_path):
     for probe in (probe_blind_policies, probe_closed_loop, probe_noise_curve):
         assert probe(one) == probe(two)
     assert probe_closed_loop(two).failing_tasks == ["short-02"]
+
+
+# -- cheaper full audits: a sample fresh form, work beside the episode probes ----------------------------
+
+
+def test_a_sample_form_is_generated_with_only_the_tasks_it_plays(tmp_path):
+    calls: list[tuple[int, int]] = []
+
+    def form(out: str, seed: int, per_subset: int) -> None:
+        calls.append((seed, per_subset))
+        write_tasks(Path(out), lock_tasks(seed=seed, per_subset=per_subset))
+
+    res = probe_parallel_forms(setup_for(tmp_path, lock_tasks(), form_generator=form, parallel_seed=7,
+                                         parallel_per_subset=12))
+    assert calls == [(7, 12)]
+    assert res.passed, res
+    assert "12 tasks per subset" in res.value and {r["tasks"] for r in res.rows} == {"30 / 12"}
+    # the default size is FRESH_PER_SUBSET, never more than the shipped form plays per subset
+    assert setup_for(tmp_path, lock_tasks()).fresh_per_subset() == min(FRESH_PER_SUBSET, 30)
+    assert setup_for(tmp_path, lock_tasks(), per_subset=5).fresh_per_subset() == 5
+
+    def harder(out: str, seed: int, per_subset: int) -> None:  # long codes in the short subset too
+        write_tasks(Path(out), lock_tasks(seed=seed, per_subset=per_subset, lengths={"short": 5, "long": 4}))
+
+    bad = probe_parallel_forms(setup_for(tmp_path, lock_tasks(), form_generator=harder))
+    assert not bad.passed and "short (" in bad.value and "counts differ" not in bad.value
+
+
+def test_the_form_generator_is_found_beside_the_task_generator():
+    from eb_core.audit import find_form_generator
+    from eb_navigation import generate as nav_generate
+
+    assert find_form_generator(nav_generate.generate) is nav_generate.audit_form
+    assert find_form_generator(make_generator({"short": 3})) is None and find_form_generator(None) is None
+
+
+def test_the_shipped_form_shares_its_noisy_episodes_with_the_noise_curve(tmp_path):
+    setup = setup_for(tmp_path, lock_tasks(per_subset=10), generator=make_generator({"short": 3, "long": 4}))
+    probe_noise_curve(setup)
+    curve_half = dict(setup._cache[("curve", 0.5, 0)])
+    probe_parallel_forms(setup)
+    assert setup._cache[("curve", 0.5, 0)] == curve_half  # reused, not replayed
+    assert len(setup._cache[("curve", 0.5, 9)]) == 20  # the other repeats were added
+    assert any(k[1] != 0.5 and len(k) == 4 for k in setup._cache if k[0] == "curve")  # the fresh form's own
+
+
+def test_background_work_gives_the_same_audit_as_one_process(tmp_path):
+    tasks = lock_tasks(per_subset=12)
+    tasks[0]["metadata"]["code"] = [4, 4]
+    params = {"task_file": write_tasks(tmp_path / "t.json", tasks)}
+
+    def form(out: str, seed: int, per_subset: int) -> None:
+        write_tasks(Path(out), lock_tasks(seed=seed, per_subset=per_subset))
+
+    def audit(workers: int) -> list[tuple[str, ProbeResult]]:
+        setup = AuditSetup(env_name="lock", env_cls=LockWithProbe, tasks=LockWithProbe.load_tasks(**params),
+                           max_steps=20, env_params=params, form_generator=form, workers=workers)
+        return [(p.name, r) for p, r in run_audit(setup)]
+
+    one, two = audit(1), audit(2)
+    assert one == two
+    assert [n for n, _ in two][-2:] == ["parallel_forms", "code_digits"]
+    assert dict(two)["code_digits"].failing_tasks == [tasks[0]["id"]]
+    assert "tasks per subset" in dict(two)["parallel_forms"].value
+
+
+class LockWithCrashingProbe(LockEnv):
+    @classmethod
+    def audit_probes(cls) -> list[AuditProbe]:
+        def run(tasks: list[Task], params: dict[str, Any]) -> ProbeResult:
+            raise ValueError("no digits today")
+
+        return [AuditProbe("crashes", "A probe that fails with an error.", run)]
+
+
+def test_a_world_probe_crashing_in_the_background_fails_the_audit(tmp_path):
+    setup = setup_for(tmp_path, lock_tasks(per_subset=5), workers=2)
+    setup.env_cls = LockWithCrashingProbe
+    [(_, res)] = run_audit(setup, only=["crashes"])
+    assert not res.passed and "ValueError: no digits today" in res.value
