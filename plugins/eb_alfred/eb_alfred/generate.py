@@ -26,7 +26,7 @@ from eb_alfred.scenes import _renumber, make_scene
 from eb_alfred.tasks import FORMAT, SUBSETS, TASK_DIR, VERSION
 from eb_alfred.world import World
 
-__all__ = ["generate", "make_tasks", "propose_goal", "image_problems"]
+__all__ = ["audit_form", "generate", "make_tasks", "propose_goal", "image_problems"]
 
 HEATABLE = ("Apple", "Bread", "Egg", "Potato", "Tomato", "Mug", "Cup", "Plate", "Bowl")
 COOLABLE = ("Apple", "Bread", "Lettuce", "Tomato", "Potato", "Egg", "Mug", "Cup", "Bowl", "Plate", "WineBottle")
@@ -445,6 +445,13 @@ def generate(out: str | None = None, seed: int = 0, n: int | None = None, subset
         path.write_text(json.dumps(doc, indent=1, sort_keys=False) + "\n", encoding="utf-8")
         written.append(str(path))
     return written
+
+
+def audit_form(out: str, seed: int, per_subset: int) -> list[str]:
+    """A fresh form of ``per_subset`` tasks per subset (a folder at ``out``, render checks included) for ``eb
+    audit``'s parallel-forms probe. Subsets are drawn independently and task types in turn, so the sample keeps
+    the full file's mix."""
+    return generate(out=out, seed=seed, n=per_subset)
 
 
 if __name__ == "__main__":  # python -m eb_alfred.generate

@@ -32,7 +32,7 @@ from eb_habitat.goals import default_subgoals, parse_predicate
 from eb_habitat.oracle import OracleError, expert_plan
 from eb_habitat.tasks import FORMAT, SUBSETS, TASK_DIR, VERSION, load_task_file
 
-__all__ = ["GENERATOR_VERSION", "PLURAL", "fix_articles", "generate", "generate_subset"]
+__all__ = ["GENERATOR_VERSION", "PLURAL", "audit_form", "fix_articles", "generate", "generate_subset"]
 
 GENERATOR_VERSION = "2"
 
@@ -719,6 +719,12 @@ def generate(out: str | None = None, seed: int = 0, per_subset: int = 50, subset
         load_task_file(path)  # what we write must load
         written.append(str(path))
     return written
+
+
+def audit_form(out: str, seed: int, per_subset: int) -> list[str]:
+    """A fresh form of ``per_subset`` tasks per subset (a folder at ``out``) for ``eb audit``'s parallel-forms
+    probe; the subsets are drawn independently, so this is the first ``per_subset`` of a full file's draw."""
+    return generate(out=out, seed=seed, per_subset=per_subset)
 
 
 def main(argv: list[str] | None = None) -> None:

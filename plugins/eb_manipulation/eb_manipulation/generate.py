@@ -36,7 +36,8 @@ from eb_manipulation.templates import (
     pick,
 )
 
-__all__ = ["FAMILY_ORDER", "SUBSET_FAMILIES", "TASKS_VERSION", "generate", "make_task", "verify_task"]
+__all__ = ["FAMILY_ORDER", "SUBSET_FAMILIES", "TASKS_VERSION", "audit_form", "generate", "make_task",
+           "verify_task"]
 
 TASKS_VERSION = "v2"
 SUBSETS = ("base", "common_sense", "complex", "spatial", "visual")
@@ -657,3 +658,26 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
     if not quiet:
         print(f"wrote {len(tasks)} tasks to {out_path}")
     return out_path
+
+
+def audit_form(out: str, seed: int, per_subset: int) -> Path:
+    """A fresh form for ``eb audit``'s parallel-forms probe: about ``per_subset`` tasks per subset (the same number
+    of each family, ``ceil(per_subset / families)``), verified like the shipped file, as one task file at ``out``.
+    Each task's scene follows from (seed, subset, family, index) alone, so these are the first tasks per family
+    of a full file drawn with ``seed``."""
+    import tempfile
+
+    tasks: list[dict[str, Any]] = []
+    doc: dict[str, Any] = {}
+    with tempfile.TemporaryDirectory(prefix="eb-manip-form-") as tmp:
+        for subset in SUBSETS:
+            per_family = max(1, math.ceil(int(per_subset) / len(SUBSET_FAMILIES[subset])))
+            part = generate(out=Path(tmp) / f"{subset}.json", seed=seed, per_family=per_family, subsets=[subset],
+                            quiet=True)
+            doc = json.loads(Path(part).read_text())
+            tasks += doc["tasks"]
+    doc.update(count=len(tasks), tasks=tasks)
+    path = Path(out)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(doc, indent=1) + "\n")
+    return path

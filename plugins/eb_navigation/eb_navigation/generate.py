@@ -40,7 +40,7 @@ from eb_navigation.room import KINDS, ExtraSpec, NavObject, NavRoom, colour_dist
 from eb_navigation.tasks import SUBSETS, TASK_FILE_FORMAT, TASK_FILE_VERSION
 from eb_navigation.visibility import Visibility
 
-__all__ = ["GENERATOR_VERSION", "TARGETS_BY_KIND", "generate"]
+__all__ = ["GENERATOR_VERSION", "TARGETS_BY_KIND", "audit_form", "generate"]
 
 GENERATOR_VERSION = 3
 
@@ -259,7 +259,7 @@ def _extra_dict(e: ExtraSpec) -> dict[str, Any]:
 def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_distance: float = 3.5,
              out: str | None = None, max_oracle_steps: int = 15, blind_cap: int | None = None,
              rule_cap: int | None = None, progress: bool = False, split: str = "test", n: int | None = None,
-             start: int = 0) -> str:
+             start: int = 0, slots: Sequence[int] | None = None) -> str:
     """Write a navigation task file with ``5 * scenes`` tasks; return a one-line summary.
 
     ``split=train|val n=N [start=K] out=PATH`` writes tasks ``K .. K+N-1`` of a generated training split instead
@@ -277,6 +277,8 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
         rule_cap: most tasks per subset any feedback-only rule agent may solve (default: 10 % of ``scenes``,
             at least 2).
         progress: print one line per finished room.
+        slots: make only these scene slots of ``0 .. scenes-1`` (their kinds and target types as in the full
+            file; rooms and starts are drawn afresh), e.g. an even spread for ``eb audit``'s fresh form.
     """
     if split != "test":
         from eb_navigation.splits import SPLITS, write_split
@@ -306,7 +308,7 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
     tally = {s: _Tally.empty() for s in ("plain", "visual_appearance", "long_horizon")}
     wording: dict[str, dict[str, int]] = {s: {} for s in SUBSETS}
     try:
-        for slot in range(scenes):
+        for slot in (range(scenes) if slots is None else [int(x) for x in slots]):
             kind = KINDS[slot % len(KINDS)]
             wanted = TARGETS_BY_KIND[kind][(slot // len(KINDS)) % len(TARGETS_BY_KIND[kind])]
             made = None
@@ -377,7 +379,7 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
         "generator": {"function": "eb_navigation.generate:generate", "generator_version": GENERATOR_VERSION,
                       "scenekit_version": scenekit_version, "seed": seed, "scenes": scenes, "min_distance": lo,
                       "max_distance": hi, "max_oracle_steps": max_oracle_steps, "blind_cap": blind_cap,
-                      "rule_cap": rule_cap},
+                      "rule_cap": rule_cap, **({"slots": [int(x) for x in slots]} if slots is not None else {})},
         "tasks": tasks,
     }
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -385,5 +387,15 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
     head = json.dumps({k: v for k, v in doc.items() if k != "tasks"}, indent=1)[:-2]
     path.write_text(head + ',\n "tasks": [\n' + lines + "\n ]\n}\n", encoding="utf-8")
     steps_all = [t["oracle_steps"] for t in tasks]
-    return (f"wrote {len(tasks)} tasks ({scenes} scenes x {len(SUBSETS)} subsets) to {path}; "
+    return (f"wrote {len(tasks)} tasks ({len(tasks) // len(SUBSETS)} scenes x {len(SUBSETS)} subsets) to {path}; "
             f"oracle steps {min(steps_all)}-{max(steps_all)}, mean {np.mean(steps_all):.1f}")
+
+
+def audit_form(out: str, seed: int, per_subset: int) -> str:
+    """A fresh form of ``per_subset`` tasks per subset for ``eb audit``'s parallel-forms probe: the scene slots
+    at an even spread of the shipped file's 60 (so kinds and target types are spread as there), with the blind
+    and rule-agent caps scaled to the smaller file. Written as one task file at ``out``."""
+    full = 60
+    k = max(1, min(int(per_subset), full))
+    return generate(seed=seed, scenes=full, out=out, slots=[(i * full) // k for i in range(k)],
+                    blind_cap=max(1, round(2 * k / full)), rule_cap=max(1, round(6 * k / full)))
