@@ -75,7 +75,8 @@ class AuditProbe:
     """A named check: ``run(tasks, env_params)`` -> :class:`ProbeResult`.
 
     ``tasks`` are the tasks under audit (the shipped file, or ``task_file=``); ``env_params`` are the env's
-    ``params`` from the config (e.g. ``task_file``). A probe must finish in a few minutes on 2 cores.
+    ``params`` from the config (e.g. ``task_file``). A probe must finish in a few minutes on 2 cores. Within
+    one audit a world's probes get the same ``tasks`` list object, so they may share work keyed by it.
     """
 
     name: str
@@ -968,13 +969,15 @@ def _background_main(send: Any, fn: Callable[..., Any], args: tuple[Any, ...]) -
 
 def _run_probe(probe: AuditProbe, tasks: list[Task], params: dict[str, Any]) -> ProbeResult:
     try:
-        return probe.run(list(tasks), dict(params))
+        return probe.run(tasks, dict(params))
     except Exception as exc:  # a crashing probe fails the audit, the others still run
         return ProbeResult(name=probe.name, passed=False, value=f"probe crashed: {type(exc).__name__}: {exc}",
                            threshold="runs to the end")
 
 
 def _run_probes(probes: list[AuditProbe], tasks: list[Task], params: dict[str, Any]) -> list[ProbeResult]:
+    """The probes in turn, all handed one task list (a world may share work between its probes by it)."""
+    tasks = list(tasks)
     return [_run_probe(p, tasks, params) for p in probes]
 
 
@@ -1012,12 +1015,13 @@ def run_audit(setup: AuditSetup, only: Sequence[str] | None = None,
             if progress is not None:
                 progress(", ".join(probes[i].name for i in side) + " (in the background)")
             pending = _Background(_run_probes, [probes[i] for i in side], list(setup.tasks), dict(setup.env_params))
+        shared = list(setup.tasks)  # one list for the world's probes (they may share work by it)
         for i, probe in enumerate(probes):
             if pending is not None and i in side:
                 continue
             if progress is not None:
                 progress(probe.name)
-            results[i] = _run_probe(probe, setup.tasks, setup.env_params)
+            results[i] = _run_probe(probe, shared if i in side else list(setup.tasks), setup.env_params)
         if pending is not None:
             try:
                 for i, res in zip(side, pending.result()):

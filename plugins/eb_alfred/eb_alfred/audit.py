@@ -284,24 +284,46 @@ def _run_phrase(tasks: list[Any], env_params: dict[str, Any]) -> Any:
     return _result("referring_phrase", failing, len(tasks), "0 tasks")
 
 
-def _render_probe(name: str, check) -> Any:  # noqa: ANN001
-    def run(tasks: list[Any], env_params: dict[str, Any]) -> Any:
-        from eb_alfred.render import AlfredRenderer
+_RENDER_CHECKS: dict[str, Any] = {
+    "attribute_rendered": lambda t, v: attribute_problems(t.instruction, t.metadata["goal"], v),
+    "visible_area": lambda t, v: visibility_problems(t.metadata["goal"], v),
+    "relation_visible": lambda t, v: relation_problems(t.instruction, t.metadata["goal"], v),
+}
+_LAST_PASS: list[Any] = []
+"""The last rendering pass: [the task list it ran on (kept alive, so its id stays unique), its findings]."""
 
-        renderer = AlfredRenderer(_RES)
-        failing, checked = {}, 0
-        try:
-            for t in tasks:
-                if not _needs_image(t):
-                    continue
-                checked += 1
-                views = Views(world_of(t), renderer)
+
+def _render_pass(tasks: list[Any]) -> tuple[dict[str, dict[str, str]], int]:
+    """All three rendering checks over ``tasks`` with one set of views per task: (probe -> task id -> first
+    problem, tasks checked). ``eb audit`` hands its probes one task list, so the three probes share one pass;
+    a call with another list object renders afresh."""
+    if _LAST_PASS and _LAST_PASS[0] is tasks:
+        return _LAST_PASS[1]
+    from eb_alfred.render import AlfredRenderer
+
+    renderer = AlfredRenderer(_RES)
+    failing: dict[str, dict[str, str]] = {name: {} for name in _RENDER_CHECKS}
+    checked = 0
+    try:
+        for t in tasks:
+            if not _needs_image(t):
+                continue
+            checked += 1
+            views = Views(world_of(t), renderer)
+            for name, check in _RENDER_CHECKS.items():
                 got = check(t, views)
                 if got:
-                    failing[t.id] = got[0]
-        finally:
-            renderer.close()
-        return _result(name, failing, checked, "0 tasks")
+                    failing[name][t.id] = got[0]
+    finally:
+        renderer.close()
+    _LAST_PASS[:] = [tasks, (failing, checked)]
+    return failing, checked
+
+
+def _render_probe(name: str) -> Any:
+    def run(tasks: list[Any], env_params: dict[str, Any]) -> Any:
+        failing, checked = _render_pass(tasks)
+        return _result(name, failing[name], checked, "0 tasks")
     return run
 
 
@@ -314,13 +336,11 @@ def probes() -> list[Any]:
                    "the instruction (colour, shape or place), so the words and not luck decide.", _run_phrase),
         AuditProbe("attribute_rendered", "Every colour or shape word used for the target is drawn: the colour "
                    "reads as named and a shape word changes the mesh against the look-alikes.",
-                   _render_probe("attribute_rendered",
-                                 lambda t, v: attribute_problems(t.instruction, t.metadata["goal"], v))),
+                   _render_probe("attribute_rendered")),
         AuditProbe("visible_area", f"Every object the goal names covers at least {100 * MIN_AREA:.1f} % of the "
                    "image after the action that brings it into view.",
-                   _render_probe("visible_area", lambda t, v: visibility_problems(t.metadata["goal"], v))),
+                   _render_probe("visible_area")),
         AuditProbe("relation_visible", "The things a spatial phrase relates are all in one image the agent "
                    "can get (the start view or the view after finding one of them).",
-                   _render_probe("relation_visible",
-                                 lambda t, v: relation_problems(t.instruction, t.metadata["goal"], v))),
+                   _render_probe("relation_visible")),
     ]

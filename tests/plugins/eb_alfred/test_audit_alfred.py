@@ -134,3 +134,24 @@ def test_relation_probe_catches_a_relation_never_in_one_image() -> None:
 def test_shipped_files_record_template_ids(subset: str) -> None:
     data = json.loads((TASK_DIR / f"{subset}.json").read_text())
     assert all(t["template"].startswith(subset + ".") for t in data["tasks"])
+
+
+def test_the_rendering_probes_share_one_set_of_views_per_task_list(monkeypatch) -> None:
+    from eb_alfred import audit
+
+    tasks = [_first("visual_appearance", lambda t: True), _first("spatial_awareness", lambda t: True)]
+    made = []
+    real = audit.Views
+
+    class Counting(real):  # type: ignore[misc, valid-type]
+        def __init__(self, *a, **kw):
+            made.append(1)
+            super().__init__(*a, **kw)
+
+    monkeypatch.setattr(audit, "Views", Counting)
+    names = ("attribute_rendered", "visible_area", "relation_visible")
+    shared = [_probe(n).run(tasks, {}) for n in names]  # one list, as `eb audit` hands it
+    assert len(made) == 2
+    separate = [_probe(n).run(list(tasks), {}) for n in names]  # a new list each time: rendered afresh
+    assert len(made) == 2 + 3 * 2
+    assert shared == separate and all(r.passed for r in shared)
