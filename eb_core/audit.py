@@ -34,6 +34,7 @@ __all__ = [
     "NOISE_LEVELS",
     "ProbeResult",
     "EpisodeOutcome",
+    "detectable_difference",
     "generic_probes",
     "grammar_issues",
     "noisy_expert_episode",
@@ -141,8 +142,9 @@ class AuditSetup:
     forms); None = all of them, unless a random step is slow (see :meth:`sampled_tasks`)."""
     workers: int = 1
     """Processes that play episodes (forked; each builds its own env)."""
-    budget_s: float = 240.0
-    """Rough time those probes may take together when ``per_subset`` is None."""
+    budget_s: float = 150.0
+    """Rough wall time those probes may take together on ``workers`` cores when ``per_subset`` is None (the
+    rest of the audit -- closed loop, the world's probes, the fresh form's generation -- comes on top)."""
     _cache: dict[Any, Any] = field(default_factory=dict, repr=False)
 
     def episode_tasks(self) -> list[Task]:
@@ -172,7 +174,8 @@ class AuditSetup:
                 groups = _by_subset(self.tasks)
                 cost = self.random_step_seconds()
                 blind = 40 if isinstance(self._cache.get("space"), DiscreteActionSpace) else 12
-                per_task = self.max_steps * cost * (blind + 4 * self.curve_repeats + self.parallel_repeats)
+                # blind policies, the noise curve and both parallel forms (the fresh one about as large)
+                per_task = self.max_steps * cost * (blind + 4 * self.curve_repeats + 2 * self.parallel_repeats)
                 fit = int(self.budget_s * max(1, self.workers) / max(per_task * max(len(groups), 1), 1e-9))
                 k = max(5, fit)
             if k >= max(len(ts) for ts in _by_subset(self.tasks).values()):
@@ -878,7 +881,7 @@ def probe_parallel_forms(setup: AuditSetup) -> ProbeResult:
         pv = permutation_p_value(a, b, seed=setup.seed)
         rows.append({"subset": subset, "tasks": f"{len(a)} / {len(b)}", "shipped": _pct(_mean(a)),
                      "fresh": _pct(_mean(b)), "difference": f"{100 * (_mean(a) - _mean(b)):+.1f} pt",
-                     "p-value": f"{pv:.4f}"})
+                     "detectable": f"{100 * detectable_difference(a, b):.0f} pt", "p-value": f"{pv:.4f}"})
         if pv < PARALLEL_ALPHA:
             bad.append(f"{subset} ({_pct(_mean(a))} vs {_pct(_mean(b))}, p={pv:.4f})")
             # the shipped tasks furthest from the fresh form's mean explain the gap
@@ -890,6 +893,17 @@ def probe_parallel_forms(setup: AuditSetup) -> ProbeResult:
     value = f"fresh form {how}; " + ("differs: " + "; ".join(bad) if bad else "every subset within task sampling")
     return ProbeResult(name="parallel_forms", passed=not bad, value=value, threshold=threshold,
                        failing_tasks=_listed(failing), rows=rows)
+
+
+def detectable_difference(a: Sequence[float], b: Sequence[float], alpha: float = PARALLEL_ALPHA,
+                          power: float = 0.8) -> float:
+    """The difference of means the two-sided test at ``alpha`` finds with probability ``power``, for samples the
+    size and spread of ``a`` and ``b`` (normal approximation: (z_{1-alpha/2} + z_power) * standard error)."""
+    from statistics import NormalDist
+
+    z = NormalDist().inv_cdf(1 - alpha / 2) + NormalDist().inv_cdf(power)
+    var = sum(float(np.var(x, ddof=1)) / len(x) if len(x) > 1 else 0.25 / max(len(x), 1) for x in (a, b))
+    return z * math.sqrt(var)
 
 
 def _scores(outcomes: dict[tuple[float, int], dict[str, EpisodeOutcome]]) -> dict[str, float]:

@@ -423,3 +423,17 @@ def test_a_world_probe_crashing_in_the_background_fails_the_audit(tmp_path):
     setup.env_cls = LockWithCrashingProbe
     [(_, res)] = run_audit(setup, only=["crashes"])
     assert not res.passed and "ValueError: no digits today" in res.value
+
+
+def test_detectable_difference_grows_as_the_fresh_form_shrinks():
+    from eb_core.audit import detectable_difference
+
+    rng = np.random.default_rng(1)
+    shipped = list(rng.binomial(10, 0.6, 60) / 10)
+    full, sample = detectable_difference(shipped, shipped), detectable_difference(shipped, shipped[:20])
+    sd = float(np.std(shipped, ddof=1))
+    assert full == pytest.approx((2.5758 + 0.8416) * sd * (2 / 60) ** 0.5, rel=1e-3)
+    assert sample > full and sample / full == pytest.approx(((1 / 60 + 1 / 20) / (2 / 60)) ** 0.5, rel=0.15)
+    # a real gap of that size is found by the permutation test (one draw; the test has ~80 % power there)
+    shifted = [min(1.0, x + 1.3 * full) for x in shipped]
+    assert permutation_p_value(shipped, shifted, permutations=4000) < 0.01
