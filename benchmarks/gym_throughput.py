@@ -15,7 +15,7 @@ Raw mode with rendering on (every step renders the world's first-person image). 
   ``pss_mb_per_env`` = proportional set size of the worker processes after the steps / N (pages the workers
   share with each other and the fork server are split between them, so the sum is the memory they really take).
 
-A size whose memory (the largest PSS per env so far x N) would exceed 60 % of the available memory is skipped
+A size whose memory (the previous size's PSS per env x N) would exceed 60 % of the available memory is skipped
 and says so. ``load_avg_1min``: the machine's load average when a figure was taken (other jobs on the machine make every
 figure, the bound included, noisy).
 
@@ -112,7 +112,7 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
             vec.close()
         rate = n * n_steps / wall
         per_env = float(np.nansum(pss)) / n
-        per_env_mb = max(per_env_mb, per_env)
+        per_env_mb = per_env  # per-env memory falls with N: the last size's figure bounds the next one
         out["sizes"][n] = {"workers": w, "steps": n_steps, "steps_per_s": round(rate, 1),
                            "ratio_to_bound": round(rate / bound, 2), "pss_mb_per_env": round(per_env, 1),
                            "pss_mb_workers": round(float(np.nansum(pss)), 1), "start_s": round(start_s, 2),
