@@ -2,9 +2,17 @@
 (goal <= 1.6x), reset time, and peak RSS per env process (goal <= 600 MB; manipulation: step <= 1 s).
 
     python benchmarks/env_step.py [--n 30] [--envs navigation,habitat,alfred,manipulation]
+    python benchmarks/env_step.py --resets [--n 12]     # reset time per world, rendered (goal: median <= 0.25 s)
 
 Each env is measured in its own fresh process (so peak RSS is that env's), by the plugin's own
 ``<package>.bench.step_times(n)``; ratios are computed within one process run, so machine load cancels out.
+
+``--resets`` times ``env.reset`` with rendering at 500 px, as a trainer or ``eb run`` meets it: ``test`` resets
+``n`` shipped tasks spread over the task list (each a different scene), ``train`` draws ``n`` fresh tasks of the
+generated train split and resets them (generation + reset, as ``gymnasium.make(..., split="train")`` does), and
+``again`` resets the first test task again (a group of rollouts from one task). Each row gives the median and
+worst wall time and the median CPU time (all threads of the process, the renderer's included: the figure that
+other load on the machine changes least); the load average is printed beside them.
 """
 
 from __future__ import annotations
@@ -26,6 +34,61 @@ print("RESULT " + json.dumps(r, default=str))
 """
 
 
+CLASSES = {"navigation": "NavigationEnv", "alfred": "AlfredEnv", "habitat": "HabitatEnv",
+           "manipulation": "ManipulationEnv"}
+
+_RESETS = """
+import json, statistics, time
+from {pkg}.env import {cls} as Env
+env = Env(resolution={res}, render=True)
+tasks = Env.load_tasks()
+step = max(1, len(tasks) // {n})
+def timed(make):
+    wall, cpu = [], []
+    for i in range({n}):
+        w0, c0 = time.perf_counter(), time.process_time()
+        make(i)
+        wall.append(time.perf_counter() - w0)
+        cpu.append(time.process_time() - c0)
+    return {{"median_s": statistics.median(wall), "max_s": max(wall), "cpu_median_s": statistics.median(cpu)}}
+out = {{}}
+w0 = time.perf_counter(); env.reset(tasks[-1], 0); out["first_s"] = time.perf_counter() - w0
+out["test"] = timed(lambda i: env.reset(tasks[(i * step + 1) % len(tasks)], 0))
+out["train"] = timed(lambda i: env.reset(Env.split_tasks("train", 500_000 + 7 * i, 1)[0], 0))
+out["again"] = timed(lambda i: env.reset(tasks[1], 0))
+env.close()
+print("RESULT " + json.dumps(out))
+"""
+
+
+def measure_resets(env: str, n: int, resolution: int = 500) -> dict:
+    code = _RESETS.format(pkg=PACKAGES[env], cls=CLASSES[env], n=n, res=resolution)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=1800)
+    for line in out.stdout.splitlines():
+        if line.startswith("RESULT "):
+            return json.loads(line[7:])
+    raise RuntimeError(f"{env}: reset benchmark failed: {(out.stderr or out.stdout).strip().splitlines()[-1:]}")
+
+
+def reset_table(envs: list[str], n: int) -> None:
+    import os
+
+    print(f"{'env':<13} {'kind':<6} {'median s':>9} {'max s':>7} {'cpu median s':>13}   (n={n} each, 500 px, rendered)")
+    for env in envs:
+        load = os.getloadavg()[0]
+        try:
+            r = measure_resets(env, n)
+        except Exception as exc:  # one broken world must not hide the others' numbers
+            print(f"{env:<13} error: {exc}")
+            continue
+        for kind in ("test", "train", "again"):
+            m = r[kind]
+            print(f"{env:<13} {kind:<6} {m['median_s']:9.3f} {m['max_s']:7.3f} {m['cpu_median_s']:13.3f}")
+        print(f"{env:<13} first reset of the process {r['first_s']:.3f} s; load average {load:.1f} -> "
+              f"{os.getloadavg()[0]:.1f}")
+    print("goal: median reset <= 0.25 s in every world (issue 19)")
+
+
 def measure(env: str, n: int) -> dict:
     out = subprocess.run([sys.executable, "-c", _CHILD.format(pkg=PACKAGES[env], n=n)], capture_output=True,
                          text=True, timeout=1800)
@@ -39,7 +102,11 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=30)
     ap.add_argument("--envs", default=",".join(PACKAGES))
+    ap.add_argument("--resets", action="store_true", help="time env.reset (test, train, same task again) instead")
     args = ap.parse_args()
+    if args.resets:
+        reset_table(args.envs.split(","), args.n if args.n != 30 else 12)
+        return 0
     print(f"{'env':<13} {'step ms':>8} {'raw render ms':>14} {'ratio':>6} {'reset ms':>9} {'peak RSS MB':>12}")
     for env in args.envs.split(","):
         try:
