@@ -11,7 +11,8 @@ Raw mode with rendering on (every step renders the world's first-person image). 
 * ``reset_median_s`` / ``reset_max_s``: ``reset()`` of one env over ``--resets`` different tasks.
 * for each size N: an :class:`~eb_core.gym.EBVectorEnv` of N environments over ``--workers`` worker processes
   (default: the cores; N / workers environments in each), ``min(--steps, --max-env-steps / N)`` (at least 2)
-  batched random steps after a warm-up step; ``steps_per_s`` = N x steps / wall time, ``ratio`` = that / bound;
+  batched random steps after a warm-up step; ``steps_per_s`` = N x steps / wall time, ``ratio`` = that / the
+  bound measured again just before this size (the machine's load changes between sizes);
   ``pss_mb_per_env`` = proportional set size of the worker processes after the steps / N (pages the workers
   share with each other and the fork server are split between them, so the sum is the memory they really take).
 
@@ -69,15 +70,19 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
         times.append(time.perf_counter() - t)
     env.reset(seed=0)
     env.action_space.seed(0)
-    step_times = []
-    for _ in range(steps):
-        t = time.perf_counter()
-        _, _, term, trunc, _ = env.step(env.action_space.sample())
-        step_times.append(time.perf_counter() - t)
-        if term or trunc:
-            env.reset()
-    env.close()
-    render_s = statistics.median(step_times)
+
+    def one_step_s() -> float:
+        """Median time of a raw step of the single env in this process, now (resets not counted)."""
+        step_times = []
+        for _ in range(steps):
+            t = time.perf_counter()
+            _, _, term, trunc, _ = env.step(env.action_space.sample())
+            step_times.append(time.perf_counter() - t)
+            if term or trunc:
+                env.reset()
+        return statistics.median(step_times)
+
+    render_s = one_step_s()
     cores = os.cpu_count() or 1
     bound = cores / render_s
     out: dict[str, Any] = {"world": world, "gym_id": gid, "resolution": resolution, "cores": cores,
@@ -94,6 +99,7 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
             print(f"  {world} N={n}: skipped, {out['sizes'][n]['skipped']}", flush=True)
             continue
         n_steps = max(2, min(steps, max_env_steps // n))
+        bound_now = cores / one_step_s()  # the bound again, under the machine's load of this moment
         t = time.perf_counter()
         vec = ebgym.make_vector_env(world, n, workers=w, **kwargs)
         try:
@@ -104,8 +110,10 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
             vec.action_space.seed(1)
             vec.step(vec.action_space.sample())  # warm-up
             t = time.perf_counter()
+            ended = 0
             for _ in range(n_steps):
-                vec.step(vec.action_space.sample())
+                _, _, term, trunc, _ = vec.step(vec.action_space.sample())
+                ended += int(np.sum(term | trunc))
             wall = time.perf_counter() - t
             pss = [_pss_mb(pid) for pid in vec.worker_pids]
         finally:
@@ -114,12 +122,15 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
         per_env = float(np.nansum(pss)) / n
         per_env_mb = per_env  # per-env memory falls with N: the last size's figure bounds the next one
         out["sizes"][n] = {"workers": w, "steps": n_steps, "steps_per_s": round(rate, 1),
-                           "ratio_to_bound": round(rate / bound, 2), "pss_mb_per_env": round(per_env, 1),
+                           "bound_steps_per_s": round(bound_now, 1), "ratio_to_bound": round(rate / bound_now, 2),
+                           "episodes_ended": ended, "pss_mb_per_env": round(per_env, 1),
                            "pss_mb_workers": round(float(np.nansum(pss)), 1), "start_s": round(start_s, 2),
                            "vector_reset_s": round(reset_s, 2), "load_avg_1min": round(os.getloadavg()[0], 1)}
-        print(f"  {world} N={n} over {w} processes: {rate:.1f} steps/s ({rate / bound:.2f} of the bound "
-              f"{bound:.1f}), {per_env:.0f} MB PSS per env ({np.nansum(pss):.0f} MB in all); start {start_s:.1f} s, "
+        print(f"  {world} N={n} over {w} processes: {rate:.1f} steps/s ({rate / bound_now:.2f} of the bound "
+              f"{bound_now:.1f} measured just before; {ended} episodes ended and were reset inside the timed "
+              f"steps), {per_env:.0f} MB PSS per env ({np.nansum(pss):.0f} MB in all); start {start_s:.1f} s, "
               f"reset of all {reset_s:.1f} s; load {os.getloadavg()[0]:.1f}", flush=True)
+    env.close()
     return out
 
 
