@@ -210,8 +210,13 @@ class _ProcessWorker:
         self.proc = ctx.Process(target=_process_main, args=(child, payload), daemon=True, name="eb-gym-worker")
         self.proc.start()
         child.close()  # so the parent sees EOF when the child dies
-        self.info = self._ready(start_timeout_s)
         self.pid = self.proc.pid
+        self.start_timeout_s = start_timeout_s
+        self.info: dict[str, Any] = {}
+
+    def wait_ready(self) -> None:
+        """Wait until the worker has built its environments (workers build theirs at the same time)."""
+        self.info = self._ready(self.start_timeout_s)
 
     def _ready(self, timeout: float | None) -> dict[str, Any]:
         try:
@@ -299,12 +304,18 @@ class _RayWorker:
             _ACTOR_CLS = ray.remote(_GroupActor)
         self.ray = ray
         self.actor = _ACTOR_CLS.options(**options).remote(payload)
-        self.ref: Any = None
+        self.ref: Any = self.actor.describe.remote()
+        self.start_timeout_s = start_timeout_s
+        self.info: dict[str, Any] = {}
+        self.pid = -1
+
+    def wait_ready(self) -> None:
+        ray = self.ray
         try:
-            self.info = ray.get(self.actor.describe.remote(), timeout=start_timeout_s)
+            self.info = ray.get(self.ref, timeout=self.start_timeout_s)
         except ray.exceptions.GetTimeoutError:
             self.kill()
-            raise _WorkerLost(f"the Ray actor gave no answer within {start_timeout_s} s of starting") from None
+            raise _WorkerLost(f"the Ray actor gave no answer within {self.start_timeout_s} s of starting") from None
         except ray.exceptions.RayActorError as exc:
             self.kill()
             raise RuntimeError(f"building the environments failed in the Ray actor: {_error_line(exc)}") from None
@@ -396,8 +407,13 @@ class EBVectorEnv(VectorEnv):
         self.workers: list[Any] = [None] * w
         self.restarts = 0
         try:
+            for k in range(w):  # all workers build their environments at once
+                self.workers[k] = self._launch(k)
             for k in range(w):
-                self.workers[k] = self._start(k)
+                try:
+                    self.workers[k].wait_ready()
+                except _WorkerLost:
+                    self.workers[k] = self._start(k)
         except BaseException:
             self.close()
             raise
@@ -427,13 +443,18 @@ class EBVectorEnv(VectorEnv):
         ray.init(address=address, include_dashboard=False, log_to_driver=False, configure_logging=False)
         return True
 
+    def _launch(self, k: int) -> Any:
+        if self.executor == "ray":
+            return _RayWorker(self.payloads[k], self.ray_options, self.start_timeout_s)
+        return _ProcessWorker(self.payloads[k], self.context, self.start_timeout_s)
+
     def _start(self, k: int) -> Any:
         last: Exception | None = None
         for _ in range(_START_ATTEMPTS):
             try:
-                if self.executor == "ray":
-                    return _RayWorker(self.payloads[k], self.ray_options, self.start_timeout_s)
-                return _ProcessWorker(self.payloads[k], self.context, self.start_timeout_s)
+                worker = self._launch(k)
+                worker.wait_ready()
+                return worker
             except _WorkerLost as exc:
                 last = exc
         raise RuntimeError(f"worker {k} could not be started ({_START_ATTEMPTS} attempts): {last}")
