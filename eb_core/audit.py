@@ -835,7 +835,11 @@ def _fresh_form(setup: AuditSetup, workdir: Path) -> tuple[list[Task], dict[str,
         how = f"given {src}"
     else:
         pending = setup._cache.pop("fresh_pending", None)
-        path, how, sample = pending.result() if pending is not None else _write_fresh_form(setup, workdir)
+        if pending is not None:
+            path, how, sample = pending.result()
+            setup._cache["fresh_took"] = (pending.wall, pending.cpu)
+        else:
+            path, how, sample = _write_fresh_form(setup, workdir)
         src = Path(path)
     if src.is_dir():
         params["task_dir"] = str(src)
@@ -951,9 +955,13 @@ class _Background:
         self._proc.start()
         send.close()
 
+    wall: float = 0.0
+    cpu: float = 0.0
+    """Wall and CPU seconds the function took in its process (children included), known after :meth:`result`."""
+
     def result(self) -> Any:
         try:
-            ok, value = self._recv.recv()
+            ok, value, self.wall, self.cpu = self._recv.recv()
         except EOFError:
             self._proc.join()
             raise RuntimeError(f"the background process ended without a result (exit code "
@@ -973,12 +981,34 @@ class _Background:
 
 
 def _background_main(send: Any, fn: Callable[..., Any], args: tuple[Any, ...]) -> None:
+    clock = _Clock()
     try:
-        out = (True, fn(*args))
+        out: tuple[Any, ...] = (True, fn(*args))
     except BaseException as exc:  # noqa: BLE001 - reported by the parent
         out = (False, f"{type(exc).__name__}: {exc}")
-    send.send(out)
+    send.send((*out, *clock.read()))
     send.close()
+
+
+class _Clock:
+    """Wall and CPU seconds since creation; CPU counts this process and its finished children (the pools)."""
+
+    def __init__(self) -> None:
+        import time
+
+        self._t0, self._c0 = time.perf_counter(), self._cpu()
+
+    @staticmethod
+    def _cpu() -> float:
+        import resource
+
+        own, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+        return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+
+    def read(self) -> tuple[float, float]:
+        import time
+
+        return time.perf_counter() - self._t0, self._cpu() - self._c0
 
 
 def _run_probe(probe: AuditProbe, tasks: list[Task], params: dict[str, Any]) -> ProbeResult:
@@ -989,20 +1019,32 @@ def _run_probe(probe: AuditProbe, tasks: list[Task], params: dict[str, Any]) -> 
                            threshold="runs to the end")
 
 
-def _run_probes(probes: list[AuditProbe], tasks: list[Task], params: dict[str, Any]) -> list[ProbeResult]:
-    """The probes in turn, all handed one task list (a world may share work between its probes by it)."""
+def _run_probes(probes: list[AuditProbe], tasks: list[Task],
+                params: dict[str, Any]) -> list[tuple[ProbeResult, float, float]]:
+    """The probes in turn, all handed one task list (a world may share work between its probes by it); each
+    result with its wall and CPU seconds."""
     tasks = list(tasks)
-    return [_run_probe(p, tasks, params) for p in probes]
+    out = []
+    for p in probes:
+        clock = _Clock()
+        res = _run_probe(p, tasks, params)
+        out.append((res, *clock.read()))
+    return out
 
 
 def run_audit(setup: AuditSetup, only: Sequence[str] | None = None,
               progress: Callable[[str], None] | None = None) -> list[tuple[AuditProbe, ProbeResult]]:
     """Run the generic probes, then the world's own (``env_cls.audit_probes()``); ``only`` selects by name.
+    ``progress`` gets a line as each probe starts and ends (with its wall and CPU seconds).
 
     With ``setup.workers > 1`` the work that runs on one core is moved beside the episode probes (which use
     ``workers`` processes): the world's probes run in one forked process and the parallel-forms probe's fresh
     form is generated in another, both started first. Results do not depend on it.
     """
+    def say(msg: str) -> None:
+        if progress is not None:
+            progress(msg)
+
     generic = generic_probes(setup)
     own = list(setup.env_cls.audit_probes())
     probes = generic + own
@@ -1026,20 +1068,25 @@ def run_audit(setup: AuditSetup, only: Sequence[str] | None = None,
             tmp = tempfile.mkdtemp(prefix="eb-audit-form-")
             setup._cache["fresh_pending"] = _Background(_write_fresh_form, setup, Path(tmp))
         if background and side:
-            if progress is not None:
-                progress(", ".join(probes[i].name for i in side) + " (in the background)")
+            say(f"running {', '.join(probes[i].name for i in side)} in the background ...")
             pending = _Background(_run_probes, [probes[i] for i in side], list(setup.tasks), dict(setup.env_params))
         shared = list(setup.tasks)  # one list for the world's probes (they may share work by it)
         for i, probe in enumerate(probes):
             if pending is not None and i in side:
                 continue
-            if progress is not None:
-                progress(probe.name)
+            say(f"running {probe.name} ...")
+            clock = _Clock()
             results[i] = _run_probe(probe, shared if i in side else list(setup.tasks), setup.env_params)
+            wall, cpu = clock.read()
+            fresh = setup._cache.get("fresh_took") if probe.name == "parallel_forms" else None
+            say(_took(probe.name, wall, cpu - (fresh[1] if fresh else 0.0)))  # the form's process ended in it
+            if fresh:
+                say(_took("the fresh form's generation (in the background)", *fresh))
         if pending is not None:
             try:
-                for i, res in zip(side, pending.result()):
+                for i, (res, wall, cpu) in zip(side, pending.result()):
                     results[i] = res
+                    say(_took(f"{probes[i].name} (in the background)", wall, cpu))
             except RuntimeError as exc:
                 for i in side:
                     results[i] = ProbeResult(name=probes[i].name, passed=False, value=f"probe crashed: {exc}",
@@ -1056,6 +1103,10 @@ def run_audit(setup: AuditSetup, only: Sequence[str] | None = None,
 
             shutil.rmtree(tmp, ignore_errors=True)
     return [(p, results[i]) for i, p in enumerate(probes)]
+
+
+def _took(what: str, wall: float, cpu: float) -> str:
+    return f"{what}: {wall:.1f} s wall, {cpu:.1f} s CPU"
 
 
 def _status(res: ProbeResult) -> str:
@@ -1207,7 +1258,7 @@ def cmd_audit(args: list[str]) -> int:
                        workers=ints.get("workers", min(2, os.cpu_count() or 1)))
     try:
         results = run_audit(setup, only or None,
-                            progress=lambda name: print(f"eb audit: running {name} ...", file=sys.stderr, flush=True))
+                            progress=lambda msg: print(f"eb audit: {msg}", file=sys.stderr, flush=True))
     except KeyError as exc:
         raise CliError(str(exc.args[0])) from None
     print(format_audit(cfg.env.name, results, len(tasks), setup.sampling_note() if "cap" in setup._cache else ""))
