@@ -334,7 +334,7 @@ def write_html(run_dir: str | Path) -> Path:
     reps = f" · {repeats} repeats per task" if repeats > 1 else ""
     errors = (f"output-error rate {100 * overall['output_error_rate']:.1f}%"
               if measured and overall.get("output_error_rate") is not None else "output-error rate -")
-    body = (f"<h1>{_e(title)}</h1>{banner}<p class=muted>{_e(root)} · {len(records)} episodes{reps} · {rate} · "
+    body = (f"<h1>{_e(title)}</h1>{banner}<p class=muted>{_e(root)} · {len(records)} episode{'' if len(records) == 1 else 's'}{reps} · {rate} · "
             f"{errors} · cost "
             f"${meta.get('total_cost_usd', overall.get('cost_usd', 0)):.4f}</p>"
             "<h2>Subsets</h2><table><tr><th>subset</th><th>episodes</th><th>success % [95% CI]</th><th></th>"
