@@ -10,11 +10,7 @@ put in front of the place it stands at, looking at what it found.
 
 from __future__ import annotations
 
-import atexit
-import itertools
 import math
-import threading
-import weakref
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -25,6 +21,7 @@ from eb_alfred.world import World
 
 from eb_scenekit import SceneBuilder, Surface, get_type, set_agent_pose, set_open, set_powered
 from eb_scenekit.gl import import_mujoco
+from eb_scenekit.pool import pool_stats
 from eb_scenekit.render import SceneRenderer, free_camera
 
 mujoco = import_mujoco()
@@ -76,111 +73,10 @@ _GLOW_PARTS = {"Microwave": ("window",), "DeskLamp": ("shade",), "FloorLamp": ("
 _CORNER = 0.75
 
 
-# ---------------------------------------------------------------------------------------------- shared GL state
-# Every env of a worker process runs on that process's main thread, so the envs in flight can take turns with one
-# set of GL state: one GL context, one MjrContext (offscreen framebuffers, uploaded meshes and textures) and one
-# MjvScene, instead of one set per env and image size (measured: 8 rendered envs at 500 px took 123 MB each,
-# 64 envs now take about 12 MB each). When an env renders and the pooled renderer was last set up for another
-# scene, the model-dependent parts are rebuilt for its model; every image size draws into the same offscreen
-# buffer with its own viewport, as a private renderer of that size does, so images are byte-identical to those
-# of private renderers. The pool is per thread (a GL context is current on one thread at a time) and is freed
-# when the last renderer using it closes or is garbage-collected.
-_POOL: dict[int, Any] = {}
-"""Thread id -> the mujoco.Renderer shared by the scenes drawn on that thread (at every image size)."""
-_BOUND: dict[int, int] = {}
-"""Pool key -> token of the scene renderer whose model the pooled renderer is currently set up for."""
-_USERS: "weakref.WeakSet[_PooledSceneRenderer]" = weakref.WeakSet()
-_TOKENS = itertools.count(1)
-_STATS = {"contexts": 0, "rebinds": 0}
-_EXIT_HOOK = False
-
-
 def shared_gl_stats() -> dict[str, int]:
-    """Counters of the per-process GL pool: live pooled renderers, GL contexts made and scene switches."""
-    return {"live": len(_POOL), "users": len(_USERS), **_STATS}
-
-
-def _free_pool() -> None:
-    for r in list(_POOL.values()):
-        r.close()
-    _POOL.clear()
-    _BOUND.clear()
-
-
-def _rebind(r: Any, model: Any) -> None:
-    """Point a pooled ``mujoco.Renderer`` at another compiled model (same GL context, fresh model resources)."""
-    if r._gl_context:
-        r._gl_context.make_current()
-    r._mjr_context.free()
-    r._mjr_context = None
-    old = r._model
-    if _skinless(old) and _skinless(model):
-        pass  # the scene's buffers depend on the model only through skins and flexes: keep it (mjv_updateScene
-        # refills it every frame), which saves building ~10,000 geom wrappers per switch
-    else:
-        r._scene = None  # free the old scene's geom buffer before allocating the new one
-        r._scene = mujoco.MjvScene(model=model, maxgeom=10000)
-    r._model = model
-    r._mjr_context = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150.value)
-    mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN.value, r._mjr_context)
-    r._mjr_context.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
-
-
-def _skinless(model: Any) -> bool:
-    return int(model.nskin) == 0 and int(model.nflex) == 0
-
-
-class _PooledSceneRenderer(SceneRenderer):
-    """A :class:`SceneRenderer` that borrows the thread's pooled ``mujoco.Renderer`` for every image size."""
-
-    def __init__(self, model: Any, data: Any, width: int, height: int) -> None:
-        super().__init__(model, data, width, height)
-        self._token = next(_TOKENS)
-        self._closed = False
-        _USERS.add(self)
-        weakref.finalize(self, _release)
-
-    def _renderer(self, width: int | None, height: int | None) -> Any:
-        global _EXIT_HOOK
-        assert not self._closed, "renderer is closed"
-        w, h = int(width or self.width), int(height or self.height)
-        off = (int(self.model.vis.global_.offwidth), int(self.model.vis.global_.offheight))
-        if w > off[0] or h > off[1]:
-            raise ValueError(f"image size {w}x{h} is larger than this scene's offscreen buffer {off[0]}x{off[1]}; "
-                             f"ask for at most {off[0]}x{off[1]} or build the scene with a larger `offscreen`")
-        key = threading.get_ident()
-        r = _POOL.get(key)
-        if r is None:
-            r = mujoco.Renderer(self.model, height=h, width=w)
-            _POOL[key] = r
-            _STATS["contexts"] += 1
-            if not _EXIT_HOOK:  # after the first GL context exists: runs before MuJoCo's own exit hook
-                atexit.register(_free_pool)
-                _EXIT_HOOK = True
-        elif _BOUND.get(key) != self._token:
-            _rebind(r, self.model)
-            _STATS["rebinds"] += 1
-        _BOUND[key] = self._token
-        if (r._width, r._height) != (w, h):
-            # every size draws into the same offscreen buffer (offwidth x offheight), as a private renderer of
-            # that size would: only the viewport differs, so one renderer serves the image and the boxes pass
-            r._width, r._height = w, h
-            r._rect = mujoco.MjrRect(0, 0, w, h)
-        return r
-
-    def close(self) -> None:
-        if not self._closed:
-            self._closed = True
-            _USERS.discard(self)
-            for key, token in list(_BOUND.items()):
-                if token == self._token:
-                    del _BOUND[key]  # the next user rebinds (the old model may be gone)
-            _release()
-
-
-def _release() -> None:
-    if not _USERS:
-        _free_pool()
+    """Counters of the per-process GL pool (:func:`eb_scenekit.pool.pool_stats`): ALFRED's envs of one process
+    share one GL context, framebuffer set and scene buffer (images byte-identical to private renderers)."""
+    return pool_stats()
 
 
 @dataclass
@@ -294,8 +190,8 @@ class AlfredRenderer:
         # every pose, door or camera change, stays cheap even with dozens of objects in one cupboard
         self.model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
         mujoco.mj_forward(self.model, self.data)
-        make = _PooledSceneRenderer if self.shared_gl else SceneRenderer
-        self._renderer = make(self.model, self.data, self.resolution, self.resolution)
+        self._renderer = SceneRenderer(self.model, self.data, self.resolution, self.resolution,
+                                       pooled=self.shared_gl)
         self._geoms: dict[str, list[int]] = {}
         for g in range(self.model.ngeom):
             gname = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, g) or ""

@@ -18,6 +18,8 @@ from eb_manipulation.scene import ROBOT_BASE
 
 mujoco = import_mujoco()  # the GL backend is chosen before MuJoCo is imported
 
+from eb_scenekit import pool  # noqa: E402 - imports MuJoCo
+
 __all__ = ["BOX_COLOURS", "SceneRenderer", "draw_axes", "draw_boxes", "project"]
 
 #: Box outline colours by object index (cycled); none of them is the axes' red.
@@ -38,26 +40,42 @@ def _font(size: int) -> ImageFont.ImageFont:
 
 
 class SceneRenderer:
-    """Renders named cameras of one model; call :meth:`close` when done."""
+    """Renders named cameras of one model; call :meth:`close` when done.
 
-    def __init__(self, model, resolution: int):
+    ``pooled`` (default) borrows the thread's pooled ``mujoco.Renderer`` (:mod:`eb_scenekit.pool`): the envs of
+    a process share one GL context and framebuffer set, with byte-identical images; False keeps a private one.
+    """
+
+    def __init__(self, model, resolution: int, pooled: bool = True):
         self.model = model
         self.size = resolution
-        self._r = mujoco.Renderer(model, resolution, resolution)
+        self.pooled = bool(pooled)
+        self._token = pool.register(self) if self.pooled else None
+        self._own = None if self.pooled else mujoco.Renderer(model, resolution, resolution)
         self._closed = False
 
+    @property
+    def _r(self):
+        if self._closed:
+            raise RuntimeError("this SceneRenderer is closed")
+        if self._own is not None:
+            return self._own
+        return pool.borrow(self._token, self.model, self.size, self.size)
+
     def rgb(self, data, camera: str) -> np.ndarray:
-        self._r.update_scene(data, camera)
-        return self._r.render().copy()
+        r = self._r
+        r.update_scene(data, camera)
+        return r.render().copy()
 
     def segmentation(self, data, camera: str) -> np.ndarray:
         """(H, W) array of geom ids (-1 where no geom)."""
-        self._r.enable_segmentation_rendering()
+        r = self._r
+        r.enable_segmentation_rendering()
         try:
-            self._r.update_scene(data, camera)
-            seg = self._r.render().copy()
+            r.update_scene(data, camera)
+            seg = r.render().copy()
         finally:
-            self._r.disable_segmentation_rendering()
+            r.disable_segmentation_rendering()
         ids = seg[..., 0].astype(np.int64)
         ids[seg[..., 1] != int(mujoco.mjtObj.mjOBJ_GEOM)] = -1
         return ids
@@ -78,10 +96,13 @@ class SceneRenderer:
         if self._closed:
             return
         self._closed = True
-        try:
-            self._r.close()
-        except Exception:  # noqa: BLE001 - GL teardown at interpreter exit may already be gone
-            pass
+        if self._token is not None:
+            pool.release(self._token)
+        if self._own is not None:
+            try:
+                self._own.close()
+            except Exception:  # noqa: BLE001 - GL teardown at interpreter exit may already be gone
+                pass
 
 
 def project(model, data, camera: str, points: np.ndarray, size: int) -> np.ndarray:

@@ -17,6 +17,7 @@ from typing import Union
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
+from eb_scenekit import pool
 from eb_scenekit._mujoco import mujoco
 from eb_scenekit.scene import AGENT_GROUP, CEILING_GROUP, INSTANCES_TEXT
 
@@ -75,16 +76,21 @@ class SceneRenderer:
         model, data: a compiled model and its data (call ``mj_forward`` after changing ``qpos``/mocap poses).
         width, height: default image size; individual calls may ask for another size.
         show_ceiling: ``None`` hides the ceiling only for cameras above it (overhead views); True/False forces.
+        pooled: borrow the thread's pooled ``mujoco.Renderer`` (:mod:`eb_scenekit.pool`: one GL context and
+            framebuffer set for every scene drawn on the thread, byte-identical images, ~100 MB less per scene);
+            False = private renderers, one per image size.
     """
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, width: int = 500, height: int = 500,
-                 show_ceiling: bool | None = None) -> None:
+                 show_ceiling: bool | None = None, pooled: bool = True) -> None:
         self.model = model
         self.data = data
         self.width = int(width)
         self.height = int(height)
         self.show_ceiling = show_ceiling
         self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
+        self.pooled = bool(pooled)
+        self._pool_token: int | None = pool.register(self) if self.pooled else None
         names = self._read_instances()
         self.instance_names: list[str] = [""] + names
         """Index -> instance name; index 0 is background ("")."""
@@ -120,6 +126,10 @@ class SceneRenderer:
 
     def _renderer(self, width: int | None, height: int | None) -> mujoco.Renderer:
         key = (int(width or self.width), int(height or self.height))
+        if self.pooled:
+            if self._pool_token is None:
+                raise RuntimeError("this SceneRenderer is closed")
+            return pool.borrow(self._pool_token, self.model, key[0], key[1])
         r = self._renderers.get(key)
         if r is None:
             global _EXIT_HOOK
@@ -215,6 +225,9 @@ class SceneRenderer:
 
     def close(self) -> None:
         """Free the GL contexts (safe to call twice)."""
+        if self._pool_token is not None:
+            pool.release(self._pool_token)
+            self._pool_token = None
         for r in self._renderers.values():
             r.close()
         self._renderers.clear()
