@@ -83,6 +83,12 @@ def _wrong_target(kind: str, arg: str, held_before: Item | None, full_before: bo
     return False
 
 
+def _scene_key(spec: TaskSpec) -> tuple[Any, ...]:
+    """What :meth:`eb_habitat.render.ApartmentRenderer.load` compiles a scene for (its reuse check; that check
+    still decides, this one only picks whether the previous renderer is asked first)."""
+    return (spec.apartment, tuple((o.name, o.type, o.color) for o in spec.objects))
+
+
 class HabitatEnv(Env):
     """EB-Habitat. One instance per worker; ``reset`` builds the task's apartment, ``step`` runs one skill."""
 
@@ -117,13 +123,24 @@ class HabitatEnv(Env):
         self._world = self._spec.world()
         self._tracker = self._spec.tracker()
         self._tracker.update(self._world)
-        if self.params.render:
-            if self._renderer is None:
-                from eb_habitat.render import ApartmentRenderer
+        if not self.params.render:
+            return self._observe()
+        from eb_habitat.render import ApartmentRenderer
 
-                self._renderer = ApartmentRenderer(self.resolution, multi_view=self.multi_view)
+        previous = self._renderer
+        if previous is not None and getattr(previous, "_key", None) == _scene_key(self._spec):
+            previous.load(self._spec)  # the same apartment with the same objects: no recompile
+            return self._observe()
+        # Another scene: it is built and drawn before the previous one is closed. While one GL context of the
+        # process stays alive, making the next one is cheap (and a renderer pooled per process keeps it); closing
+        # first made every reset start GL from nothing.
+        self._renderer = ApartmentRenderer(self.resolution, multi_view=self.multi_view)
+        try:
             self._renderer.load(self._spec)
-        return self._observe()
+            return self._observe()
+        finally:
+            if previous is not None:
+                previous.close()
 
     def step(self, action: Action) -> StepResult:
         if self._world is None or self._tracker is None:

@@ -33,6 +33,7 @@ from eb_navigation.geometry import (
 from eb_navigation.instructions import colour_word, display_name, with_article
 from eb_navigation.prompts import prompt_parts
 from eb_navigation.room import NavObject, NavRoom
+from eb_navigation.splits import take_room
 from eb_navigation.tasks import NavTaskSpec, TaskFileError, load_task_file, spec_of
 
 __all__ = ["FAILURES", "NavigationEnv", "NavigationParams", "build_room", "check_target"]
@@ -194,7 +195,9 @@ class NavigationEnv(Env):
                 # the previous room is closed only after the new one has been drawn, so that a renderer pooled per
                 # process keeps its GL context across the switch instead of making a new one
                 previous, self._world, self._world_key = self._world, None, None
-                room = NavRoom(spec.scene.kind, spec.scene.seed, [e.spec() for e in extras])
+                wanted = tuple(e.spec() for e in extras)
+                room = take_room(spec.scene.kind, spec.scene.seed, wanted) or NavRoom(spec.scene.kind, spec.scene.seed,
+                                                                                     list(wanted))
                 self._world = _World(room, self.params.render, self.resolution)
                 self._world_key = key
             return self._start(spec)

@@ -23,6 +23,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+from collections import OrderedDict
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
@@ -31,7 +32,7 @@ import numpy as np
 
 from eb_core.env import Task
 
-__all__ = ["SEED_RANGE", "SPLITS", "split_tasks", "test_keys", "write_split"]
+__all__ = ["SEED_RANGE", "SPLITS", "split_tasks", "take_room", "test_keys", "write_split"]
 
 SPLITS = ("train", "val")
 SEED_RANGE = (10_000_000, 2**31 - 1)
@@ -154,8 +155,27 @@ def _one(split: str, index: int, rooms: frozenset[tuple[str, int]], instructions
             "id": f"{split}_{subset}_{index:06d}", "subset": subset, "instruction": text, "template": template,
             "scene": {"kind": kind, "seed": seed}, "start": _pose_dict(state), "target": _target_dict(target),
             "extra_objects": [_extra_dict(e) for e in extras], "oracle_steps": plan})
+        _keep_room(room)
         return spec.to_task()
     raise RuntimeError(f"navigation {split} task {index}: no valid draw in {MAX_TRIES} tries (a generator bug)")
+
+
+_ROOMS: OrderedDict[tuple[Any, ...], Any] = OrderedDict()
+ROOMS_KEPT = 4
+"""Rooms the generator built for its latest tasks, kept for the reset that usually follows (``take_room``)."""
+
+
+def _keep_room(room: Any) -> None:
+    _ROOMS[(room.kind, room.seed, tuple(room.extras))] = room
+    while len(_ROOMS) > ROOMS_KEPT:
+        _ROOMS.popitem(last=False)
+
+
+def take_room(kind: str, seed: int, extras: tuple[Any, ...]) -> Any:
+    """The room the generator just built and checked a task in, if it is the room ``(kind, seed, extras)``; each
+    room is handed out once (the env then owns it), else None. A train reset right after drawing its task then
+    skips laying out the same room a second time."""
+    return _ROOMS.pop((kind, int(seed), tuple(extras)), None)
 
 
 _recent = lru_cache(maxsize=512)(_one)
