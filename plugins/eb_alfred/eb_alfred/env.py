@@ -102,8 +102,8 @@ class AlfredEnv(Env):
         # first freed it, and every reset paid for a new context (measured: median reset 0.39-0.56 s -> 0.17-0.22 s
         # under load 8; images are the pool's, byte-identical).
         previous = self._renderer
-        shared = previous.shared_gl if previous is not None else True  # a renderer told to keep its own GL stays so
-        self._renderer = AlfredRenderer(self.resolution, multi_view=self.multi_view, shared_gl=shared)
+        keep = {} if previous is None else {"shared_gl": previous.shared_gl}  # private GL, once asked for, stays
+        self._renderer = AlfredRenderer(self.resolution, multi_view=self.multi_view, **keep)
         try:
             self._renderer.load(self._world)
             return self._observe()
