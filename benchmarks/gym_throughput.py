@@ -2,7 +2,7 @@
 
     python benchmarks/gym_throughput.py [--worlds navigation,habitat,manipulation,alfred] [--sizes 1,8,32,128]
                                         [--workers 2] [--steps 10] [--max-env-steps 640] [--resets 10]
-                                        [--resolution 500] [--json out.json]
+                                        [--resolution 500] [--private-gl] [--json out.json]
 
 Raw mode with rendering on (every step renders the world's first-person image). For each world:
 
@@ -143,8 +143,13 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--max-env-steps", type=int, default=640, help="cap on N x steps at each size")
     ap.add_argument("--resets", type=int, default=10)
     ap.add_argument("--resolution", type=int, default=500)
+    ap.add_argument("--private-gl", action="store_true",
+                    help="every env its own GL state (EB_SCENEKIT_PRIVATE_GL=1) instead of one pooled renderer per "
+                         "worker process: more memory, no model switch between the envs a worker steps in turn")
     ap.add_argument("--json", default=None, help="write the results to this file")
     args = ap.parse_args(argv)
+    if args.private_gl:
+        os.environ["EB_SCENEKIT_PRIVATE_GL"] = "1"  # the workers take this process's environment
     sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
     results = []
     for world in [w.strip() for w in args.worlds.split(",") if w.strip()]:
