@@ -17,6 +17,8 @@ Printed per run:
 Usage::
 
     python benchmarks/inflight.py [--inflight 8,32,64,128] [--workers 2] [--latency 2.0] [--no-render]
+    python benchmarks/inflight.py --world-memory 16   # MB per rendered env in each world (one GL pool)
+    python benchmarks/inflight.py --step-cpu 10       # CPU seconds per env step and reset in each world
 """
 
 from __future__ import annotations
@@ -106,15 +108,27 @@ def one_run(url: str, inflight: int, workers: int, root: Path, render: bool) -> 
     })
     out = root / f"inflight-{inflight}"
     t0 = time.perf_counter()
+    cpu0 = _cpu()
     with PeakSampler() as sampler:
         started = time.time()
         summary = run(cfg, out, plugins=[eb_alfred.plugin, eb_models.plugin])
     wall = time.perf_counter() - t0
+    cpu1 = _cpu()
+    load = os.getloadavg()[0]
     recs = [json.loads(x) for x in (out / "episodes.jsonl").read_text().splitlines()]
     assert summary["n_finished"] == inflight, summary
     steps = sum(r["env_steps"] for r in recs)
     return {"wall": wall, "peak": sampler.peak, "started": started, "calls": [r["model_calls"] for r in recs],
-            "steps": steps}
+            "steps": steps, "cpu_workers": cpu1[1] - cpu0[1], "cpu_main": cpu1[0] - cpu0[0], "load": load}
+
+
+def _cpu() -> tuple[float, float]:
+    """CPU seconds (user + system) of this process (run loop, stub server, sampler) and of its finished children
+    (the worker processes, once joined)."""
+    import resource
+
+    me, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime, kids.ru_utime + kids.ru_stime
 
 
 WORLDS = {"navigation": "eb_navigation", "alfred": "eb_alfred", "habitat": "eb_habitat",
@@ -154,6 +168,56 @@ def step_cpu(n: int) -> None:
         env.close()
 
 
+def world_memory(n: int) -> None:
+    """Memory per rendered in-flight episode in every world: ``n`` envs of one world, each reset to another task,
+    in a fresh process (one GL pool; and, for comparison, private renderers: ``EB_SCENEKIT_PRIVATE_GL=1``)."""
+    import subprocess
+
+    print(f"{'world':>12} {'GL':>8} {'process MB':>10} {'first env MB':>12} {'MB per further env':>18} "
+          f"{'GL contexts':>11}  ({n} envs in one process, 500 px, rendered, each reset to another task)")
+    for world in WORLDS:
+        for mode in ("pooled", "private"):
+            env = {**os.environ, "EB_SCENEKIT_PRIVATE_GL": "1" if mode == "private" else "0"}
+            out = subprocess.run([sys.executable, __file__, "--world-memory-one", f"{world}:{n}"], env=env,
+                                 capture_output=True, text=True, check=True).stdout.strip().splitlines()[-1]
+            base, first, further, contexts = json.loads(out)
+            print(f"{world:>12} {mode:>8} {base:>10.0f} {first:>12.0f} {further:>18.1f} {contexts:>11}", flush=True)
+
+
+def _world_memory_one(spec: str) -> None:
+    import gc
+
+    import yaml
+
+    from eb_core.plugins import Registry, get_plugin_manager
+    from eb_scenekit import pool
+
+    world, n = spec.split(":")[0], int(spec.split(":")[1])
+
+    def rss() -> float:
+        return int(Path("/proc/self/statm").read_text().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+    mod = __import__(WORLDS[world])
+    conf = yaml.safe_load((Path(list(mod.__path__)[0]) / "conf" / "env" / f"{world}.yaml").read_text())
+    cls = Registry(get_plugin_manager()).get("env", world).load()
+    tasks = cls.load_tasks(**conf.get("params", {}))
+    tasks = [tasks[(i * len(tasks)) // n] for i in range(n)]  # spread over the subsets
+    gc.collect()
+    r0 = rss()
+    envs, contexts = [], 0
+    for i, task in enumerate(tasks):
+        env = cls(resolution=conf.get("resolution", 500), multi_view=False, **conf.get("params", {}))
+        env.reset(task, 0)
+        envs.append(env)
+        if i == 0:
+            r1 = rss()
+    r2 = rss()
+    contexts = pool.pool_stats()["contexts"]  # 0 when every renderer is private
+    print(json.dumps([r0, r1 - r0, (r2 - r1) / max(1, n - 1), contexts]))
+    for env in envs:
+        env.close()
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--inflight", default="8,32,64,128", help="comma-separated episodes in flight (= episodes)")
@@ -162,7 +226,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--no-render", action="store_true", help="env.params.render=false (text-only observations)")
     ap.add_argument("--step-cpu", type=int, default=0, metavar="N",
                     help="instead: CPU seconds per env step of every world (N steps each), then exit")
+    ap.add_argument("--world-memory", type=int, default=0, metavar="N",
+                    help="instead: memory per rendered env in every world (N envs in one process), then exit")
+    ap.add_argument("--world-memory-one", default="", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.world_memory_one:
+        _world_memory_one(args.world_memory_one)
+        return 0
+    if args.world_memory:
+        world_memory(args.world_memory)
+        return 0
     if args.step_cpu:
         step_cpu(args.step_cpu)
         return 0
@@ -177,7 +250,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"EB-ALFRED, {args.workers} worker processes, stub latency {args.latency:g} s, render={render}, "
           f"{os.cpu_count()} CPU(s)")
     print(f"{'in flight':>9} {'peak MB':>8} {'MB/ep':>6} | {'wall s':>7} {'start-up s':>10} {'ideal s':>7} "
-          f"{'of ideal':>8} {'calls':>5} {'max in flight':>13} {'env steps':>9}")
+          f"{'of ideal':>8} {'calls':>5} {'max in flight':>13} {'env steps':>9} | {'CPU s':>6} {'workers':>7} "
+          f"{'ms/step':>7} {'CPU budget s':>12} {'load':>5}")
     with tempfile.TemporaryDirectory(prefix="eb_inflight_") as tmp, \
             StubOpenAIServer(default=StubReply(content=PLAN), latency_s=args.latency) as server:
         for n in [int(x) for x in args.inflight.split(",")]:
@@ -190,10 +264,16 @@ def main(argv: list[str] | None = None) -> int:
             calls = r["calls"]
             ideal = args.latency * max(max(calls), math.ceil(sum(calls) / n))
             frac = ideal / max(1e-9, r["wall"] - startup)
+            cpu = r["cpu_workers"] + r["cpu_main"]
+            budget = (os.cpu_count() or 1) * (1.5 * ideal + startup)  # CPU seconds the goal's wall time allows
             print(f"{n:>9} {r['peak']:>8.0f} {r['peak'] / n:>6.1f} | {r['wall']:>7.1f} {startup:>10.1f} "
-                  f"{ideal:>7.1f} {frac:>8.2f} {sum(calls):>5} {server.max_in_flight:>13} {r['steps']:>9}",
-                  flush=True)
+                  f"{ideal:>7.1f} {frac:>8.2f} {sum(calls):>5} {server.max_in_flight:>13} {r['steps']:>9} | "
+                  f"{cpu:>6.1f} {r['cpu_workers']:>7.1f} {1000 * r['cpu_workers'] / max(1, r['steps']):>7.0f} "
+                  f"{budget:>12.1f} {r['load']:>5.1f}", flush=True)
     print("goals at 64 in flight: peak <= 3000 MB; wall <= 1.5 x ideal + start-up (of ideal >= 0.67)")
+    print("CPU s = this process (run loop, stub server) + the worker processes; ms/step = workers' CPU per env "
+          "step (reset, render, PNG, prompt, litellm call, records); CPU budget = cores x (1.5 x ideal + start-up); "
+          "load = 1-min load average at the end (other jobs on the machine)")
     return 0
 
 

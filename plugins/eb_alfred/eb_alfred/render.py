@@ -21,7 +21,7 @@ from eb_alfred.world import World
 
 from eb_scenekit import SceneBuilder, Surface, get_type, set_agent_pose, set_open, set_powered
 from eb_scenekit.gl import import_mujoco
-from eb_scenekit.pool import pool_stats
+from eb_scenekit.pool import default_pooled, pool_stats
 from eb_scenekit.render import SceneRenderer, free_camera
 
 mujoco = import_mujoco()
@@ -107,10 +107,10 @@ def _rgb(color: str | None, fallback: str) -> tuple[float, float, float]:
 class AlfredRenderer:
     """Builds one MuJoCo scene per task and renders the agent's view of a :class:`World`."""
 
-    def __init__(self, resolution: int = 500, multi_view: bool = False, shared_gl: bool = True) -> None:
+    def __init__(self, resolution: int = 500, multi_view: bool = False, shared_gl: bool | None = None) -> None:
         self.resolution = int(resolution)
         self.multi_view = multi_view
-        self.shared_gl = bool(shared_gl)
+        self.shared_gl = default_pooled() if shared_gl is None else bool(shared_gl)
         """Borrow GL context, framebuffers and scene buffer from the process pool (same images, far less memory)."""
         self._renderer: SceneRenderer | None = None
         self.model: Any = None

@@ -43,13 +43,14 @@ class SceneRenderer:
     """Renders named cameras of one model; call :meth:`close` when done.
 
     ``pooled`` (default) borrows the thread's pooled ``mujoco.Renderer`` (:mod:`eb_scenekit.pool`): the envs of
-    a process share one GL context and framebuffer set, with byte-identical images; False keeps a private one.
+    a process share one GL context and framebuffer set, with byte-identical images; False keeps a private one
+    (None: pooled unless ``EB_SCENEKIT_PRIVATE_GL=1``).
     """
 
-    def __init__(self, model, resolution: int, pooled: bool = True):
+    def __init__(self, model, resolution: int, pooled: bool | None = None):
         self.model = model
         self.size = resolution
-        self.pooled = bool(pooled)
+        self.pooled = pool.default_pooled() if pooled is None else bool(pooled)
         self._token = pool.register(self) if self.pooled else None
         self._own = None if self.pooled else mujoco.Renderer(model, resolution, resolution)
         self._closed = False

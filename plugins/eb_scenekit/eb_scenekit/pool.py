@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import atexit
 import itertools
+import os
 import threading
 import weakref
 from typing import Any
@@ -26,7 +27,17 @@ import numpy as np
 
 from eb_scenekit._mujoco import mujoco
 
-__all__ = ["borrow", "check_pooled_matches_private", "episode_frames", "pool_stats", "register", "release"]
+__all__ = ["PRIVATE_GL_ENV", "borrow", "default_pooled", "check_pooled_matches_private", "episode_frames", "pool_stats", "register", "release"]
+
+PRIVATE_GL_ENV = "EB_SCENEKIT_PRIVATE_GL"
+"""Set to 1 to give every renderer that does not say otherwise its own GL state (as before the pool): a
+comparison or an escape hatch; images are the same either way."""
+
+
+def default_pooled() -> bool:
+    """Whether renderers use the pool unless told otherwise (yes, unless ``EB_SCENEKIT_PRIVATE_GL=1``)."""
+    return os.environ.get(PRIVATE_GL_ENV, "") not in ("1", "true", "yes")
+
 
 _POOL: dict[int, Any] = {}
 """Thread id -> the mujoco.Renderer shared by the scenes drawn on that thread (at every image size)."""

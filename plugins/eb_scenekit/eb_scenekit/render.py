@@ -78,18 +78,18 @@ class SceneRenderer:
         show_ceiling: ``None`` hides the ceiling only for cameras above it (overhead views); True/False forces.
         pooled: borrow the thread's pooled ``mujoco.Renderer`` (:mod:`eb_scenekit.pool`: one GL context and
             framebuffer set for every scene drawn on the thread, byte-identical images, ~100 MB less per scene);
-            False = private renderers, one per image size.
+            False = private renderers, one per image size; None = pooled unless ``EB_SCENEKIT_PRIVATE_GL=1``.
     """
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, width: int = 500, height: int = 500,
-                 show_ceiling: bool | None = None, pooled: bool = True) -> None:
+                 show_ceiling: bool | None = None, pooled: bool | None = None) -> None:
         self.model = model
         self.data = data
         self.width = int(width)
         self.height = int(height)
         self.show_ceiling = show_ceiling
         self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
-        self.pooled = bool(pooled)
+        self.pooled = pool.default_pooled() if pooled is None else bool(pooled)
         self._pool_token: int | None = pool.register(self) if self.pooled else None
         names = self._read_instances()
         self.instance_names: list[str] = [""] + names
