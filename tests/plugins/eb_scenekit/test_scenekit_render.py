@@ -105,3 +105,26 @@ def test_plain_models_segment_by_name_prefix() -> None:
     with SceneRenderer(model, data, 64, 64) as r:
         assert r.instance_names == ["", "cube"]
         assert "cube" in r.boxes("c")
+
+
+def test_pool_private_switch_and_errors(scene, monkeypatch: pytest.MonkeyPatch) -> None:  # type: ignore[no-untyped-def]
+    """Scene renderers share the thread's pool unless told (or EB_SCENEKIT_PRIVATE_GL=1); same pixels either way,
+    depth and segmentation included; a closed or too-large request fails in one line."""
+    from eb_scenekit import pool
+
+    assert scene.pooled and pool.pool_stats()["live"] == 1
+    monkeypatch.setenv(pool.PRIVATE_GL_ENV, "1")
+    with SceneRenderer(scene.model, scene.data) as private:
+        assert not private.pooled
+        for fn in ("rgb", "depth", "segmentation"):
+            a, b = getattr(private, fn)("agent", 200, 160), getattr(scene, fn)("agent", 200, 160)
+            assert a.shape == (160, 200) + a.shape[2:] and np.array_equal(a, b)
+    monkeypatch.delenv(pool.PRIVATE_GL_ENV)
+    other = SceneRenderer(scene.model, scene.data, 64, 64)
+    assert other.pooled and pool.pool_stats()["users"] >= 2
+    with pytest.raises(ValueError, match="larger than this scene's offscreen buffer"):
+        other.rgb("agent", 4000, 4000)
+    other.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        other.rgb("agent")
+    assert pool.pool_stats()["live"] == 1  # the fixture's renderer still holds the pool
