@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 import math
+import threading
 from collections import OrderedDict
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -620,6 +621,7 @@ class SceneBuilder:
 MODEL_CACHE_SIZE = 4
 """Compiled models :func:`compile_model` keeps per process (the most recently used ones)."""
 _MODELS: OrderedDict[tuple[object, ...], object] = OrderedDict()
+_MODELS_LOCK = threading.Lock()
 
 
 def compile_model(xml: str, assets: Mapping[str, bytes] | None = None) -> object:
@@ -635,15 +637,17 @@ def compile_model(xml: str, assets: Mapping[str, bytes] | None = None) -> object
 
     files = tuple(sorted((name, len(data), hash(data)) for name, data in (assets or {}).items()))
     key = (xml, files)
-    cached = _MODELS.get(key)
+    with _MODELS_LOCK:
+        cached = _MODELS.get(key)
+        if cached is not None:
+            _MODELS.move_to_end(key)
     if cached is None:
         cached = mujoco.MjModel.from_xml_string(xml, assets=dict(assets)) if assets else \
             mujoco.MjModel.from_xml_string(xml)
-        _MODELS[key] = cached
-        while len(_MODELS) > MODEL_CACHE_SIZE:
-            _MODELS.popitem(last=False)
-    else:
-        _MODELS.move_to_end(key)
+        with _MODELS_LOCK:
+            _MODELS[key] = cached
+            while len(_MODELS) > MODEL_CACHE_SIZE:
+                _MODELS.popitem(last=False)
     return copy.copy(cached)
 
 
