@@ -620,7 +620,10 @@ class SceneBuilder:
 
 MODEL_CACHE_SIZE = 4
 """Compiled models :func:`compile_model` keeps per process (the most recently used ones)."""
-_MODELS: OrderedDict[tuple[object, ...], object] = OrderedDict()
+MODEL_CACHE_BYTES = 48_000_000
+"""...and at most this many bytes of them (always the newest one): an EB-Manipulation model with the Panda's
+visual meshes is ~33 MB, a household room 2-5 MB."""
+_MODELS: OrderedDict[tuple[object, ...], tuple[object, int]] = OrderedDict()
 _MODELS_LOCK = threading.Lock()
 
 
@@ -631,24 +634,26 @@ def compile_model(xml: str, assets: Mapping[str, bytes] | None = None) -> object
     same task in another env of the process) gets a copy of the model compiled then: about 1 ms instead of 0.05-0.2
     s. The copy is a separate model (changing its colours or flags leaves the cached one alone) with the same
     numbers, so it renders and simulates exactly like a fresh compile. The key is the document and each asset's
-    name, size and hash; at most :data:`MODEL_CACHE_SIZE` models are kept.
+    name, size and hash; at most :data:`MODEL_CACHE_SIZE` models and :data:`MODEL_CACHE_BYTES` are kept.
     """
     from eb_scenekit._mujoco import mujoco
 
     files = tuple(sorted((name, len(data), hash(data)) for name, data in (assets or {}).items()))
     key = (xml, files)
     with _MODELS_LOCK:
-        cached = _MODELS.get(key)
-        if cached is not None:
+        entry = _MODELS.get(key)
+        if entry is not None:
             _MODELS.move_to_end(key)
-    if cached is None:
-        cached = mujoco.MjModel.from_xml_string(xml, assets=dict(assets)) if assets else \
+    if entry is None:
+        model = mujoco.MjModel.from_xml_string(xml, assets=dict(assets)) if assets else \
             mujoco.MjModel.from_xml_string(xml)
+        entry = (model, int(mujoco.mj_sizeModel(model)))
         with _MODELS_LOCK:
-            _MODELS[key] = cached
-            while len(_MODELS) > MODEL_CACHE_SIZE:
+            _MODELS[key] = entry
+            while len(_MODELS) > 1 and (len(_MODELS) > MODEL_CACHE_SIZE
+                                        or sum(size for _, size in _MODELS.values()) > MODEL_CACHE_BYTES):
                 _MODELS.popitem(last=False)
-    return copy.copy(cached)
+    return copy.copy(entry[0])
 
 
 def forward_without_contacts(model: object, data: object) -> None:

@@ -11,7 +11,7 @@ from eb_scenekit import SceneBuilder, SceneRenderer, free_camera
 from eb_scenekit import scene as scene_mod
 from eb_scenekit._mjcf import quote
 from eb_scenekit._mujoco import mujoco
-from eb_scenekit.scene import MODEL_CACHE_SIZE, compile_model
+from eb_scenekit.scene import MODEL_CACHE_BYTES, MODEL_CACHE_SIZE, compile_model
 
 
 def _parked_pair(name: str = "parked") -> SceneBuilder:
@@ -61,6 +61,25 @@ def test_compile_model_keeps_only_the_most_recent_models() -> None:
         b.add_studio()
         compile_model(b.to_xml())
     assert len(scene_mod._MODELS) == MODEL_CACHE_SIZE
+
+
+def test_compile_model_keeps_the_cache_under_its_byte_budget(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    xmls = []
+    for k in range(3):
+        b = SceneBuilder(name=f"budget{k}", offscreen=(64, 64))
+        b.add_studio()
+        xmls.append(b.to_xml())
+    one = mujoco.mj_sizeModel(mujoco.MjModel.from_xml_string(xmls[0]))
+    monkeypatch.setattr(scene_mod, "MODEL_CACHE_BYTES", int(2.5 * one))  # room for two of these models
+    for xml in xmls:
+        compile_model(xml)
+    kept = [key[0] for key in scene_mod._MODELS]
+    assert kept[-2:] == xmls[1:] and xmls[0] not in kept
+    assert sum(size for _, size in scene_mod._MODELS.values()) <= 2.5 * one
+    monkeypatch.setattr(scene_mod, "MODEL_CACHE_BYTES", one // 2)  # smaller than any model: the newest stays
+    compile_model(xmls[0])
+    assert [key[0] for key in scene_mod._MODELS] == [xmls[0]]
+    assert MODEL_CACHE_BYTES > 33_000_000  # an EB-Manipulation model with its visual meshes fits
 
 
 def test_a_cached_model_renders_the_bytes_of_a_fresh_compile() -> None:
