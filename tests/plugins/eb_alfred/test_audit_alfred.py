@@ -155,3 +155,14 @@ def test_the_rendering_probes_share_one_set_of_views_per_task_list(monkeypatch) 
     separate = [_probe(n).run(list(tasks), {}) for n in names]  # a new list each time: rendered afresh
     assert len(made) == 2 + 3 * 2
     assert shared == separate and all(r.passed for r in shared)
+
+
+def test_audit_form_writes_per_subset_tasks_that_pass_the_probes(tmp_path) -> None:
+    from eb_alfred.generate import audit_form
+
+    audit_form(str(tmp_path / "form"), seed=4, per_subset=1)
+    fresh = AlfredEnv.load_tasks(task_dir=str(tmp_path / "form"))
+    assert sorted(t.subset for t in fresh) == sorted(json.loads(p.read_text())["subset"]
+                                                     for p in TASK_DIR.glob("*.json"))
+    assert all(t.id.endswith("_00") for t in fresh)
+    assert all(p.run(fresh, {}).passed for p in probes())  # the generator's own checks hold on what it wrote

@@ -89,3 +89,14 @@ def test_shipped_conditionals_pass_and_one_sided_ones_fail() -> None:
     assert broken
     res = conditional_first_branch(broken, {})
     assert not res.passed and float(res.value.split()[0]) > 100 * FIRST_BRANCH_LIMIT
+
+
+def test_audit_form_is_the_start_of_a_full_draw(tmp_path) -> None:
+    from eb_habitat.generate import audit_form, generate_subset
+
+    audit_form(str(tmp_path / "form"), seed=9, per_subset=3)
+    fresh = HabitatEnv.load_tasks(task_dir=str(tmp_path / "form"))
+    subsets = {t.subset for t in fresh}
+    assert len(fresh) == 3 * len(subsets) == 18
+    full = generate_subset("base", n=5, seed=9)
+    assert [t.instruction for t in fresh if t.subset == "base"] == [t["instruction"] for t in full[:3]]

@@ -44,3 +44,17 @@ def test_probe_passes_on_shipped_spatial_tasks() -> None:
     tasks = [t for t in ManipulationEnv.load_tasks() if t.subset == "spatial"][::2]
     result = blind_rule_agent_probe(tasks, {}, repeats=1)
     assert result.passed, result
+
+
+def test_audit_form_writes_a_small_verified_form_with_every_family(tmp_path) -> None:
+    import json
+
+    from eb_manipulation.generate import SUBSET_FAMILIES, audit_form
+
+    path = audit_form(str(tmp_path / "form.json"), seed=5, per_subset=2)
+    doc = json.loads(path.read_text())
+    fresh = ManipulationEnv.load_tasks(task_file=str(path))
+    assert doc["count"] == len(fresh) == sum(len(f) for f in SUBSET_FAMILIES.values())  # one task per family
+    assert doc["seed"] == 5 and doc["verified"] is True
+    for subset, families in SUBSET_FAMILIES.items():
+        assert sorted(t.id for t in fresh if t.subset == subset) == sorted(f"{subset}_{f}_00" for f in families)

@@ -120,3 +120,24 @@ def test_the_blind_table_fails_on_the_broken_starts(tasks) -> None:
     assert len(broken) >= 3
     forward = next(k for k, p in enumerate(BLIND_POLICIES) if p.prefix == () and p.cycle == (0,))
     assert _blind_table(broken)["base"][forward] == 1.0
+
+
+def test_audit_form_draws_spread_scene_slots_with_scaled_caps(tmp_path) -> None:
+    from eb_navigation.generate import audit_form
+
+    out = tmp_path / "form.json"
+    audit_form(str(out), seed=11, per_subset=2)
+    doc = json.loads(out.read_text())
+    gen = doc["generator"]
+    assert gen["slots"] == [0, 30] and gen["blind_cap"] == 1 and gen["rule_cap"] == 1 and gen["seed"] == 11
+    fresh = NavigationEnv.load_tasks(task_file=str(out))
+    assert sorted(t.id for t in fresh if t.subset == "base") == ["base_000", "base_030"]
+    assert {t.subset for t in fresh} == set(SUBSETS) and len(fresh) == 2 * len(SUBSETS)
+    # slot 30 is a room of the kind and target type slot 30 of the full file has (kinds cycle, then targets)
+    from eb_navigation.generate import TARGETS_BY_KIND
+    from eb_navigation.room import KINDS
+
+    slot30 = next(t for t in fresh if t.id == "base_030")
+    kind = KINDS[30 % len(KINDS)]
+    assert spec_of(slot30).scene.kind == kind
+    assert spec_of(slot30).target.type == TARGETS_BY_KIND[kind][(30 // len(KINDS)) % len(TARGETS_BY_KIND[kind])]
