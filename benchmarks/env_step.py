@@ -100,17 +100,18 @@ def measure(env: str, n: int) -> dict:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--n", type=int, default=30)
+    ap.add_argument("--n", type=int, default=None, help="steps per world (default 30); with --resets: resets "
+                    "per kind (default 12)")
     ap.add_argument("--envs", default=",".join(PACKAGES))
     ap.add_argument("--resets", action="store_true", help="time env.reset (test, train, same task again) instead")
     args = ap.parse_args()
     if args.resets:
-        reset_table(args.envs.split(","), args.n if args.n != 30 else 12)
+        reset_table(args.envs.split(","), args.n or 12)
         return 0
     print(f"{'env':<13} {'step ms':>8} {'raw render ms':>14} {'ratio':>6} {'reset ms':>9} {'peak RSS MB':>12}")
     for env in args.envs.split(","):
         try:
-            r = measure(env, args.n)
+            r = measure(env, args.n or 30)
         except Exception as exc:  # one broken world must not hide the others' numbers
             print(f"{env:<13} error: {exc}")
             continue
