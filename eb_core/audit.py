@@ -867,6 +867,9 @@ def probe_parallel_forms(setup: AuditSetup) -> ProbeResult:
         except LookupError as exc:
             return ProbeResult(name="parallel_forms", passed=True, skipped=True, value=f"n/a ({exc})",
                                threshold=threshold)
+        # an audit of some subsets (subset=...) compares with the same subsets of the fresh form
+        audited = {t.subset for t in setup.tasks}
+        fresh = [t for t in fresh if t.subset in audited]
         ours, theirs = setup.sampled_tasks(), setup.sampled_tasks(fresh)
         # the shipped form's episodes at p = 0.5 are shared with the noise curve (same seeds per repeat)
         shipped_scores = _scores(_curve_outcomes(setup, levels, ours))

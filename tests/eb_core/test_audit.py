@@ -437,3 +437,11 @@ def test_detectable_difference_grows_as_the_fresh_form_shrinks():
     # a real gap of that size is found by the permutation test (one draw; the test has ~80 % power there)
     shifted = [min(1.0, x + 1.3 * full) for x in shipped]
     assert permutation_p_value(shipped, shifted, permutations=4000) < 0.01
+
+
+def test_an_audit_of_one_subset_compares_with_that_subset_of_the_fresh_form(tmp_path):
+    short_only = [t for t in lock_tasks() if t["subset"] == "short"]
+    res = probe_parallel_forms(setup_for(tmp_path, short_only, generator=make_generator({"short": 3, "long": 4})))
+    assert res.passed and [r["subset"] for r in res.rows] == ["short"], res
+    missing = probe_parallel_forms(setup_for(tmp_path, lock_tasks(), generator=make_generator({"short": 3})))
+    assert not missing.passed and "long (only in the shipped form)" in missing.value
