@@ -142,7 +142,7 @@ class AuditSetup:
     forms); None = all of them, unless a random step is slow (see :meth:`sampled_tasks`)."""
     workers: int = 1
     """Processes that play episodes (forked; each builds its own env)."""
-    budget_s: float = 200.0
+    budget_s: float = 150.0
     """Rough wall time those probes may take together on ``workers`` cores when ``per_subset`` is None (the
     rest of the audit -- closed loop, the world's probes, the fresh form's generation -- comes on top)."""
     _cache: dict[Any, Any] = field(default_factory=dict, repr=False)
