@@ -404,12 +404,7 @@ class World:
             ok = self.held != g.target and self.in_matching_hole(g.target)  # type: ignore[arg-type]
             return ok, 1.0 if ok else 0.0
         if g.family == "stack":
-            done = 0
-            for below, above in zip(g.order[:-1], g.order[1:]):
-                if self.held not in (below, above) and self.on_top_of(above, below):
-                    done += 1
-                else:
-                    break
+            done = self._stacked_in_order(g.order)
             n = max(len(g.order) - 1, 1)
             base_ok = self.resting_on_table(g.order[0])
             ok = base_ok and done == n
@@ -418,6 +413,15 @@ class World:
             ok = self.wiped_fraction >= 1.0
             return ok, 1.0 if ok else min(self.wiped_fraction, 0.99)
         return False, 0.0
+
+    def _stacked_in_order(self, order: tuple[str, ...]) -> int:
+        """How many cubes of ``order`` already sit, unheld, on the one below them, counted from the bottom."""
+        done = 0
+        for below, above in zip(order[:-1], order[1:]):
+            if self.held in (below, above) or not self.on_top_of(above, below):
+                break
+            done += 1
+        return done
 
     def distance_to_goal(self) -> float:
         """Metres still to cover before the goal holds (0.0 once it does); README: Error labels and distance.
@@ -471,12 +475,7 @@ class World:
         if not self.resting_on_table(base) or self.held == base:
             p = self.body_pos(base)
             return base, np.array([p[0], p[1], TABLE_TOP + CUBE_HALF])
-        done = 0
-        for below, above in zip(g.order[:-1], g.order[1:]):
-            if self.held not in (below, above) and self.on_top_of(above, below):
-                done += 1
-            else:
-                break
+        done = self._stacked_in_order(g.order)
         below, nxt = g.order[done], g.order[done + 1]
         return nxt, self.body_pos(below) + np.array([0.0, 0.0, 2 * CUBE_HALF])
 

@@ -12,18 +12,6 @@ from eb_manipulation.oracle import expert_plan, state_of_world
 from eb_manipulation.world import FAILURES
 
 
-@pytest.fixture(scope="module")
-def env():
-    e = ManipulationEnv(render=False)
-    yield e
-    e.close()
-
-
-@pytest.fixture(scope="module")
-def tasks(env):
-    return {t.id: t for t in env.load_tasks()}
-
-
 def test_every_failure_value_is_one_the_core_knows() -> None:
     assert set(FAILURES.values()) <= set(FAILURE_LABELS)
 

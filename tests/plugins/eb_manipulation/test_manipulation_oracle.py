@@ -26,18 +26,6 @@ def _follow(env: ManipulationEnv, closed_loop: bool, steps: int = 0) -> tuple[bo
     return False, steps
 
 
-@pytest.fixture(scope="module")
-def env():
-    e = ManipulationEnv(render=False)
-    yield e
-    e.close()
-
-
-@pytest.fixture(scope="module")
-def tasks(env):
-    return {t.id: t for t in env.load_tasks()}
-
-
 def test_closed_loop_expert_solves_all_228_tasks(env: ManipulationEnv, tasks) -> None:
     """Ask again after every single action: the next plan starts where the arm is (not with the same action)."""
     assert len(tasks) == 228
