@@ -2,12 +2,19 @@
 
 A private ``mujoco.Renderer`` holds a GL context, an ``MjrContext`` (offscreen framebuffers, uploaded meshes
 and textures, fonts, a shadow map) and an ``MjvScene``: about 110 MB with Mesa's llvmpipe. A worker process
-that drives many episodes in flight (``runner.concurrency``) runs all their env work on one thread, so their
-scenes can take turns with one set of GL state instead of one set per env and image size. When a scene asks
-for the pooled renderer and it was last set up for another model, the model-dependent parts are rebuilt for
-the new model (a fresh ``MjrContext`` in the same GL context); every image size draws into the same
-offscreen buffer with its own viewport, as a private renderer of that size does, so images are byte-identical
-to those of private renderers (tests/plugins/*/test_*render_shared.py check it in every world).
+that drives many episodes in flight (``runner.concurrency``) or many gym environments runs all their env work
+on one thread, so their scenes can take turns with one GL context and one ``MjvScene`` instead of one set per
+env and image size.
+
+What stays per scene is the ``MjrContext`` (the model's meshes and textures on the GL side, 4-25 MB): each scene
+that borrows the pool gets one of its own, made on its first draw and kept until it is released, while their
+estimated sizes fit the thread's cache (``EB_SCENEKIT_GL_CACHE_MB``, default 256 MB per thread; 0 turns the
+cache off). Scenes beyond the cache share one more context that is rebuilt whenever another model draws with
+it (a "rebind": 10-45 ms plus a slower first draw, which is what the cache saves on every step of an env that
+takes turns with others). Every image size draws into the same offscreen buffer with its own viewport, as a
+private renderer of that size does, so images are byte-identical to those of private renderers whichever
+context a scene draws with (tests/plugins/*/test_*render_shared.py check it in every world, with and without
+the cache).
 
 The pool belongs to a thread (a GL context is current on one thread at a time) and is freed when the last
 user closes or is garbage-collected. Users are any objects that call :func:`borrow` with themselves and
@@ -27,11 +34,17 @@ import numpy as np
 
 from eb_scenekit._mujoco import mujoco
 
-__all__ = ["PRIVATE_GL_ENV", "borrow", "default_pooled", "check_pooled_matches_private", "episode_frames", "pool_stats", "register", "release"]
+__all__ = ["CACHE_ENV", "PRIVATE_GL_ENV", "borrow", "cache_budget_mb", "context_mb", "default_pooled",
+           "check_pooled_matches_private", "episode_frames", "pool_stats", "register", "release"]
 
 PRIVATE_GL_ENV = "EB_SCENEKIT_PRIVATE_GL"
 """Set to 1 to give every renderer that does not say otherwise its own GL state (as before the pool): a
 comparison or an escape hatch; images are the same either way."""
+
+CACHE_ENV = "EB_SCENEKIT_GL_CACHE_MB"
+"""Megabytes of per-scene ``MjrContext`` each thread's pool may keep (default :data:`DEFAULT_CACHE_MB`; 0 = none:
+every scene but one rebuilds the shared context when it draws after another)."""
+DEFAULT_CACHE_MB = 256
 
 
 def default_pooled() -> bool:
@@ -39,21 +52,72 @@ def default_pooled() -> bool:
     return os.environ.get(PRIVATE_GL_ENV, "") not in ("1", "true", "yes")
 
 
-_POOL: dict[int, Any] = {}
-"""Thread id -> the mujoco.Renderer shared by the scenes drawn on that thread (at every image size)."""
-_BOUND: dict[int, int] = {}
-"""Thread id -> token of the user whose model the pooled renderer is currently set up for."""
+def cache_budget_mb() -> float:
+    """The per-thread cache budget now: ``EB_SCENEKIT_GL_CACHE_MB`` or :data:`DEFAULT_CACHE_MB`."""
+    raw = os.environ.get(CACHE_ENV, "").strip()
+    if not raw:
+        return float(DEFAULT_CACHE_MB)
+    try:
+        value = float(raw)
+    except ValueError:
+        value = -1.0
+    if value < 0:
+        raise ValueError(f"{CACHE_ENV}={raw!r} is not a number of megabytes >= 0; unset it for the default "
+                         f"({DEFAULT_CACHE_MB}) or set e.g. {CACHE_ENV}=512 (0 turns the GL context cache off)")
+    return value
+
+
+def context_mb(model: Any) -> float:
+    """Estimated memory of an ``MjrContext`` for ``model`` (what the cache counts): multisampled and resolved
+    offscreen colour + depth buffers, the shadow map if a light casts shadows, mipmapped RGBA textures and the
+    mesh triangles (position, normal, texture coordinate). Measured resident growth per context with llvmpipe is
+    within ~30 % of it (benchmarks/gym_throughput.py prints both)."""
+    g, q = model.vis.global_, model.vis.quality
+    px = int(g.offwidth) * int(g.offheight)
+    offscreen = px * 8 * max(1, int(q.offsamples)) + px * 8
+    shadows = bool(model.nlight) and bool(np.any(model.light_castshadow))
+    shadow = int(q.shadowsize) ** 2 * 4 if shadows else 0
+    tex = int(np.sum(model.tex_width.astype(np.int64) * model.tex_height)) * 4 * 4 // 3 if model.ntex else 0
+    mesh = int(model.nmeshface) * 3 * 8 * 4
+    return (offscreen + shadow + tex + mesh + (1 << 20)) / (1 << 20)  # + fonts
+
+
+class _Slot:
+    """One thread's pool: the renderer (GL context, ``MjvScene``, the shared context) and the cached contexts."""
+
+    def __init__(self, renderer: Any, token: int) -> None:
+        self.renderer = renderer
+        self.thread = threading.get_ident()
+        self.shared = renderer._mjr_context  # rebuilt for whichever uncached user draws next
+        self.shared_token: int | None = token
+        self.own: dict[int, tuple[Any, float]] = {}  # token -> (its MjrContext, estimated MB)
+        self.own_mb = 0.0
+        self.current: int | None = token  # the user whose model the renderer is set up for
+        self.dead: list[Any] = []  # contexts released on another thread: freed here at the next borrow
+
+    def contexts(self) -> list[Any]:
+        return [self.shared, *(c for c, _ in self.own.values()), *self.dead]
+
+
+_POOL: dict[int, _Slot] = {}
+"""Thread id -> that thread's pool."""
 _USERS: dict[int, Any] = {}
 """Token -> weak reference to a live user."""
 _TOKENS = itertools.count(1)
-_STATS = {"contexts": 0, "rebinds": 0}
+_STATS = {"contexts": 0, "rebinds": 0, "cached": 0}
+_LOCK = threading.RLock()  # re-entrant: a finalizer may release a user while this thread holds it
 _EXIT_HOOK = False
 
 
-def pool_stats() -> dict[str, int]:
+def pool_stats() -> dict[str, Any]:
     """Counters of this process's pool: ``live`` pooled renderers (one per thread that draws), ``users`` (live
-    scenes borrowing them), GL ``contexts`` made and ``rebinds`` (switches of a pooled renderer to another model)."""
-    return {"live": len(_POOL), "users": len(_USERS), **_STATS}
+    scenes borrowing them), GL ``contexts`` made, ``rebinds`` (the shared context rebuilt for another model),
+    ``cached`` (per-scene contexts made), ``cached_live`` and ``cached_mb`` (those held now, estimated MB)."""
+    with _LOCK:
+        slots = list(_POOL.values())
+        return {"live": len(slots), "users": len(_USERS), **_STATS,
+                "cached_live": sum(len(s.own) for s in slots),
+                "cached_mb": round(sum(s.own_mb for s in slots), 1)}
 
 
 def register(user: object) -> int:
@@ -66,12 +130,25 @@ def register(user: object) -> int:
 
 
 def release(token: int) -> None:
-    """The user with ``token`` is done; the last one to go frees the pool (its GL contexts)."""
+    """The user with ``token`` is done: its cached context is freed (on its thread: now, else at that thread's
+    next draw); the last user to go frees the pool (its GL contexts)."""
     if _USERS.pop(token, None) is None:
         return
-    for key, bound in list(_BOUND.items()):
-        if bound == token:
-            del _BOUND[key]  # the next user rebinds (this user's model may be gone)
+    here = threading.get_ident()
+    with _LOCK:
+        for slot in _POOL.values():
+            if slot.shared_token == token:
+                slot.shared_token = None  # the next user rebinds (this user's model may be gone)
+            if slot.current == token:
+                slot.current = None
+            own = slot.own.pop(token, None)
+            if own is not None:
+                slot.own_mb -= own[1]
+                if slot.thread == here and slot.renderer._gl_context:
+                    slot.renderer._gl_context.make_current()
+                    _free_context(slot, own[0])
+                else:
+                    slot.dead.append(own[0])
     if not _USERS:
         _free_pool()
 
@@ -90,19 +167,19 @@ def borrow(token: int, model: Any, width: int, height: int) -> Any:
         raise ValueError(f"image size {w}x{h} is larger than this scene's offscreen buffer {off[0]}x{off[1]}; "
                          f"ask for at most {off[0]}x{off[1]} or build the scene with a larger `offscreen`")
     key = threading.get_ident()
-    r = _POOL.get(key)
-    if r is None:
+    slot = _POOL.get(key)
+    if slot is None:
         with _no_unused_shadow_map(model):
             r = mujoco.Renderer(model, height=h, width=w)
-        _POOL[key] = r
-        _STATS["contexts"] += 1
+        with _LOCK:
+            _POOL[key] = slot = _Slot(r, token)
+            _STATS["contexts"] += 1
         if not _EXIT_HOOK:  # after the first GL context exists: runs before MuJoCo's own exit hook
             atexit.register(_free_pool)
             _EXIT_HOOK = True
-    elif _BOUND.get(key) != token:
-        _rebind(r, model)
-        _STATS["rebinds"] += 1
-    _BOUND[key] = token
+    elif slot.current != token:
+        _switch(slot, token, model)
+    r = slot.renderer
     if (r._width, r._height) != (w, h):
         # every size draws into the same offscreen buffer (offwidth x offheight), as a private renderer of that
         # size would: only the viewport differs, so one renderer serves the image and a smaller boxes pass
@@ -111,11 +188,83 @@ def borrow(token: int, model: Any, width: int, height: int) -> Any:
     return r
 
 
+def _switch(slot: _Slot, token: int, model: Any) -> None:
+    """Set the slot's renderer up for ``token``'s ``model``: its cached context, a new cached context when the
+    budget has room, else the shared context (rebuilt unless it already holds this model)."""
+    r = slot.renderer
+    if r._gl_context:
+        r._gl_context.make_current()
+    with _LOCK:
+        dead, slot.dead = slot.dead, []
+    for ctx in dead:
+        _free_context(slot, ctx)
+    own = slot.own.get(token)
+    if own is not None:
+        ctx = own[0]
+    elif slot.shared_token == token:
+        ctx = slot.shared
+    else:
+        need = context_mb(model)
+        if slot.own_mb + need <= cache_budget_mb():
+            ctx = _new_context(model)
+            with _LOCK:
+                slot.own[token] = (ctx, need)
+                slot.own_mb += need
+                _STATS["cached"] += 1
+        else:
+            if slot.shared is not None:
+                slot.shared.free()
+            slot.shared = ctx = _new_context(model)
+            slot.shared_token = token
+            _STATS["rebinds"] += 1
+    _set_model(r, model)
+    r._mjr_context = ctx
+    mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN.value, ctx)
+    slot.current = token
+
+
+def _new_context(model: Any) -> Any:
+    with _no_unused_shadow_map(model):
+        ctx = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150.value)
+    ctx.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
+    return ctx
+
+
+def _free_context(slot: _Slot, ctx: Any) -> None:
+    """Free ``ctx`` (the slot's GL context is current); never the one the renderer holds now."""
+    if slot.renderer._mjr_context is ctx:
+        slot.renderer._mjr_context = None
+    if slot.shared is ctx:
+        slot.shared = None
+    ctx.free()
+
+
+def _set_model(r: Any, model: Any) -> None:
+    """Point the renderer's ``MjvScene`` at another compiled model."""
+    old = r._model
+    if old is not model and not (_skinless(old) and _skinless(model)):
+        r._scene = None  # free the old scene's geom buffer before allocating the new one
+        r._scene = mujoco.MjvScene(model=model, maxgeom=10000)
+    # else: the scene's buffers depend on the model only through skins and flexes; keep it (mjv_updateScene
+    # refills it every frame), which saves building ~10,000 geom wrappers per switch
+    r._model = model
+
+
 def _free_pool() -> None:
-    for r in list(_POOL.values()):
+    with _LOCK:
+        slots = list(_POOL.values())
+        _POOL.clear()
+    here = threading.get_ident()
+    for slot in slots:
+        r = slot.renderer
+        if r._gl_context and slot.thread == here:
+            r._gl_context.make_current()
+        # (a GL context current on another thread cannot be made current here; as mujoco.Renderer.close does,
+        # the contexts are freed anyway: their GL objects go with the GL context)
+        for ctx in slot.contexts():
+            if ctx is not None and ctx is not r._mjr_context:
+                ctx.free()
         r.close()
-    _POOL.clear()
-    _BOUND.clear()
 
 
 class _no_unused_shadow_map:
@@ -137,25 +286,6 @@ class _no_unused_shadow_map:
     def __exit__(self, *exc: object) -> None:
         if self.saved is not None:
             self.model.vis.quality.shadowsize = self.saved
-
-
-def _rebind(r: Any, model: Any) -> None:
-    """Point a pooled ``mujoco.Renderer`` at another compiled model (same GL context, fresh model resources)."""
-    if r._gl_context:
-        r._gl_context.make_current()
-    r._mjr_context.free()
-    r._mjr_context = None
-    old = r._model
-    if not (_skinless(old) and _skinless(model)):
-        r._scene = None  # free the old scene's geom buffer before allocating the new one
-        r._scene = mujoco.MjvScene(model=model, maxgeom=10000)
-    # else: the scene's buffers depend on the model only through skins and flexes; keep it (mjv_updateScene
-    # refills it every frame), which saves building ~10,000 geom wrappers per switch
-    r._model = model
-    with _no_unused_shadow_map(model):
-        r._mjr_context = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150.value)
-    mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN.value, r._mjr_context)
-    r._mjr_context.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
 
 
 def _skinless(model: Any) -> bool:
@@ -190,25 +320,45 @@ def check_pooled_matches_private(make_env: Any, private: Any, task_a: Any, task_
             finally:
                 env.close()
         assert pool_stats()["users"] == 0, "a private renderer registered with the pool"
-    ea, eb = make_env(), make_env()
-    before = pool_stats()
-    try:
-        got = [[_snap(ea.reset(task_a, 0))], [_snap(eb.reset(task_b, 0))]]
-        plans = [(ea.expert_plan() or [])[:steps], (eb.expert_plan() or [])[:steps]]
-        for i in range(steps):  # alternate: the pooled renderer switches scene on every frame
-            for k, env in enumerate((ea, eb)):
-                if i < len(plans[k]):
-                    got[k].append(_snap(env.step(plans[k][i]).observation))
-        stats = pool_stats()
-        assert stats["live"] == 1 and stats["users"] >= 2  # one GL context for both envs, every size and view
-        assert stats["rebinds"] - before["rebinds"] >= 2 * min(len(p) for p in plans)
-    finally:
-        ea.close()
-        eb.close()
-    assert pool_stats()["live"] == 0  # the last close frees the pool
-    for g, want in zip(got, ref):
-        assert len(g) == len(want) > 1
-        for (imgs, boxes), (imgs0, boxes0) in zip(g, want):
-            assert imgs.keys() == imgs0.keys() and all(imgs[k] == imgs0[k] for k in imgs)
-            assert boxes == boxes0
+    for cache in ("0", None):  # every draw rebuilds the shared context; then the second env's own context
+        got = _interleaved(make_env, task_a, task_b, steps, cache)
+        for g, want in zip(got, ref):
+            assert len(g) == len(want) > 1
+            for (imgs, boxes), (imgs0, boxes0) in zip(g, want):
+                assert imgs.keys() == imgs0.keys() and all(imgs[k] == imgs0[k] for k in imgs)
+                assert boxes == boxes0
     assert got[0][0][0] != got[1][0][0]  # the two episodes look different: not blank frames compared
+
+
+def _interleaved(make_env: Any, task_a: Any, task_b: Any, steps: int, cache: str | None) -> list[list[Any]]:
+    """Two pooled envs stepped in turn (so the pooled renderer switches model on every frame), with
+    ``EB_SCENEKIT_GL_CACHE_MB=cache`` (None: the default budget)."""
+    saved = os.environ.pop(CACHE_ENV, None)
+    if cache is not None:
+        os.environ[CACHE_ENV] = cache
+    try:
+        ea, eb = make_env(), make_env()
+        before = pool_stats()
+        try:
+            got = [[_snap(ea.reset(task_a, 0))], [_snap(eb.reset(task_b, 0))]]
+            plans = [(ea.expert_plan() or [])[:steps], (eb.expert_plan() or [])[:steps]]
+            for i in range(steps):
+                for k, env in enumerate((ea, eb)):
+                    if i < len(plans[k]):
+                        got[k].append(_snap(env.step(plans[k][i]).observation))
+            stats = pool_stats()
+            assert stats["live"] == 1 and stats["users"] >= 2  # one GL context for both envs, every size and view
+            if cache == "0":
+                assert stats["rebinds"] - before["rebinds"] >= 2 * min(len(p) for p in plans)
+                assert stats["cached_live"] == 0
+            else:  # the first env draws with the shared context, the second with its own: no rebuilds
+                assert stats["rebinds"] == before["rebinds"] and stats["cached_live"] >= 1
+        finally:
+            ea.close()
+            eb.close()
+        assert pool_stats()["live"] == 0  # the last close frees the pool
+    finally:
+        os.environ.pop(CACHE_ENV, None)
+        if saved is not None:
+            os.environ[CACHE_ENV] = saved
+    return got

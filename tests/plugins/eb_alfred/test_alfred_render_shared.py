@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from eb_alfred import render as alfred_render
 from eb_alfred.env import AlfredEnv
@@ -28,7 +29,16 @@ def _private(task, steps: int) -> list[tuple[np.ndarray, list]]:
         env.close()
 
 
-def test_shared_pool_gives_identical_images_interleaved() -> None:
+@pytest.mark.parametrize("cache", ["0", "default"])
+def test_shared_pool_gives_identical_images_interleaved(cache: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """With the GL context cache off every frame rebuilds the pooled context for the other scene; with it on (the
+    default) the second env draws with a context of its own. Either way the pixels are a private renderer's."""
+    from eb_scenekit import pool
+
+    if cache == "default":
+        monkeypatch.delenv(pool.CACHE_ENV, raising=False)
+    else:
+        monkeypatch.setenv(pool.CACHE_ENV, cache)
     tasks = AlfredEnv.load_tasks()
     a, b = tasks[0], next(t for t in tasks if t.metadata["scene"] != tasks[0].metadata["scene"])
     steps = 4
@@ -49,7 +59,10 @@ def test_shared_pool_gives_identical_images_interleaved() -> None:
                     got.append((o.images["first_person"], [(x.name, x.box) for x in o.objects]))
         stats = alfred_render.shared_gl_stats()
         assert stats["users"] == 2
-        assert stats["rebinds"] - before["rebinds"] >= 2 * steps  # the pool really switched scenes
+        if cache == "0":
+            assert stats["rebinds"] - before["rebinds"] >= 2 * steps  # the pool really switched scenes
+        else:  # one env on the shared context, the other on its own cached one: no rebuilds
+            assert stats["rebinds"] == before["rebinds"] and pool.pool_stats()["cached_live"] == 1
         assert stats["live"] == 1  # one pooled renderer for both envs and both sizes (image, half-size boxes)
     finally:
         ea.close()

@@ -128,3 +128,66 @@ def test_pool_private_switch_and_errors(scene, monkeypatch: pytest.MonkeyPatch) 
     with pytest.raises(RuntimeError, match="closed"):
         other.rgb("agent")
     assert pool.pool_stats()["live"] == 1  # the fixture's renderer still holds the pool
+
+
+def _scene_with(objects: list[tuple[str, str, tuple[float, float]]]):  # type: ignore[no-untyped-def]
+    b = SceneBuilder()
+    b.add_room("kitchen", (4.0, 4.0), seed=2)
+    for name, kind, xy in objects:
+        b.add_object(name, kind, xy)
+    b.add_agent_camera("agent", (1.5, -1.5), yaw=135, pitch=-20)
+    return b.build()
+
+
+def test_pool_context_cache_budget_release_and_bad_setting(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Scenes taking turns on one thread keep GL contexts of their own while the estimated sizes fit
+    EB_SCENEKIT_GL_CACHE_MB; the rest share one rebuilt context; a released scene's context is freed and its room
+    goes to a scene that draws next; every frame equals a private renderer's; a bad setting is one clear line.
+    Runs on a thread of its own: a fresh pool, whatever other tests of this process hold."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(1) as ex:
+        ex.submit(_cache_scenario, monkeypatch).result()
+
+
+def _cache_scenario(monkeypatch: pytest.MonkeyPatch) -> None:
+    from eb_scenekit import pool
+
+    worlds = [_scene_with([("Fridge", "fridge", (1.6, 1.6))]), _scene_with([("Sofa", "sofa", (-1.5, 0.0))]),
+              _scene_with([("DiningTable", "table", (0.0, 0.0))]), _scene_with([("Mug", "mug", (0.0, 0.0))])]
+    monkeypatch.setenv(pool.PRIVATE_GL_ENV, "1")
+    want = []
+    for model, data in worlds:
+        with SceneRenderer(model, data, 96, 96) as r:
+            want.append(r.rgb("agent"))
+    monkeypatch.delenv(pool.PRIVATE_GL_ENV)
+    assert len({w.tobytes() for w in want}) == 4  # four different pictures
+
+    sizes = [pool.context_mb(m) for m, _ in worlds]
+    assert all(1 < s < 100 for s in sizes)
+    monkeypatch.setenv(pool.CACHE_ENV, str(sizes[1] + sizes[2] + 0.01))  # room for two of the other three
+    renderers = [SceneRenderer(m, d, 96, 96) for m, d in worlds]
+    try:
+        before = pool.pool_stats()
+        for _ in range(3):
+            for r, w in zip(renderers, want):
+                assert np.array_equal(r.rgb("agent"), w)
+        stats = pool.pool_stats()
+        # the first scene holds the shared context, the next two got their own, the fourth rebinds the shared
+        # one on each of its turns and the first scene rebinds it back on each of its later turns
+        assert stats["cached"] - before["cached"] == 2 and stats["cached_live"] == 2
+        assert abs(stats["cached_mb"] - round(sizes[1] + sizes[2], 1)) < 0.2
+        assert stats["rebinds"] - before["rebinds"] == 5
+        renderers[1].close()  # frees its context (this thread's): the next scene to draw without one takes it
+        monkeypatch.setenv(pool.CACHE_ENV, str(sizes[0] + sizes[2] + 0.01))
+        assert pool.pool_stats()["cached_live"] == 1
+        for r, w in zip(renderers[2:] + renderers[:1], want[2:] + want[:1]):  # the fourth keeps the shared one
+            assert np.array_equal(r.rgb("agent"), w)
+        assert pool.pool_stats()["cached_live"] == 2
+        monkeypatch.setenv(pool.CACHE_ENV, "lots")
+        with pytest.raises(ValueError, match="EB_SCENEKIT_GL_CACHE_MB='lots' is not a number of megabytes"):
+            pool.cache_budget_mb()
+    finally:
+        for r in renderers:
+            r.close()
+    assert pool.pool_stats()["cached_live"] == 0
