@@ -51,6 +51,13 @@ def rotvec_between(R_cur: np.ndarray, R_goal: np.ndarray) -> np.ndarray:
     return axis * angle
 
 
+def _as_slice(idx: np.ndarray) -> slice | np.ndarray:
+    """``slice(a, b)`` for consecutive indices a..b-1, else the index array itself."""
+    if len(idx) and np.array_equal(idx, np.arange(idx[0], idx[0] + len(idx))):
+        return slice(int(idx[0]), int(idx[0]) + len(idx))
+    return idx
+
+
 def _slerp_R(R0: np.ndarray, R1: np.ndarray, t: float) -> np.ndarray:
     v = rotvec_between(R0, R1) * t
     angle = float(np.linalg.norm(v))
@@ -105,10 +112,25 @@ class Arm:
         self.shoulder = data.xpos[model.body("panda0_link2").id].copy()
         self.geom_owner = geom_owner
         self.rest = None  # set by the world: the comfortable posture for the null-space pull
-        self._jacp = np.zeros((3, model.nv))
-        self._jacr = np.zeros((3, model.nv))
+        # one (6, nv) Jacobian whose halves mj_jacSite fills in place (no stacking per IK iteration)
+        self._jac = np.zeros((6, model.nv))
+        self._jacp, self._jacr = self._jac[:3], self._jac[3:]
         self._w = np.array([1.0, 1.0, 1.0, 0.77, 0.77, 0.77])  # rotation error weighs 0.6 (= 0.77^2)
-        self._damp = 0.03 ** 2 * np.eye(6)
+        self._wcol = self._w[:, None].copy()
+        self._ww = self._w * self._w
+        self._damp = 0.03 ** 2
+        # arm joints as slices when their qpos / dof addresses are consecutive (they are in our scenes): slice
+        # reads and writes cost a fraction of fancy indexing in the IK loop
+        self._qsl = _as_slice(self.qadr)
+        self._dsl = _as_slice(self.dadr)
+        # per-geom lookups for the vectorised contact filter
+        self._is_robot = np.zeros(model.ngeom, dtype=bool)
+        self._is_robot[list(self.robot_geoms)] = True
+        owners = sorted(set(geom_owner.values()))
+        self._owner_code = {o: k for k, o in enumerate(owners)}
+        self._geom_owner_code = np.full(model.ngeom, -1, dtype=np.int64)
+        for g, o in geom_owner.items():
+            self._geom_owner_code[g] = self._owner_code[o]
 
     def _descends(self, b: int, ancestor: int) -> bool:
         while b != 0:
@@ -119,11 +141,11 @@ class Arm:
 
     # --- state -------------------------------------------------------------------------------------------
     def q(self) -> np.ndarray:
-        return self.d.qpos[self.qadr].copy()
+        return self.d.qpos[self._qsl].copy()
 
     def set_q(self, q: np.ndarray) -> None:
-        self.d.qpos[self.qadr] = q
-        self.d.qvel[self.dadr] = 0.0
+        self.d.qpos[self._qsl] = q
+        self.d.qvel[self._dsl] = 0.0
 
     def fingers(self) -> float:
         return float(self.d.qpos[self.fadr[0]])
@@ -144,25 +166,41 @@ class Arm:
     # --- inverse kinematics -----------------------------------------------------------------------------
     def ik(self, p: np.ndarray, R: np.ndarray, q0: np.ndarray, iters: int = 150,
            pos_tol: float = 1.5e-3, rot_tol: float = 0.015, null_gain: float = 0.05) -> np.ndarray | None:
-        """Joint vector reaching pose (p, R) starting from ``q0``, or None. Leaves ``d.qpos`` at the result."""
+        """Joint vector reaching pose (p, R) starting from ``q0``, or None. Leaves ``d.qpos`` at the result.
+
+        Each iteration is one damped-least-squares step with a null-space pull toward the rest posture,
+        ``dq = Jw^T (Jw Jw^T + damp I)^-1 (e - g Jw (rest - q)) + g (rest - q)`` (the same step as
+        ``Jw^T A e + g (I - Jw^T A Jw)(rest - q)``), solved by a 6 x 6 Cholesky factorisation in place.
+        """
         m, d = self.m, self.d
-        q = np.clip(np.asarray(q0, dtype=float), self.lo, self.hi)
+        lo, hi = self.lo, self.hi
+        q = np.minimum(np.maximum(np.asarray(q0, dtype=float), lo), hi)
         rest = self.rest if self.rest is not None else q
         q_goal, q_cur, q_err, er = np.empty(4), np.empty(4), np.empty(4), np.empty(3)
         mujoco.mju_mat2Quat(q_goal, np.ascontiguousarray(R, dtype=float).ravel())
-        w = self._w
+        qpos, qsl, dsl, site = d.qpos, self._qsl, self._dsl, self.site
+        site_pos, site_mat = d.site_xpos[site], d.site_xmat[site]  # views into MjData, refreshed by mj_kinematics
+        jac, jacp, jacr, wcol, ww, damp = self._jac, self._jacp, self._jacr, self._wcol, self._ww, self._damp
+        e = np.empty(6)
+        M = np.empty((6, 6))
+        y = np.empty(6)
+        diag = np.arange(6)
+        kinematics, com_pos, jac_site = mujoco.mj_kinematics, mujoco.mj_comPos, mujoco.mj_jacSite
+        mat2quat, neg_quat, mul_quat, quat2vel = mujoco.mju_mat2Quat, mujoco.mju_negQuat, mujoco.mju_mulQuat, \
+            mujoco.mju_quat2Vel
+        chol_factor, chol_solve = mujoco.mju_cholFactor, mujoco.mju_cholSolve
         checkpoint = np.inf
-        d.qvel[self.dadr] = 0.0
+        d.qvel[dsl] = 0.0
         for it in range(iters):
-            d.qpos[self.qadr] = q
-            mujoco.mj_kinematics(m, d)
-            ep = p - d.site_xpos[self.site]
-            mujoco.mju_mat2Quat(q_cur, d.site_xmat[self.site])
-            mujoco.mju_negQuat(q_cur, q_cur)
-            mujoco.mju_mulQuat(q_err, q_goal, q_cur)
+            qpos[qsl] = q
+            kinematics(m, d)
+            ep = p - site_pos
+            mat2quat(q_cur, site_mat)
+            neg_quat(q_cur, q_cur)
+            mul_quat(q_err, q_goal, q_cur)
             if q_err[0] < 0:
                 q_err *= -1.0
-            mujoco.mju_quat2Vel(er, q_err, 1.0)
+            quat2vel(er, q_err, 1.0)
             pe, re = math.sqrt(ep @ ep), math.sqrt(er @ er)
             if pe < pos_tol and re < rot_tol:
                 return q
@@ -171,19 +209,22 @@ class Arm:
                 if err > 0.85 * checkpoint and err > 0.02:
                     return None
                 checkpoint = err
-            mujoco.mj_comPos(m, d)
-            mujoco.mj_jacSite(m, d, self._jacp, self._jacr, self.site)
-            Jw = np.vstack([self._jacp[:, self.dadr], self._jacr[:, self.dadr]]) * w[:, None]
-            e = np.concatenate([ep, er]) * w * w
-            A = np.linalg.inv(Jw @ Jw.T + self._damp)
-            JtA = Jw.T @ A
-            dq = JtA @ e
-            # null-space pull toward the rest posture
-            dq += null_gain * ((rest - q) - JtA @ (Jw @ (rest - q)))
-            step = float(np.max(np.abs(dq)))
+            com_pos(m, d)
+            jac_site(m, d, jacp, jacr, site)
+            Jw = jac[:, dsl] * wcol
+            e[:3] = ep
+            e[3:] = er
+            e *= ww
+            dr = rest - q
+            np.matmul(Jw, Jw.T, out=M)
+            M[diag, diag] += damp
+            chol_factor(M, 0.0)
+            chol_solve(y, M, e - null_gain * (Jw @ dr))
+            dq = Jw.T @ y + null_gain * dr
+            step = np.abs(dq).max()
             if step > 0.25:
                 dq *= 0.25 / step
-            q = np.clip(q + dq, self.lo, self.hi)
+            q = np.minimum(np.maximum(q + dq, lo), hi)
         return None
 
     def solve(self, p: np.ndarray, R: np.ndarray, q_start: np.ndarray) -> np.ndarray | None:
@@ -224,25 +265,31 @@ class Arm:
 
     # --- collisions -------------------------------------------------------------------------------------
     def contacts(self, held: str | None) -> dict[tuple[int, int], float]:
-        """Relevant contacts at the current configuration: (robot-or-held geom, other geom) -> distance."""
+        """Relevant contacts at the current configuration: (robot-or-held geom, other geom) -> distance.
+
+        Contacts of the robot or the held object with anything else, keyed robot/held side first; contacts within
+        the robot and between the robot and the held object are left out. Filtered with numpy over MuJoCo's
+        contact arrays; the dict keeps the contact order (the first deepest contact names the blocker).
+        """
         mujoco.mj_kinematics(self.m, self.d)
         mujoco.mj_collision(self.m, self.d)
         out: dict[tuple[int, int], float] = {}
-        for i in range(self.d.ncon):
-            c = self.d.contact[i]
-            g1, g2 = int(c.geom1), int(c.geom2)
-            a_robot, b_robot = g1 in self.robot_geoms, g2 in self.robot_geoms
-            a_held = held is not None and self.geom_owner.get(g1) == held
-            b_held = held is not None and self.geom_owner.get(g2) == held
-            if (a_robot and b_held) or (b_robot and a_held) or (a_robot and b_robot):
-                continue
-            if a_robot or a_held:
-                key = (g1, g2)
-            elif b_robot or b_held:
-                key = (g2, g1)
-            else:
-                continue
-            out[key] = min(out.get(key, 1.0), float(c.dist))
+        if self.d.ncon == 0:
+            return out
+        con = self.d.contact
+        g1, g2, dist = con.geom1, con.geom2, con.dist
+        a_robot, b_robot = self._is_robot[g1], self._is_robot[g2]
+        code = self._owner_code.get(held, -2) if held is not None else -2
+        if code >= 0:
+            a_held, b_held = self._geom_owner_code[g1] == code, self._geom_owner_code[g2] == code
+            a_self, b_self = a_robot | a_held, b_robot | b_held
+            keep = ~((a_robot & b_held) | (b_robot & a_held) | (a_robot & b_robot)) & (a_self | b_self)
+        else:
+            a_self, b_self = a_robot, b_robot
+            keep = (a_robot ^ b_robot)
+        for i in np.flatnonzero(keep).tolist():
+            key = (int(g1[i]), int(g2[i])) if a_self[i] else (int(g2[i]), int(g1[i]))
+            out[key] = min(out.get(key, 1.0), float(dist[i]))
         return out
 
     def blocker(self, contacts: dict[tuple[int, int], float], start: dict[tuple[int, int], float],
