@@ -6,6 +6,11 @@ Plays N EB-ALFRED episodes with N in flight on ``--workers`` processes (default 
 same three-action plan, so episodes step and render the world between calls (``env.max_steps`` 9 keeps them
 short: at most a few calls each). Rendering is on (``env.params.render=true``, 500 px) unless ``--no-render``.
 
+``--plan`` chooses the answers: ``fixed`` (default, the issue's set-up) is that three-action plan, whose first
+action fails in most rooms, so most steps leave the view unchanged (ALFRED then reuses the last frame);
+``expert`` answers one action per call, the next step of the expert's plan for the task (found from the
+instruction and the successful steps in the prompt), so nearly every step changes the view and is drawn.
+
 Printed per run:
 
 * peak RSS of the whole process tree (this process, the workers and anything they start), sampled every
@@ -17,6 +22,7 @@ Printed per run:
 Usage::
 
     python benchmarks/inflight.py [--inflight 8,32,64,128] [--workers 2] [--latency 2.0] [--no-render]
+                                  [--plan fixed|expert]
     python benchmarks/inflight.py --world-memory 16   # MB per rendered env in each world (one GL pool)
     python benchmarks/inflight.py --step-cpu 10       # CPU seconds per env step and reset in each world
 """
@@ -89,6 +95,39 @@ def alfred_env(render: bool) -> dict[str, Any]:
     env["max_steps"] = 9
     env["params"] = {**env.get("params", {}), "render": render}
     return env
+
+
+def expert_responder(n: int) -> Any:
+    """A stub responder that plays the expert: for the first ``n`` ALFRED tasks (the ones a run with
+    ``limit=n`` plays), the next action of the task's expert plan, one per call."""
+    import re
+
+    from eb_alfred.env import AlfredEnv
+    from eb_models.stub_server import StubReply
+
+    plans: dict[tuple[str, int], list[tuple[int, str]]] = {}
+    for task in AlfredEnv.load_tasks()[:n]:
+        env = AlfredEnv(render=False)
+        env.reset(task, 0)
+        names = env.action_space().actions
+        # (instruction, length of the action list): the list's length tells rooms with the same instruction apart
+        plans[(task.instruction, len(names))] = [(a, names[a]) for a in env.expert_plan() or [0]]
+
+    def answer(body: Any) -> StubReply:
+        text = "\n".join(part.get("text", "") if isinstance(part, dict) else str(part)
+                         for m in body.get("messages", []) if m.get("role") == "user"
+                         for part in (m["content"] if isinstance(m["content"], list) else [m["content"]]))
+        instruction = re.findall(r"^Instruction: (.*)$", text, re.M)
+        ids = [int(x) for x in re.findall(r"^action id (\d+):", text, re.M)]
+        plan = plans.get((instruction[-1] if instruction else "", max(ids) + 1 if ids else 0), [(0, "")])
+        history = text.rsplit("## What you have done so far", 1)[-1].split("\n## ", 1)[0]
+        done = history.count("-> succeeded")
+        a, name = plan[min(done, len(plan) - 1)]
+        return StubReply(content=json.dumps({
+            "visual_state_description": "a room", "reasoning_and_reflection": "follow the plan",
+            "language_plan": f"1. {name}", "executable_plan": [{"action_id": a, "action_name": name}]}))
+
+    return answer
 
 
 def one_run(url: str, inflight: int, workers: int, root: Path, render: bool) -> dict[str, Any]:
@@ -224,6 +263,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--latency", type=float, default=2.0, help="seconds the stub server takes per answer")
     ap.add_argument("--no-render", action="store_true", help="env.params.render=false (text-only observations)")
+    ap.add_argument("--plan", choices=("fixed", "expert"), default="fixed",
+                    help="the stub's answers: fixed = one three-action plan (mostly failing: the view rarely "
+                         "changes); expert = the next expert action, one per call (nearly every step is drawn)")
     ap.add_argument("--step-cpu", type=int, default=0, metavar="N",
                     help="instead: CPU seconds per env step of every world (N steps each), then exit")
     ap.add_argument("--world-memory", type=int, default=0, metavar="N",
@@ -248,13 +290,15 @@ def main(argv: list[str] | None = None) -> int:
     _import_litellm()
     render = not args.no_render
     print(f"EB-ALFRED, {args.workers} worker processes, stub latency {args.latency:g} s, render={render}, "
-          f"{os.cpu_count()} CPU(s)")
+          f"plan={args.plan}, {os.cpu_count()} CPU(s)")
     print(f"{'in flight':>9} {'peak MB':>8} {'MB/ep':>6} | {'wall s':>7} {'start-up s':>10} {'ideal s':>7} "
           f"{'of ideal':>8} {'calls':>5} {'max in flight':>13} {'env steps':>9} | {'CPU s':>6} {'workers':>7} "
           f"{'ms/step':>7} {'CPU budget s':>12} {'load':>5}")
+    sizes = [int(x) for x in args.inflight.split(",")]
+    default = StubReply(content=PLAN) if args.plan == "fixed" else expert_responder(max(sizes))
     with tempfile.TemporaryDirectory(prefix="eb_inflight_") as tmp, \
-            StubOpenAIServer(default=StubReply(content=PLAN), latency_s=args.latency) as server:
-        for n in [int(x) for x in args.inflight.split(",")]:
+            StubOpenAIServer(default=default, latency_s=args.latency) as server:
+        for n in sizes:
             first = len(server.requests)
             server.max_in_flight = 0
             r = one_run(server.url, n, args.workers, Path(tmp), render)
