@@ -4,21 +4,28 @@
                                         [--workers 2] [--steps 10] [--max-env-steps 640] [--resets 10]
                                         [--resolution 500] [--private-gl] [--json out.json]
 
-Raw mode with rendering on (every step renders the world's first-person image). For each world:
+Raw mode with rendering on (every step renders the world's first-person image unless it changed nothing the
+renderer reads). For each world, in this process with one env:
 
-* ``render_s``: one random raw step in this process (mean over 3 x ``--steps``), the cost of one env step;
-  ``bound`` = cores / ``render_s``, the most steps per second this machine can give.
+* ``render_s``: one raw render of the scene the env just drew (``mujoco.Renderer.render`` of the pooled
+  renderer at the observation's size, colour only: median of 9 after a random step); **the bound** = cores /
+  ``render_s`` -- the issue's definition, the most steps per second this machine could give if a step were
+  nothing but its picture.
+* ``one_env_steps_per_s``: random raw steps of the single env, resets on episode ends included (the same play
+  the vector env gets); ``cores x`` that is what N perfectly parallel single envs would give, so
+  ``scaling`` = rate / (cores x one-env rate) says what the vector env loses to batching, IPC and model switches.
 * ``reset_median_s`` / ``reset_max_s``: ``reset()`` of one env over ``--resets`` different tasks.
 * for each size N: an :class:`~eb_core.gym.EBVectorEnv` of N environments over ``--workers`` worker processes
   (default: the cores; N / workers environments in each), ``min(--steps, --max-env-steps / N)`` (at least 2)
   batched random steps after a warm-up step; ``steps_per_s`` = N x steps / wall time, ``ratio`` = that / the
-  bound measured again just before this size (the machine's load changes between sizes);
+  bound measured again just before this size (the machine's load changes between sizes), ``scaling`` as above;
   ``pss_mb_per_env`` = proportional set size of the worker processes after the steps / N (pages the workers
   share with each other and the fork server are split between them, so the sum is the memory they really take).
 
 A size whose memory (the previous size's PSS per env x N) would exceed 60 % of the available memory is skipped
 and says so. ``load_avg_1min``: the machine's load average when a figure was taken (other jobs on the machine make every
-figure, the bound included, noisy).
+figure, the bound included, noisy). With ``--private-gl`` there is no pooled renderer to time: the bound is then
+taken from the median random step instead (said in the output).
 
 Steps that end an episode are followed by Gymnasium's next-step autoreset, so reset cost is inside the rate.
 """
@@ -71,23 +78,47 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
     env.reset(seed=0)
     env.action_space.seed(0)
 
-    def one_step_s() -> float:
-        """Mean time of a random raw step of the single env in this process, now (resets not counted): the
-        vector env steps the same mix of actions (some cheap, such as a move into a wall; most render)."""
-        step_times = []
-        for _ in range(3 * steps):
+    def pool_renderer() -> bool:
+        from eb_scenekit import pool
+
+        return pool.thread_renderer() is not None
+
+    def one_env() -> tuple[float, float, float | None]:
+        """Random raw steps of the single env in this process, now: (steps per second with resets on episode
+        ends, median step seconds, median seconds of one raw render of the scene after a step or None)."""
+        from eb_scenekit import pool
+
+        step_times, renders = [], []
+        t0 = time.perf_counter()
+        for i in range(3 * steps):
             t = time.perf_counter()
             _, _, term, trunc, _ = env.step(env.action_space.sample())
             step_times.append(time.perf_counter() - t)
             if term or trunc:
                 env.reset()
-        return statistics.mean(step_times)
+            if i % 3 == 0:
+                r = pool.thread_renderer(resolution, resolution)
+                if r is not None:
+                    r.disable_depth_rendering()
+                    r.disable_segmentation_rendering()
+                    for _ in range(3):
+                        t = time.perf_counter()
+                        r.render()
+                        renders.append(time.perf_counter() - t)
+        rate = len(step_times) / (time.perf_counter() - t0 - sum(renders))
+        return rate, statistics.median(step_times), statistics.median(renders) if renders else None
 
-    render_s = one_step_s()
     cores = os.cpu_count() or 1
-    bound = cores / render_s
+
+    def bound_now() -> tuple[float, float, float, float]:
+        rate, step_s, render_s = one_env()
+        return cores / (render_s or step_s), rate, step_s, render_s or step_s
+
+    bound, one_rate, step_s, render_s = bound_now()
     out: dict[str, Any] = {"world": world, "gym_id": gid, "resolution": resolution, "cores": cores,
                            "render_s": round(render_s, 4), "bound_steps_per_s": round(bound, 1),
+                           "bound_from": "raw render" if pool_renderer() else "median step",
+                           "step_median_s": round(step_s, 4), "one_env_steps_per_s": round(one_rate, 1),
                            "reset_median_s": round(statistics.median(times), 3), "reset_max_s": round(max(times), 3),
                            "load_avg_1min": round(os.getloadavg()[0], 1), "sizes": {}}
     per_env_mb = 0.0
@@ -100,7 +131,7 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
             print(f"  {world} N={n}: skipped, {out['sizes'][n]['skipped']}", flush=True)
             continue
         n_steps = max(2, min(steps, max_env_steps // n))
-        bound_now = cores / one_step_s()  # the bound again, under the machine's load of this moment
+        bound_n, one_rate_n, _, _ = bound_now()  # again, under the machine's load of this moment
         t = time.perf_counter()
         vec = ebgym.make_vector_env(world, n, workers=w, **kwargs)
         try:
@@ -123,12 +154,15 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
         per_env = float(np.nansum(pss)) / n
         per_env_mb = per_env  # per-env memory falls with N: the last size's figure bounds the next one
         out["sizes"][n] = {"workers": w, "steps": n_steps, "steps_per_s": round(rate, 1),
-                           "bound_steps_per_s": round(bound_now, 1), "ratio_to_bound": round(rate / bound_now, 2),
+                           "bound_steps_per_s": round(bound_n, 1), "ratio_to_bound": round(rate / bound_n, 2),
+                           "one_env_steps_per_s": round(one_rate_n, 1),
+                           "scaling": round(rate / (cores * one_rate_n), 2),
                            "episodes_ended": ended, "pss_mb_per_env": round(per_env, 1),
                            "pss_mb_workers": round(float(np.nansum(pss)), 1), "start_s": round(start_s, 2),
                            "vector_reset_s": round(reset_s, 2), "load_avg_1min": round(os.getloadavg()[0], 1)}
-        print(f"  {world} N={n} over {w} processes: {rate:.1f} steps/s ({rate / bound_now:.2f} of the bound "
-              f"{bound_now:.1f} measured just before; {ended} episodes ended and were reset inside the timed "
+        print(f"  {world} N={n} over {w} processes: {rate:.1f} steps/s ({rate / bound_n:.2f} of the bound "
+              f"{bound_n:.1f} measured just before, {rate / (cores * one_rate_n):.2f} of {cores} x one env's "
+              f"{one_rate_n:.1f}; {ended} episodes ended and were reset inside the timed "
               f"steps), {per_env:.0f} MB PSS per env ({np.nansum(pss):.0f} MB in all); start {start_s:.1f} s, "
               f"reset of all {reset_s:.1f} s; load {os.getloadavg()[0]:.1f}", flush=True)
     env.close()
@@ -156,8 +190,10 @@ def main(argv: list[str] | None = None) -> None:
     for world in [w.strip() for w in args.worlds.split(",") if w.strip()]:
         print(f"{world}:", flush=True)
         r = bench_world(world, sizes, args.steps, args.resets, args.resolution, args.workers, args.max_env_steps)
-        print(f"  one raw step {r['render_s'] * 1000:.0f} ms -> bound {r['bound_steps_per_s']} steps/s on "
-              f"{r['cores']} cores; reset median {r['reset_median_s']} s, max {r['reset_max_s']} s", flush=True)
+        print(f"  one {r['bound_from']} {r['render_s'] * 1000:.0f} ms -> bound {r['bound_steps_per_s']} steps/s on "
+              f"{r['cores']} cores (median step {r['step_median_s'] * 1000:.0f} ms; one env alone "
+              f"{r['one_env_steps_per_s']} steps/s with its resets); reset median {r['reset_median_s']} s, "
+              f"max {r['reset_max_s']} s", flush=True)
         results.append(r)
     if args.json:
         with open(args.json, "w") as fh:

@@ -35,7 +35,7 @@ import numpy as np
 from eb_scenekit._mujoco import mujoco
 
 __all__ = ["CACHE_ENV", "PRIVATE_GL_ENV", "borrow", "cache_budget_mb", "context_mb", "default_pooled",
-           "check_pooled_matches_private", "episode_frames", "pool_stats", "register", "release"]
+           "check_pooled_matches_private", "episode_frames", "pool_stats", "register", "release", "thread_renderer"]
 
 PRIVATE_GL_ENV = "EB_SCENEKIT_PRIVATE_GL"
 """Set to 1 to give every renderer that does not say otherwise its own GL state (as before the pool): a
@@ -179,12 +179,28 @@ def borrow(token: int, model: Any, width: int, height: int) -> Any:
             _EXIT_HOOK = True
     elif slot.current != token:
         _switch(slot, token, model)
-    r = slot.renderer
+    _set_size(slot.renderer, w, h)
+    return slot.renderer
+
+
+def _set_size(r: Any, w: int, h: int) -> None:
     if (r._width, r._height) != (w, h):
         # every size draws into the same offscreen buffer (offwidth x offheight), as a private renderer of that
         # size would: only the viewport differs, so one renderer serves the image and a smaller boxes pass
         r._width, r._height = w, h
         r._rect = mujoco.MjrRect(0, 0, w, h)
+
+
+def thread_renderer(width: int | None = None, height: int | None = None) -> Any | None:
+    """This thread's pooled ``mujoco.Renderer`` as the last draw left it (its ``MjvScene`` holds that draw's
+    geoms and camera), at ``width`` x ``height`` if given; None when this thread has not drawn through the pool.
+    For benchmarks that time a raw render of the scene an env just drew (benchmarks/gym_throughput.py)."""
+    slot = _POOL.get(threading.get_ident())
+    if slot is None:
+        return None
+    r = slot.renderer
+    if width is not None or height is not None:
+        _set_size(r, int(width or r.width), int(height or r.height))
     return r
 
 
