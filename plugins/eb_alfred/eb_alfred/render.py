@@ -5,7 +5,9 @@ the room, so "left of" in the instructions is left on screen) and every instance
 action :meth:`AlfredRenderer.render` mirrors the symbolic state without recompiling: movable objects are posed
 on/in their receptacles (or in front of the camera when held), doors and drawers are opened or closed,
 appliances switched on or off, sliced food swapped for its slices, dirty things tinted; then the agent camera is
-put in front of the place it stands at, looking at what it found.
+put in front of the place it stands at, looking at what it found. When nothing the draw reads has changed since
+the last frame (a failed action, finding what is already in view), that frame is served again instead of being
+drawn: the same pixels and boxes without the colour and segmentation passes.
 """
 
 from __future__ import annotations
