@@ -87,7 +87,7 @@ class ManipulationEnv(Env):
             if self.params.render:
                 from eb_manipulation.render import SceneRenderer
 
-                self._renderer = SceneRenderer(self._world.model, self.resolution)
+                self._renderer = SceneRenderer(self._world.model, self.resolution, scene_key=self._world.scene_xml)
             return self._observe()
         finally:
             if previous is not None:

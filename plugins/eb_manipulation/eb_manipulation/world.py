@@ -76,6 +76,8 @@ class World:
     def __init__(self, scene: SceneSpec, resolution: int = 500, render_meshes: bool = True):
         self.scene = scene
         built = build_scene(scene, resolution=resolution, visual=render_meshes)
+        self.scene_xml = built.xml
+        """The model's MJCF: names the scene for caches of its compile and of its first images."""
         self.model = compile_model(built.xml, built.assets)  # a copy of a recent compile of the same scene
         self.data = mujoco.MjData(self.model)
         m = self.model

@@ -18,6 +18,8 @@ def test_shared_pool_gives_identical_images_interleaved(monkeypatch: pytest.Monk
     a = tasks[0]
     b = next(t for t in tasks if t.subset != a.subset)
 
+    monkeypatch.setattr(manip_render, "REUSE_FRAMES", False)  # every frame is drawn, so the pool's switches are tested
+
     @contextlib.contextmanager
     def private():
         with monkeypatch.context() as m:
