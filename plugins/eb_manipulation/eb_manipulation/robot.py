@@ -77,8 +77,10 @@ class PandaParts:
     """``<mesh>`` elements."""
     body: str
     """The ``panda0_link0`` body with the whole chain."""
-    mesh_files: dict[str, bytes]
-    """File name -> bytes, passed to ``MjModel.from_xml_string(..., assets=...)``."""
+    mesh_files: dict[str, str]
+    """Mesh name -> the absolute path of its file inside the installed package, as the ``<mesh>`` elements name
+    it. MuJoCo reads the files itself: no copy of their ~8 MB is handed over on every compile, and its asset cache
+    keeps them decoded for the next scene."""
 
 
 def _wrist_camera() -> tuple[str, str]:
@@ -117,17 +119,18 @@ def load_panda_parts(visual: bool = True) -> PandaParts:
     assets_root = ET.parse(root_dir / "assets.xml").getroot()
     chain_root = ET.parse(root_dir / "chain.xml").getroot()
 
-    # Meshes: keep names, prefix files so they cannot clash with ours; collect bytes.
-    mesh_files: dict[str, bytes] = {}
+    # Meshes: keep names; each file is named by its absolute path in the installed package.
+    mesh_files: dict[str, str] = {}
     meshes = []
     for mesh in assets_root.iter("mesh"):
         if not visual and mesh.get("name", "").endswith("_viz"):
             continue
-        rel = mesh.get("file", "")
-        key = "panda_" + rel.replace("/", "_")
-        if key not in mesh_files:
-            mesh_files[key] = (root_dir / "meshes" / rel).read_bytes()
-        mesh.set("file", key)
+        path = (root_dir / "meshes" / mesh.get("file", "")).resolve()
+        if not path.is_file():  # pragma: no cover - depends on the third-party package
+            raise PandaModelMissing(f"gymnasium-robotics is installed but lacks the Panda mesh {path}. Fix: "
+                                    f"{INSTALL_HINT}")
+        mesh_files[mesh.get("name", "")] = str(path)
+        mesh.set("file", str(path))
         meshes.append(_tostring(mesh))
 
     # Defaults: the "panda" class tree; robot collision geoms get our bits, visuals a Panda white/grey.

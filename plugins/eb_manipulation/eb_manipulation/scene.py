@@ -158,8 +158,7 @@ def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) ->
     ``visual=False`` leaves out the arm's visual meshes (for simulation without images).
     """
     panda = load_panda_parts(visual)
-    assets: dict[str, bytes] = dict(panda.mesh_files)
-    assets["wood.png"] = _wood_png()
+    assets: dict[str, bytes] = {"wood.png": _wood_png()}  # the Panda's meshes are read from their files
     mesh_xml: list[str] = []
     bodies: list[str] = []
     free: list[str] = []

@@ -40,7 +40,11 @@ def test_panda_comes_from_the_installed_gymnasium_robotics() -> None:
 
     assert "gymnasium_robotics" in str(panda_asset_dir())
     parts = load_panda_parts()
-    assert "panda0_link7" in parts.body and 'name="tcp"' in parts.body and parts.mesh_files
+    assert "panda0_link7" in parts.body and 'name="tcp"' in parts.body and len(parts.mesh_files) >= 10
+    root = panda_asset_dir().resolve()
+    for name, path in parts.mesh_files.items():  # read in place from the package, never copied
+        assert Path(path).is_file() and Path(path).is_relative_to(root), (name, path)
+        assert f'file="{path}"' in parts.assets
 
 
 def test_bench_step_times_shape() -> None:
