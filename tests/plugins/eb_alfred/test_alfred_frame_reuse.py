@@ -49,12 +49,15 @@ def _same(a: Observation, b: Observation) -> None:
     assert [o.model_dump() for o in a.objects] == [o.model_dump() for o in b.objects]
 
 
-@pytest.mark.parametrize("verb", ["open the", "turn on"])
-def test_reused_frames_equal_drawn_ones(verb: str) -> None:
+@pytest.mark.parametrize(("verb", "multi_view"), [("open the", False), ("turn on", True)])
+def test_reused_frames_equal_drawn_ones(verb: str, multi_view: bool) -> None:
     task = _task_that(verb)
-    reusing, drawing = AlfredEnv(render=True, resolution=160), AlfredEnv(render=True, resolution=160)
+    reusing = AlfredEnv(render=True, resolution=160, multi_view=multi_view)
+    drawing = AlfredEnv(render=True, resolution=160, multi_view=multi_view)
     try:
-        _same(reusing.reset(task, 0), drawing.reset(task, 0))
+        first = reusing.reset(task, 0)
+        assert ("overhead" in first.images) == multi_view
+        _same(first, drawing.reset(task, 0))
         drawing._renderer.reuse_frames = False
         plan = reusing.expert_plan()
         fail = _missing_find(reusing)
