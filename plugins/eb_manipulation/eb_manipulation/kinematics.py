@@ -123,6 +123,8 @@ class Arm:
         # reads and writes cost a fraction of fancy indexing in the IK loop
         self._qsl = _as_slice(self.qadr)
         self._dsl = _as_slice(self.dadr)
+        self._fsl = _as_slice(self.fadr)
+        self._fdsl = _as_slice(self.fdadr)
         # per-geom lookups for the vectorised contact filter
         self._is_robot = np.zeros(model.ngeom, dtype=bool)
         self._is_robot[list(self.robot_geoms)] = True
@@ -151,8 +153,8 @@ class Arm:
         return float(self.d.qpos[self.fadr[0]])
 
     def set_fingers(self, width: float) -> None:
-        self.d.qpos[self.fadr] = width
-        self.d.qvel[self.fdadr] = 0.0
+        self.d.qpos[self._fsl] = width
+        self.d.qvel[self._fdsl] = 0.0
 
     def tcp(self) -> tuple[np.ndarray, np.ndarray]:
         """Position and rotation matrix of the tool centre point (after a kinematics pass)."""
