@@ -197,7 +197,7 @@ def thread_renderer(width: int | None = None, height: int | None = None) -> Any 
     geoms and camera), at ``width`` x ``height`` if given; None when this thread has not drawn through the pool.
     For benchmarks that time a raw render of the scene an env just drew (benchmarks/gym_throughput.py)."""
     slot = _POOL.get(threading.get_ident())
-    if slot is None:
+    if slot is None or slot.renderer._mjr_context is None:  # (the last scene drawn has been closed since)
         return None
     r = slot.renderer
     if width is not None or height is not None:
@@ -222,6 +222,11 @@ def _switch(slot: _Slot, token: int, model: Any) -> None:
         ctx = own[0]
     elif slot.shared_token == token:
         ctx = slot.shared
+    elif slot.shared_token is None and slot.shared is not None:  # its scene is gone: take it over, no new one
+        slot.shared.free()
+        slot.shared = ctx = _new_context(model)
+        slot.shared_token = token
+        _STATS["rebinds"] += 1
     else:
         need = context_mb(model)
         if slot.own_mb + need <= cache_budget_mb():
