@@ -353,7 +353,18 @@ def episode_frames(env: Any, task: Any, steps: int) -> list[tuple[dict[str, byte
 
 
 def check_pooled_matches_private(make_env: Any, private: Any, task_a: Any, task_b: Any, steps: int = 3) -> None:
-    """``make_env()`` builds a pooled env; inside ``with private():`` it builds envs with private renderers."""
+    """``make_env()`` builds a pooled env; inside ``with private():`` it builds envs with private renderers.
+    Scene renderers' frame reuse is off meanwhile, so that every frame is drawn (and switches the pool)."""
+    from eb_scenekit import render
+
+    saved, render.REUSE_FRAMES = render.REUSE_FRAMES, False
+    try:
+        _check_pooled_matches_private(make_env, private, task_a, task_b, steps)
+    finally:
+        render.REUSE_FRAMES = saved
+
+
+def _check_pooled_matches_private(make_env: Any, private: Any, task_a: Any, task_b: Any, steps: int) -> None:
     with private():
         ref = []
         for task in (task_a, task_b):

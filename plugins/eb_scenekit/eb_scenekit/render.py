@@ -21,7 +21,7 @@ from eb_scenekit import pool
 from eb_scenekit._mujoco import mujoco
 from eb_scenekit.scene import AGENT_GROUP, CEILING_GROUP, INSTANCES_TEXT
 
-__all__ = ["SceneRenderer", "free_camera", "camera_from_eye", "save_png", "contact_sheet", "Camera"]
+__all__ = ["REUSE_FRAMES", "SceneRenderer", "draw_inputs", "free_camera", "camera_from_eye", "save_png", "contact_sheet", "Camera"]
 
 Camera = Union[str, int, mujoco.MjvCamera]
 """A model camera name or id, or a free ``mujoco.MjvCamera``."""
@@ -56,6 +56,28 @@ def _free_camera_pos(cam: mujoco.MjvCamera) -> np.ndarray:
 _LIVE: weakref.WeakSet[SceneRenderer] = weakref.WeakSet()
 _EXIT_HOOK = False
 
+REUSE_FRAMES = True
+"""Default of :attr:`SceneRenderer.reuse_frames` (the GL pool's interleaving check switches it off so that every
+frame draws)."""
+_KEPT_FRAMES = 6
+"""Frames a renderer keeps for reuse (one per camera, size and kind of image asked for most recently)."""
+
+
+def draw_inputs(model: mujoco.MjModel, data: mujoco.MjData) -> tuple[np.ndarray, ...]:
+    """Everything of ``model`` and ``data`` that a draw reads and that can change after compiling: the poses
+    kinematics computed (geoms, bodies, cameras, lights, sites), colours, materials, sizes, groups and mesh ids
+    of geoms, lights, camera field of view, sites, and the visual settings. Textures and meshes are fixed at
+    compile time (a world that changed those at run time would have to turn frame reuse off)."""
+    m, d = model, data
+    vis = np.array([m.vis.map.znear, m.vis.map.zfar, m.stat.extent, m.vis.headlight.active,
+                    *m.vis.headlight.ambient, *m.vis.headlight.diffuse, *m.vis.headlight.specular])
+    return (d.geom_xpos, d.geom_xmat, d.xpos, d.xmat, d.cam_xpos, d.cam_xmat, d.light_xpos, d.light_xdir,
+            d.site_xpos, d.site_xmat, m.geom_rgba, m.geom_matid, m.geom_dataid, m.geom_size, m.geom_group,
+            m.geom_type, m.mat_rgba, m.mat_emission, m.mat_specular, m.mat_shininess, m.mat_reflectance,
+            m.mat_texid, m.light_active, m.light_castshadow, m.light_ambient, m.light_diffuse, m.light_specular,
+            m.light_attenuation, m.light_cutoff, m.light_exponent, m.light_type, m.light_intensity, m.cam_fovy,
+            m.site_rgba, m.site_size, m.site_group, vis)
+
 
 def _close_all() -> None:
     # Free GL contexts before MuJoCo's own exit hook terminates the EGL display (atexit runs last-in first-out,
@@ -71,6 +93,11 @@ class SceneRenderer:
     ``i`` (1-based) is ``instance_names[i]``. The instance list comes from the scene's ``eb_scenekit_instances``
     text; for models not built by :class:`~eb_scenekit.scene.SceneBuilder` every geom-name prefix before ``/``
     counts as an instance.
+
+    Frame reuse (:attr:`reuse_frames`, on unless ``REUSE_FRAMES`` says otherwise): a colour, depth or segmentation
+    image asked for again with the same camera, size and options while nothing a draw reads has changed
+    (:func:`draw_inputs`: a failed action moves nothing) is a copy of the last one, without a pass
+    (:attr:`frames_drawn` / :attr:`frames_reused` count). The pixels are those a new pass would give.
 
     Args:
         model, data: a compiled model and its data (call ``mj_forward`` after changing ``qpos``/mocap poses).
@@ -89,6 +116,10 @@ class SceneRenderer:
         self.height = int(height)
         self.show_ceiling = show_ceiling
         self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
+        self.reuse_frames = REUSE_FRAMES
+        self.frames_drawn = 0
+        self.frames_reused = 0
+        self._frames: dict[tuple, tuple[tuple[np.ndarray, ...], np.ndarray]] = {}
         self.pooled = pool.default_pooled() if pooled is None else bool(pooled)
         self._pool_token: int | None = pool.register(self) if self.pooled else None
         names = self._read_instances()
@@ -166,25 +197,70 @@ class SceneRenderer:
 
     # ------------------------------------------------------------------ images
 
+    def _frame_key(self, kind: str, camera: Camera, width: int | None, height: int | None,
+                   show_agents: bool) -> tuple:
+        if isinstance(camera, mujoco.MjvCamera):
+            cam: tuple = (int(camera.type), int(camera.fixedcamid), int(camera.trackbodyid), tuple(camera.lookat),
+                          float(camera.distance), float(camera.azimuth), float(camera.elevation),
+                          int(camera.orthographic))
+        else:
+            cam = (camera,)
+        return (kind, cam, int(width or self.width), int(height or self.height), bool(show_agents),
+                self.show_ceiling)
+
+    def _reused(self, key: tuple) -> np.ndarray | None:
+        """A copy of the frame kept under ``key`` if nothing a draw reads has changed since it was drawn."""
+        if not self.reuse_frames:
+            return None
+        kept = self._frames.get(key)
+        if kept is None:
+            return None
+        if not all(np.array_equal(a, b) for a, b in zip(kept[0], draw_inputs(self.model, self.data))):
+            return None
+        self.frames_reused += 1
+        return kept[1].copy()
+
+    def _keep(self, key: tuple, image: np.ndarray) -> np.ndarray:
+        self.frames_drawn += 1
+        if self.reuse_frames:
+            self._frames.pop(key, None)
+            self._frames[key] = (tuple(np.array(a, copy=True) for a in draw_inputs(self.model, self.data)),
+                                 image.copy())
+            while len(self._frames) > _KEPT_FRAMES:
+                self._frames.pop(next(iter(self._frames)))
+        return image
+
     def rgb(self, camera: Camera, width: int | None = None, height: int | None = None,
             show_agents: bool = False) -> np.ndarray:
         """An ``H x W x 3`` uint8 colour image. ``show_agents`` draws agent markers (for overhead views)."""
+        key = self._frame_key("rgb", camera, width, height, show_agents)
+        hit = self._reused(key)
+        if hit is not None:
+            return hit
         r = self._renderer(width, height)
         self._update(r, camera, show_agents)
-        return r.render().copy()
+        return self._keep(key, r.render().copy())
 
     def depth(self, camera: Camera, width: int | None = None, height: int | None = None) -> np.ndarray:
         """An ``H x W`` float32 depth image in metres (distance along the view axis)."""
+        key = self._frame_key("depth", camera, width, height, False)
+        hit = self._reused(key)
+        if hit is not None:
+            return hit
         r = self._renderer(width, height)
         r.enable_depth_rendering()
         try:
             self._update(r, camera, False)
-            return r.render().astype(np.float32, copy=True)
+            return self._keep(key, r.render().astype(np.float32, copy=True))
         finally:
             r.disable_depth_rendering()
 
     def segmentation(self, camera: Camera, width: int | None = None, height: int | None = None) -> np.ndarray:
         """An ``H x W`` int32 map of instance indices (0 = background; see :attr:`instance_names`)."""
+        key = self._frame_key("segmentation", camera, width, height, False)
+        hit = self._reused(key)
+        if hit is not None:
+            return hit
         r = self._renderer(width, height)
         r.enable_segmentation_rendering()
         try:
@@ -194,7 +270,7 @@ class SceneRenderer:
             r.disable_segmentation_rendering()
         objid, objtype = seg[..., 0], seg[..., 1]
         geom = np.where(objtype == int(mujoco.mjtObj.mjOBJ_GEOM), objid, -1)
-        return self._geom_to_inst[geom]  # -1 indexes the background slot
+        return self._keep(key, self._geom_to_inst[geom])  # -1 indexes the background slot
 
     def boxes(self, camera: Camera, min_pixels: int = 20, width: int | None = None,
               height: int | None = None) -> dict[str, tuple[int, int, int, int]]:
@@ -231,6 +307,7 @@ class SceneRenderer:
         for r in self._renderers.values():
             r.close()
         self._renderers.clear()
+        self._frames.clear()
 
     def __enter__(self) -> SceneRenderer:
         return self

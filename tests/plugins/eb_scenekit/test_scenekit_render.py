@@ -167,6 +167,8 @@ def _cache_scenario(monkeypatch: pytest.MonkeyPatch) -> None:
     assert all(1 < s < 100 for s in sizes)
     monkeypatch.setenv(pool.CACHE_ENV, str(sizes[1] + sizes[2] + 0.01))  # room for two of the other three
     renderers = [SceneRenderer(m, d, 96, 96) for m, d in worlds]
+    for r in renderers:
+        r.reuse_frames = False  # every call draws (and so switches the pool)
     try:
         before = pool.pool_stats()
         for _ in range(3):
@@ -191,3 +193,59 @@ def _cache_scenario(monkeypatch: pytest.MonkeyPatch) -> None:
         for r in renderers:
             r.close()
     assert pool.pool_stats()["cached_live"] == 0
+
+
+def test_frame_reuse_equals_drawing_every_frame() -> None:
+    """A renderer that reuses frames gives, after every kind of change a world makes (an object moved, a door
+    opened, a lamp switched, a colour changed, the agent camera moved) and after none, exactly the images of one
+    that draws every frame; it draws only when something changed or another camera, size or kind is asked for."""
+    from eb_scenekit.render import draw_inputs
+    from eb_scenekit.objects import set_object_pose, set_open, set_powered
+
+    b = SceneBuilder()
+    b.add_room("kitchen", (4.0, 4.0), seed=3)
+    b.add_object("Fridge", "fridge", (1.4, 1.4), yaw=-135)
+    b.add_object("DiningTable", "table", (0.0, 0.0))
+    b.add_object("Apple", "apple", (0.0, 0.1), parent="table")
+    b.add_object("DeskLamp", "lamp", (0.2, -0.2), parent="table")
+    b.add_agent_camera("agent", (-1.4, -1.4), yaw=45, pitch=-15)
+    model, data = b.build()
+    reuse, fresh = SceneRenderer(model, data, 120, 120), SceneRenderer(model, data, 120, 120)
+    fresh.reuse_frames = False
+    overhead = free_camera((0.0, 0.0, 0.5), 5.0, 90.0, -75.0)
+
+    def same(expect_draw: bool) -> None:
+        before = reuse.frames_drawn
+        for kind, args in (("rgb", ("agent",)), ("segmentation", ("agent",)), ("depth", ("agent",)),
+                           ("rgb", (overhead, 80, 60))):
+            a, b_ = getattr(reuse, kind)(*args), getattr(fresh, kind)(*args)
+            assert a.dtype == b_.dtype and np.array_equal(a, b_), kind
+        assert (reuse.frames_drawn > before) == expect_draw
+
+    try:
+        same(True)
+        same(False)  # nothing changed: all four are copies
+        img = reuse.rgb("agent")
+        img[:] = 0  # a caller editing its copy does not change the next one
+        assert np.array_equal(reuse.rgb("agent"), fresh.rgb("agent"))
+        changes = [
+            lambda: set_object_pose(model, data, "apple", (0.3, 0.0, 0.8)),
+            lambda: set_open(model, data, "fridge", 1.0),
+            lambda: set_powered(model, "lamp", False),  # lamps are built switched on
+            lambda: model.geom_rgba.__setitem__((slice(None), 0), 0.2),
+            lambda: set_agent_pose(model, data, "agent", (-1.2, -1.4, 1.5), yaw=40, pitch=-20),
+        ]
+        for change in changes:
+            change()
+            mujoco.mj_forward(model, data)
+            same(True)
+            same(False)
+        reuse.show_ceiling = True  # an option the key carries
+        fresh.show_ceiling = True
+        same(True)
+        assert reuse.frames_reused == 6 * 4 + 2  # every same(False) and the two rgb() after the edit
+        kept = draw_inputs(model, data)
+        assert all(isinstance(a, np.ndarray) for a in kept)
+    finally:
+        reuse.close()
+        fresh.close()
