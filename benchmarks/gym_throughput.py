@@ -7,10 +7,10 @@
 Raw mode with rendering on (every step renders the world's first-person image unless it changed nothing the
 renderer reads). For each world, in this process with one env:
 
-* ``render_s``: one raw render of the scene the env just drew (``mujoco.Renderer.render`` of the pooled
-  renderer at the observation's size, colour only: median of 9 after a random step); **the bound** = cores /
-  ``render_s`` -- the issue's definition, the most steps per second this machine could give if a step were
-  nothing but its picture.
+* ``render_s``: one raw render of the same scenes the vector env plays (``mujoco.Renderer.render`` of the
+  pooled renderer at the observation's size, colour only; mean over the scenes of seeds 0-7, each after its
+  reset and after two random steps, two renders each); **the bound** = cores / ``render_s`` -- the issue's
+  definition, the most steps per second this machine could give if a step were nothing but its picture.
 * ``one_env_steps_per_s``: random raw steps of the single env, resets on episode ends included (the same play
   the vector env gets); ``cores x`` that is what N perfectly parallel single envs would give, so
   ``scaling`` = rate / (cores x one-env rate) says what the vector env loses to batching, IPC and model switches.
@@ -78,46 +78,59 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
     env.reset(seed=0)
     env.action_space.seed(0)
 
-    def pool_renderer() -> bool:
-        from eb_scenekit import pool
 
-        return pool.thread_renderer() is not None
-
-    def one_env() -> tuple[float, float, float | None]:
+    def one_env() -> tuple[float, float]:
         """Random raw steps of the single env in this process, now: (steps per second with resets on episode
-        ends, median step seconds, median seconds of one raw render of the scene after a step or None)."""
-        from eb_scenekit import pool
-
-        step_times, renders = [], []
+        ends, median step seconds)."""
+        step_times = []
         t0 = time.perf_counter()
-        for i in range(3 * steps):
+        for _ in range(3 * steps):
             t = time.perf_counter()
             _, _, term, trunc, _ = env.step(env.action_space.sample())
             step_times.append(time.perf_counter() - t)
             if term or trunc:
                 env.reset()
-            if i % 3 == 0:
-                r = pool.thread_renderer(resolution, resolution)
-                if r is not None:
+        return 3 * steps / (time.perf_counter() - t0), statistics.median(step_times)
+
+    def raw_render_s(scenes: int) -> float | None:
+        """Mean seconds of one raw render (colour only, the observation's size) over the scenes of seeds
+        0 .. ``scenes`` - 1 -- those the vector env's first environments play -- each after a reset and after two
+        random steps; None without a pooled renderer to time."""
+        from eb_scenekit import pool
+
+        renders: list[float] = []
+        probe = gymnasium.make(gid, **kwargs)
+        probe.action_space.seed(1)
+        try:
+            for seed in range(scenes):
+                probe.reset(seed=seed)
+                for k in range(3):
+                    if k:
+                        probe.step(probe.action_space.sample())
+                    r = pool.thread_renderer(resolution, resolution)
+                    if r is None:
+                        continue
                     r.disable_depth_rendering()
                     r.disable_segmentation_rendering()
-                    for _ in range(3):
+                    for _ in range(2):
                         t = time.perf_counter()
                         r.render()
                         renders.append(time.perf_counter() - t)
-        rate = len(step_times) / (time.perf_counter() - t0 - sum(renders))
-        return rate, statistics.median(step_times), statistics.median(renders) if renders else None
+        finally:
+            probe.close()
+        return statistics.mean(renders) if renders else None
 
     cores = os.cpu_count() or 1
 
-    def bound_now() -> tuple[float, float, float, float]:
-        rate, step_s, render_s = one_env()
-        return cores / (render_s or step_s), rate, step_s, render_s or step_s
+    def bound_now(scenes: int) -> tuple[float, float, float, float, bool]:
+        rate, step_s = one_env()
+        render_s = raw_render_s(scenes)
+        return cores / (render_s or step_s), rate, step_s, render_s or step_s, render_s is not None
 
-    bound, one_rate, step_s, render_s = bound_now()
+    bound, one_rate, step_s, render_s, from_render = bound_now(min(8, max(sizes)))
     out: dict[str, Any] = {"world": world, "gym_id": gid, "resolution": resolution, "cores": cores,
                            "render_s": round(render_s, 4), "bound_steps_per_s": round(bound, 1),
-                           "bound_from": "raw render" if pool_renderer() else "median step",
+                           "bound_from": "raw render" if from_render else "median step",
                            "step_median_s": round(step_s, 4), "one_env_steps_per_s": round(one_rate, 1),
                            "reset_median_s": round(statistics.median(times), 3), "reset_max_s": round(max(times), 3),
                            "load_avg_1min": round(os.getloadavg()[0], 1), "sizes": {}}
@@ -131,7 +144,7 @@ def bench_world(world: str, sizes: list[int], steps: int, resets: int, resolutio
             print(f"  {world} N={n}: skipped, {out['sizes'][n]['skipped']}", flush=True)
             continue
         n_steps = max(2, min(steps, max_env_steps // n))
-        bound_n, one_rate_n, _, _ = bound_now()  # again, under the machine's load of this moment
+        bound_n, one_rate_n, _, _, _ = bound_now(min(8, n))  # again, under the machine's load of this moment
         t = time.perf_counter()
         vec = ebgym.make_vector_env(world, n, workers=w, **kwargs)
         try:
