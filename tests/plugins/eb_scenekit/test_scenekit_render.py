@@ -141,8 +141,9 @@ def _scene_with(objects: list[tuple[str, str, tuple[float, float]]]):  # type: i
 
 def test_pool_context_cache_budget_release_and_bad_setting(monkeypatch: pytest.MonkeyPatch) -> None:
     """Scenes taking turns on one thread keep GL contexts of their own while the estimated sizes fit
-    EB_SCENEKIT_GL_CACHE_MB; the rest share one rebuilt context; a released scene's context is freed and its room
-    goes to a scene that draws next; every frame equals a private renderer's; a bad setting is one clear line.
+    EB_SCENEKIT_GL_CACHE_MB, scenes with the same render assets draw with one, the rest share one rebuilt
+    context; a released scene's context is freed when no scene uses it and its room goes to a scene that draws
+    next; every frame equals a private renderer's; a bad setting is one clear line.
     Runs on a thread of its own: a fresh pool, whatever other tests of this process hold."""
     from concurrent.futures import ThreadPoolExecutor
 
@@ -153,19 +154,25 @@ def test_pool_context_cache_budget_release_and_bad_setting(monkeypatch: pytest.M
 def _cache_scenario(monkeypatch: pytest.MonkeyPatch) -> None:
     from eb_scenekit import pool
 
-    worlds = [_scene_with([("Fridge", "fridge", (1.6, 1.6))]), _scene_with([("Sofa", "sofa", (-1.5, 0.0))]),
-              _scene_with([("DiningTable", "table", (0.0, 0.0))]), _scene_with([("Mug", "mug", (0.0, 0.0))])]
+    # a fridge and a table are built from primitives only (the same render assets: the room's textures), so are
+    # two mugs at different places; the sofa and the apple have meshes of their own
+    specs = [[("Fridge", "fridge", (1.6, 1.6))], [("DiningTable", "table", (0.0, 0.0))],
+             [("Sofa", "sofa", (-1.5, 0.0))], [("Mug", "mug", (0.0, 0.0))], [("Mug", "mug", (0.8, -0.5))],
+             [("Apple", "apple", (0.0, 0.3))]]
+    worlds = [_scene_with(spec) for spec in specs]
+    digests = [pool.render_assets(m) for m, _ in worlds]
+    assert digests[0] == digests[1] and digests[3] == digests[4] and len(set(digests)) == 4
     monkeypatch.setenv(pool.PRIVATE_GL_ENV, "1")
     want = []
     for model, data in worlds:
         with SceneRenderer(model, data, 96, 96) as r:
             want.append(r.rgb("agent"))
     monkeypatch.delenv(pool.PRIVATE_GL_ENV)
-    assert len({w.tobytes() for w in want}) == 4  # four different pictures
+    assert len({w.tobytes() for w in want}) == 6  # six different pictures
 
     sizes = [pool.context_mb(m) for m, _ in worlds]
     assert all(1 < s < 100 for s in sizes)
-    monkeypatch.setenv(pool.CACHE_ENV, str(sizes[1] + sizes[2] + 0.01))  # room for two of the other three
+    monkeypatch.setenv(pool.CACHE_ENV, str(sizes[2] + sizes[3] + 0.01))  # room for the sofa's and the mugs'
     renderers = [SceneRenderer(m, d, 96, 96) for m, d in worlds]
     for r in renderers:
         r.reuse_frames = False  # every call draws (and so switches the pool)
@@ -174,17 +181,21 @@ def _cache_scenario(monkeypatch: pytest.MonkeyPatch) -> None:
         for _ in range(3):
             for r, w in zip(renderers, want):
                 assert np.array_equal(r.rgb("agent"), w)
-        stats = pool.pool_stats()
-        # the first scene holds the shared context, the next two got their own, the fourth rebinds the shared
-        # one on each of its turns and the first scene rebinds it back on each of its later turns
-        assert stats["cached"] - before["cached"] == 2 and stats["cached_live"] == 2
-        assert abs(stats["cached_mb"] - round(sizes[1] + sizes[2], 1)) < 0.2
-        assert stats["rebinds"] - before["rebinds"] == 5
-        renderers[1].close()  # frees its context (this thread's): the next scene to draw without one takes it
-        monkeypatch.setenv(pool.CACHE_ENV, str(sizes[0] + sizes[2] + 0.01))
+        stats = {k: v - before[k] if k in ("cached", "shared", "rebinds") else v
+                 for k, v in pool.pool_stats().items()}
+        # the fridge made the shared context and the table draws with it; the sofa and the first mug got their
+        # own, the second mug draws with the first's; the apple rebuilds the shared context on each of its turns
+        # and the fridge rebuilds it back on each of its later ones (the table then joins it again)
+        assert stats["cached"] == 2 and stats["cached_live"] == 2
+        assert abs(stats["cached_mb"] - round(sizes[2] + sizes[3], 1)) < 0.2
+        assert stats["shared"] == 2 + 2 and stats["rebinds"] == 5
+        renderers[3].close()  # the second mug still draws with that context
+        assert pool.pool_stats()["cached_live"] == 2
+        renderers[4].close()  # now it is freed (this thread's): its room goes to the next scene without one
         assert pool.pool_stats()["cached_live"] == 1
-        for r, w in zip(renderers[2:] + renderers[:1], want[2:] + want[:1]):  # the fourth keeps the shared one
-            assert np.array_equal(r.rgb("agent"), w)
+        monkeypatch.setenv(pool.CACHE_ENV, str(sizes[0] + sizes[2] + 0.01))
+        for i in (2, 5, 0, 1):  # sofa (own), apple (holds the shared one), fridge (cached now), table (joins it)
+            assert np.array_equal(renderers[i].rgb("agent"), want[i])
         assert pool.pool_stats()["cached_live"] == 2
         monkeypatch.setenv(pool.CACHE_ENV, "lots")
         with pytest.raises(ValueError, match="EB_SCENEKIT_GL_CACHE_MB='lots' is not a number of megabytes"):
