@@ -143,6 +143,10 @@ class BuiltScene:
     """Ids of objects with a free joint (loose shapes, cubes, the sponge)."""
 
 
+_MESH_SHAPES = tuple(s for s in SHAPES if s not in ("cube", "cylinder"))
+"""Shapes drawn from meshes (cube and cylinder are MuJoCo primitives)."""
+
+
 @lru_cache(maxsize=256)
 def _mesh_xml(name: str, shape: str, height: float, scale: float = 1.0) -> str:
     """The ``<mesh>`` element of an extruded shape; made once per process (~10 ms each, two or three a reset)."""
@@ -163,6 +167,16 @@ def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) ->
     bodies: list[str] = []
     free: list[str] = []
     shape_meshes: set[str] = set()
+    if visual:
+        # every rendered scene declares the same meshes in the same order, used or not (a few kB): scenes then
+        # have the same render assets, so the pooled renderer draws every task with one GL context instead of
+        # making one per reset (~50 ms with the Franka's meshes; eb_scenekit.pool.render_assets)
+        for shape in _MESH_SHAPES:
+            mesh_xml.append(_mesh_xml(f"shape_{shape}", shape, SHAPES[shape].height))
+            shape_meshes.add(f"shape_{shape}")
+        for shape in SHAPES:
+            mesh_xml.append(_mesh_xml(f"hole_{shape}", shape, 0.001, scale=1.12))
+            shape_meshes.add(f"hole_{shape}")
     world = f'contype="{WORLD_CONTYPE}" conaffinity="{WORLD_CONAFFINITY}"'
 
     for obj in scene.objects:

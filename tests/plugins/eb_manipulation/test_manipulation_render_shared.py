@@ -27,3 +27,26 @@ def test_shared_pool_gives_identical_images_interleaved(monkeypatch: pytest.Monk
             yield
 
     check_pooled_matches_private(lambda: ManipulationEnv(resolution=128, multi_view=True), private, a, b, steps=2)
+
+
+def test_every_task_draws_with_one_gl_context() -> None:
+    """Every rendered scene declares the same meshes, textures and materials, so the pooled renderer gives all
+    tasks one GL context: resets after the first make none (no new context, no rebuild)."""
+    from eb_scenekit import pool
+
+    tasks = ManipulationEnv.load_tasks()
+    picked = [next(t for t in tasks if t.subset == s) for s in dict.fromkeys(t.subset for t in tasks)]
+    env = ManipulationEnv(resolution=96)
+    try:
+        env.reset(picked[0], 0)
+        first = pool.render_assets(pool.thread_renderer().model)
+        before = pool.pool_stats()
+        for task in picked[1:]:
+            env.reset(task, 0)
+            r = pool.thread_renderer()
+            assert r is not None and pool.render_assets(r.model) == first, task.id
+        after = pool.pool_stats()
+        assert after["contexts"] == before["contexts"] and after["rebinds"] == before["rebinds"]
+        assert after["cached"] == before["cached"] and after["shared"] - before["shared"] == len(picked) - 1
+    finally:
+        env.close()
