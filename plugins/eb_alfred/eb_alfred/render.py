@@ -200,6 +200,9 @@ class AlfredRenderer:
         mujoco.mj_forward(self.model, self.data)
         self._renderer = SceneRenderer(self.model, self.data, self.resolution, self.resolution,
                                        pooled=self.shared_gl)
+        # this renderer reuses frames itself (render() below, also for the boxes): the scene kit's own reuse
+        # would only keep second copies and compare again
+        self._renderer.reuse_frames = False
         self._geoms: dict[str, list[int]] = {}
         for g in range(self.model.ngeom):
             gname = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, g) or ""
