@@ -77,13 +77,20 @@ class Components:
 
     def load_tasks(self) -> list[Task]:
         split = self.cfg.split
+        params = dict(self.cfg.env.params)
+        taskset = self.cfg.taskset
+        if taskset != "classic":
+            if taskset not in self.env_spec.tasksets:
+                raise ConfigError(f"unknown taskset {taskset!r} for env {self.cfg.env.name!r}; available: "
+                                  f"{', '.join(self.env_spec.tasksets)}. Fix: taskset=classic or one of those.")
+            params["taskset"] = taskset
         if split == "test":
-            return self.env_cls.load_tasks(**self.cfg.env.params)
+            return self.env_cls.load_tasks(**params)
         if self.cfg.limit is None:
             raise ConfigError(f"split={split} is generated on demand: say how many tasks with limit=N "
                               f"(e.g. limit=300)")
         try:
-            return self.env_cls.split_tasks(split, 0, self.cfg.limit, **self.cfg.env.params)
+            return self.env_cls.split_tasks(split, 0, self.cfg.limit, **params)
         except ValueError as exc:
             raise ConfigError(str(exc).splitlines()[0]) from None
 
@@ -137,6 +144,8 @@ def _fingerprint(cfg_dict: dict[str, Any]) -> dict[str, Any]:
     fp = {k: cfg_dict.get(k) for k in _FINGERPRINT_KEYS}
     if cfg_dict.get("split", "test") != "test":  # runs on the shipped tasks keep their earlier fingerprint
         fp["split"] = cfg_dict["split"]
+    if cfg_dict.get("taskset", "classic") != "classic":  # likewise for the classic task sets
+        fp["taskset"] = cfg_dict["taskset"]
     return fp
 
 

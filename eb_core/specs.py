@@ -77,6 +77,9 @@ class EnvSpec(ComponentSpec):
 
     subsets: dict[str, int] = Field(default_factory=dict)
     """Subset name -> number of shipped tasks (shown by ``eb list`` without loading anything)."""
+    tasksets: tuple[str, ...] = ("classic",)
+    """Shipped task sets (``taskset=``); ``classic`` is the paper's. Another set is passed to
+    :meth:`eb_core.env.Env.load_tasks` (and ``split_tasks``) as the keyword ``taskset``."""
     task_generator: str | None = None
     """Optional ``"module:function"`` behind ``eb tasks generate env=<name> key=value...``."""
 
