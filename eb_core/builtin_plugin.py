@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from eb_core.hookspecs import hookimpl
-from eb_core.specs import AugmenterSpec, MetricSpec, PlannerSpec
+from eb_core.specs import AugmenterSpec, MetricSpec, ModelBackendSpec, PlannerSpec
 
 
 @hookimpl
@@ -24,6 +24,16 @@ def eb_register_augmenters() -> list[AugmenterSpec]:
             name="detection_boxes",
             entry_point="eb_core.augment:DetectionBoxes",
             description="Draw ground-truth boxes (and labels) of all objects or only the target on the main image",
+        ),
+    ]
+
+
+@hookimpl
+def eb_register_model_backends() -> list[ModelBackendSpec]:
+    return [
+        ModelBackendSpec(
+            name="policy", entry_point="eb_core.evaluate:PolicyBackend",
+            description="A policy callable given to eb_core.evaluate.evaluate() (evaluation during training)",
         ),
     ]
 
