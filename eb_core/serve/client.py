@@ -16,7 +16,6 @@ session after its ``session_timeout_s``.
 from __future__ import annotations
 
 import base64
-import io
 import threading
 from collections.abc import Sequence
 from typing import Any
@@ -25,6 +24,7 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space, concatenate, create_empty_array
 
+from eb_core.serve.png import decode_png
 from eb_core.serve.schema import SCHEMA
 from eb_core.serve.spaces import build
 
@@ -36,10 +36,7 @@ class RemoteEnvError(RuntimeError):
 
 
 def _decode_png(data: str) -> np.ndarray:
-    from PIL import Image
-
-    with Image.open(io.BytesIO(base64.b64decode(data))) as im:
-        return np.asarray(im.convert("RGB"), dtype=np.uint8)
+    return decode_png(base64.b64decode(data))
 
 
 def _to_json(value: Any) -> Any:

@@ -12,7 +12,6 @@ is replaced. Sessions idle longer than ``session_timeout_s`` are reaped.
 from __future__ import annotations
 
 import base64
-import io
 import queue
 import secrets
 import threading
@@ -26,6 +25,8 @@ from typing import Any
 import gymnasium
 import numpy as np
 
+from eb_core.serve.png import encode_png
+
 __all__ = ["PoolConfig", "PoolError", "SessionPool", "encode_png"]
 
 
@@ -35,15 +36,6 @@ class PoolError(Exception):
     def __init__(self, status: int, message: str) -> None:
         super().__init__(message)
         self.status = status
-
-
-def encode_png(image: np.ndarray) -> bytes:
-    """PNG bytes of an RGB image (fast compression: these cross a local network, not a disk)."""
-    from PIL import Image
-
-    buf = io.BytesIO()
-    Image.fromarray(np.asarray(image, dtype=np.uint8)).save(buf, format="PNG", compress_level=1)
-    return buf.getvalue()
 
 
 class PngObservations(gymnasium.Wrapper):  # type: ignore[type-arg]
