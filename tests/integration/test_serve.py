@@ -211,3 +211,25 @@ def test_refuses_a_public_bind_without_flag_and_token():
     p = subprocess.run([sys.executable, "-m", "eb_core", "serve", "env=navigaton"], capture_output=True, text=True,
                        timeout=120)
     assert p.returncode == 2 and p.stderr.count("\n") == 1 and "navigation" in p.stderr
+
+
+def test_vagen_style_batch_service(server):
+    from eb_core.serve.adapters import BatchService
+
+    svc = BatchService(server.url, token=TOKEN)
+    svc.create_environments_batch({"a": {}, "b": {}})
+    svc.create_environments_batch({"c": {}})
+    assert server.stats()["sessions"] >= 2
+    first = svc.reset_batch({"a": 0, "c": 5})
+    assert set(first) == {"a", "c"}
+    obs, info = first["a"]
+    assert "<image>" in obs["obs_str"] and obs["multi_modal_data"]["<image>"][0].size == (500, 500)
+    assert info["task_id"] and first["c"][1]["task_id"] != info["task_id"]
+    stepped = svc.step_batch({"a": ANSWER, "c": ANSWER})
+    for env_id in ("a", "c"):
+        obs, reward, done, info = stepped[env_id]
+        assert isinstance(reward, float) and done in (True, False) and "error" not in info
+    with pytest.raises(KeyError, match="unknown environment id 'zz'"):
+        svc.step_batch({"zz": ANSWER})
+    svc.close_batch()
+    assert server.stats()["envs_leased"] == 0
