@@ -73,6 +73,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             from eb_core.audit import cmd_audit
 
             return cmd_audit(rest)
+        if cmd == "plan":
+            from eb_core.budget import cmd_plan
+
+            return cmd_plan(rest)
         if cmd == "serve":
             from eb_core.serve.command import main as cmd_serve
 
