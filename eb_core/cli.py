@@ -451,11 +451,16 @@ def cmd_show(args: list[str]) -> int:
 
     from eb_core.html import write_compare, write_html
 
-    usage = "usage: eb show RUN_DIR (a directory holding episodes.jsonl), or eb show RUN_A RUN_B ... [--out DIR]"
-    dirs, out = [], None
+    usage = ("usage: eb show RUN_DIR (a directory holding episodes.jsonl), or eb show RUN_A RUN_B ... [--out DIR], "
+             "or eb show --bundle OUT RUN...")
+    dirs, out, bundle = [], None, None
     it = iter(args)
     for a in it:
-        if a == "--out" or a.startswith("--out="):
+        if a == "--bundle" or a.startswith("--bundle="):
+            bundle = a.split("=", 1)[1] if "=" in a else next(it, "")
+            if not bundle:
+                raise CliError(f"--bundle needs a new folder; {usage}")
+        elif a == "--out" or a.startswith("--out="):
             out = a.split("=", 1)[1] if "=" in a else next(it, "")
             if not out:
                 raise CliError(f"--out needs a directory; {usage}")
@@ -468,6 +473,14 @@ def cmd_show(args: list[str]) -> int:
     for d in dirs:
         if not (Path(d) / "episodes.jsonl").exists():
             raise CliError(f"{d} is not a run directory (no episodes.jsonl)")
+    if bundle is not None:
+        from eb_core.bundle import write_bundle
+
+        try:
+            print(write_bundle(dirs, bundle))
+        except (FileExistsError, ValueError) as exc:
+            raise CliError(str(exc)) from None
+        return 0
     if len(dirs) == 1:
         if out:
             raise CliError("--out is for comparing several runs; one run's viewer is written into RUN_DIR")
