@@ -298,6 +298,11 @@ def cmd_export(args: list[str]) -> int:
         from eb_core.matrix import cmd_matrix  # several runs -> one task x run table
 
         return cmd_matrix(args)
+    if "video" in [a.split("=", 1)[1] if a.startswith("--format=") else a for a in args] and any(
+            a.startswith("--format") for a in args):
+        from eb_core.video import cmd_video  # replayed with rendering, captioned
+
+        return cmd_video(args)
     usage = ("usage: eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] "
              "[--label model|expert] [--only-success]")
     run_dir, out, images, fmt, only_success, label = None, None, "paths", "parquet", False, "model"
