@@ -47,7 +47,7 @@ __all__ = ["EnvActor", "INSTALL_HINT", "connect", "get_limiter", "run_on_ray"]
 
 def require_ray() -> Any:
     if ray is None:
-        from eb_core.runner import RunError
+        from eb_core.components import RunError
 
         raise RunError(INSTALL_HINT)
     return ray
@@ -75,10 +75,10 @@ class _EnvActor:
                 sys.path.insert(0, p)
         from eb_core.episode import BudgetGuard
         from eb_core.inflight import InflightLoop
-        from eb_core.runner import Components, _build_registry, episode_seed
+        from eb_core.components import Components, build_registry, episode_seed
 
         cfg = RunConfig.model_validate(cfg_dict)
-        registry = _build_registry(plugin_modules)
+        registry = build_registry(plugin_modules)
         self.node = ray.get_runtime_context().get_node_id()
         self.staging = tempfile.mkdtemp(prefix="eb_ray_actor_")
         self.done: list[tuple[str, str]] = []
@@ -210,12 +210,14 @@ EnvActor = None if ray is None else ray.remote(num_cpus=1, max_restarts=0, max_t
 
 def run_on_ray(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pending: list[Any], progress: Any,
                hook: Any, plugin_modules: list[str], preflight: Any = None) -> str | None:
-    """Play ``pending`` (task, repeat) jobs on Ray actors; the runner's ``_finish`` writes every record."""
+    """Play ``pending`` (task, repeat) jobs on Ray actors; :func:`eb_core.workers.finish_episode` writes every
+    record (labelled by the actor, where its steps were in memory)."""
     require_ray()
     from eb_core.episode import BudgetGuard
     from eb_core.inflight import error_record
     from eb_core.model import ModelBudgetExceeded
-    from eb_core.runner import RunError, _concurrency, _finish, episode_seed, job_key, split_slots
+    from eb_core.components import RunError, episode_seed
+    from eb_core.workers import concurrency, finish_episode, job_key, kill_after, split_slots
 
     started_ray = connect(cfg.runner.ray_address)
     budget = BudgetGuard(cfg.model.max_cost_usd)
@@ -226,7 +228,7 @@ def run_on_ray(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pendin
         except ModelBudgetExceeded as exc:
             return f"budget: {exc}"
     timeout = cfg.runner.episode_timeout_s
-    kill_after = None if timeout is None else timeout + max(1.0, 0.1 * timeout)
+    kill_at = kill_after(timeout)
     queue_: list[Any] = list(pending)
     tries: dict[str, int] = {}
     sys_path = [p for p in sys.path if p]
@@ -251,7 +253,7 @@ def run_on_ray(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pendin
 
     def fail(key: str, job: Any, why: str) -> None:
         task, repeat = job
-        _finish(files, error_record(task, repeat, episode_seed(cfg.seed, task.id, repeat), why), progress, hook)
+        finish_episode(files, error_record(task, repeat, episode_seed(cfg.seed, task.id, repeat), why), progress, hook)
 
     def lost(s: Slot, why: str, culprit: str | None = None) -> None:
         """An actor is gone: its episodes go back to the queue (an episode lost twice is an error)."""
@@ -265,7 +267,7 @@ def run_on_ray(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pendin
                 queue_.insert(0, job)
         s.jobs.clear()
 
-    sizes = split_slots(_concurrency(cfg), cfg.runner.workers, len(pending))
+    sizes = split_slots(concurrency(cfg), cfg.runner.workers, len(pending))
     slots = [Slot(n) for n in sizes]
     try:
         while stopped is None:
@@ -302,15 +304,15 @@ def run_on_ray(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pendin
                         path = stage / rel
                         path.parent.mkdir(parents=True, exist_ok=True)
                         path.write_bytes(data)
-                    _finish(files, rec, progress, hook)
+                    finish_episode(files, rec, progress, hook)
                     try:
                         budget.add(rec.cost_usd)
                     except ModelBudgetExceeded as exc:
                         stopped = f"budget: {exc}"
-            if kill_after is not None:
+            if kill_at is not None:
                 now = time.monotonic()
                 for s in list(slots):
-                    hung = [k for k, (_j, t0) in s.jobs.items() if now - t0 > kill_after]
+                    hung = [k for k, (_j, t0) in s.jobs.items() if now - t0 > kill_at]
                     if hung:
                         ray.kill(s.actor, no_restart=True)
                         lost(s, "actor killed", culprit=hung[0])

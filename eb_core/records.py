@@ -24,6 +24,7 @@ import json
 import os
 import shutil
 import tempfile
+import weakref
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, Literal
@@ -280,11 +281,29 @@ class RunDirLocked(RuntimeError):
     """Another process holds the run directory's lock; the message names the directory and its pid."""
 
 
+_HELD: "weakref.WeakSet[RunLock]" = weakref.WeakSet()
+_FORKS_WATCHED = False
+
+
+def _forget_held_locks() -> None:
+    for lock in list(_HELD):
+        lock.forget_in_child()
+    _HELD.clear()
+
+
+def _watch_forks() -> None:
+    global _FORKS_WATCHED
+    if not _FORKS_WATCHED:
+        os.register_at_fork(after_in_child=_forget_held_locks)
+        _FORKS_WATCHED = True
+
+
 class RunLock:
     """An exclusive ``flock`` on ``<run_dir>/run.lock``, which holds the owner's pid.
 
     The kernel drops the lock when the holder's last descriptor closes, so a ``kill -9``'d run never
-    blocks the next one. Forked workers must call :meth:`forget_in_child` so they do not keep it alive.
+    blocks the next one. A process forked while the lock is held closes its copy at once (an ``at fork``
+    handler), so worker processes never keep it alive.
     """
 
     name = "run.lock"
@@ -309,9 +328,12 @@ class RunLock:
         os.ftruncate(fd, 0)
         os.pwrite(fd, f"{os.getpid()}\n".encode("ascii"), 0)
         self.fd = fd
+        _HELD.add(self)
+        _watch_forks()
         return self
 
     def release(self) -> None:
+        _HELD.discard(self)
         if self.fd is not None:
             try:
                 os.ftruncate(self.fd, 0)
