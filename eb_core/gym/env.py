@@ -13,14 +13,10 @@ Everything a step can go wrong on (an env bug, a closed world) ends the episode 
 from __future__ import annotations
 
 import io
-import json
-import shutil
 import string
-import tempfile
 import traceback
 from collections.abc import Mapping, Sequence
 from functools import lru_cache
-from pathlib import Path
 from typing import Any
 
 import gymnasium
@@ -179,7 +175,6 @@ class EBEnv(gymnasium.Env):
             self._tasks = None
             self.env_cls.split_tasks(split, 0, 1, **params)  # one clear error for an unknown split, up front
         self.env: Env | None = None
-        self._tmp = tempfile.mkdtemp(prefix="eb-gym-")
         self._driver: Any = None
         self._last_obs: Any = None
         self._last_image: np.ndarray | None = None
@@ -294,20 +289,19 @@ class EBEnv(gymnasium.Env):
     def close(self) -> None:
         self._close_driver()
         self._rebuild()
-        shutil.rmtree(self._tmp, ignore_errors=True)
 
     # -- prompt mode -------------------------------------------------------------------------------
 
     def _reset_prompt(self, env: Env, task: Task) -> Any:
-        from eb_core.episode import EpisodeDriver
+        from eb_core.episode import EpisodeDriver, EpisodeOptions
 
         backend = _AnswerBackend()
         planner = self.comps.make_planner(backend)
-        (Path(self._tmp) / "steps.jsonl").unlink(missing_ok=True)
+        # no step files: the driver keeps the step records in memory (driver.steps)
         self._driver = EpisodeDriver(env=env, task=task, seed=self.world_seed, planner=planner, backend=backend,
-                                     env_config=self.cfg.env, step_dir=Path(self._tmp), save_images=False,
-                                     augmenters=self.comps.augmenters, expert_labels=False)
-        self._lines_read = 0
+                                     env_config=self.cfg.env,
+                                     options=EpisodeOptions(save_images=False, augmenters=self.comps.augmenters))
+        self._steps_seen = 0
         request = self._driver.next_request()
         if request is None:
             rec = self._driver.record
@@ -330,16 +324,18 @@ class EBEnv(gymnasium.Env):
                                                        if isinstance(action, bytes) else str(action))
         driver = self._driver
         driver.submit(ModelResponse(text=text, usage=Usage(calls=1)))
-        lines = (Path(self._tmp) / "steps.jsonl").read_text(encoding="utf-8").splitlines()
-        rec = json.loads(lines[-1]) if len(lines) > self._lines_read else {}
-        self._lines_read = len(lines)
-        acts = rec.get("actions", [])
-        format_ok = rec.get("error") is None
-        failed = sum(1 for a in acts if not a["success"])
-        cut = rec.get("plan_error") is not None
+        steps = driver.steps
+        rec = steps[-1] if len(steps) > self._steps_seen else None
+        self._steps_seen = len(steps)
+        acts = rec.actions if rec is not None else []
+        format_error = rec.error if rec is not None else None
+        plan_error = rec.plan_error if rec is not None else None
+        format_ok = format_error is None
+        failed = sum(1 for a in acts if not a.success)
+        cut = plan_error is not None
         nothing_valid = format_ok and cut and not acts
         invalid = failed + (1 if cut else 0)
-        progress = acts[-1]["progress"] if acts else self._progress
+        progress = acts[-1].progress if acts else self._progress
         self._steps += len(acts)
         terminated = truncated = False
         success = False
@@ -361,17 +357,17 @@ class EBEnv(gymnasium.Env):
             obs = self._last_obs
         else:
             obs = self._prompt_obs(driver.next_request())
-        parsed = rec.get("parsed")
-        feedback = acts[-1]["feedback"] if acts else (rec.get("error") or rec.get("plan_error") or "")
+        parsed = rec.parsed if rec is not None else None
+        feedback = acts[-1].feedback if acts else (format_error or plan_error or "")
         info = self._finish_info(progress, success, invalid, 0 if format_ok else 1)
         info.update({
-            "plan": None if parsed is None else parsed.get("executable_plan"),
-            "executed_actions": [a["action"] for a in acts],
-            "executed_action_names": [a["action_name"] for a in acts],
+            "plan": None if parsed is None else parsed.executable_plan,
+            "executed_actions": [a.action for a in acts],
+            "executed_action_names": [a.action_name for a in acts],
             "action_valid": format_ok and not cut and failed == 0 and not nothing_valid,
             "format_ok": format_ok,
-            "format_error": rec.get("error"),
-            "plan_error": rec.get("plan_error"),
+            "format_error": format_error,
+            "plan_error": plan_error,
             "feedback": feedback,
             "replaced_chars": self._replaced,
         })
