@@ -146,7 +146,8 @@ class StepRecord(BaseModel):
     image: str | None = None
     """File name of the step's primary image PNG, if saved."""
     extra_images: list[str] | None = None
-    raw_output: str = ""
+    raw_output: str
+    """The model's answer, verbatim."""
     usage: Usage = Field(default_factory=Usage)
     parsed: PlannerOutput | None = None
     """The answer's four fields; None when it could not be parsed."""
@@ -411,19 +412,24 @@ class RunLog:
         return read_steps(self.episode_dir(key))
 
 
-def read_steps(ep_dir: str | os.PathLike[str]) -> list[StepRecord]:
-    """The step records of ``ep_dir/steps.jsonl``; a torn or unreadable line is skipped, no file gives []."""
+def read_steps(ep_dir: str | os.PathLike[str], *, strict: bool = False) -> list[StepRecord]:
+    """The step records of ``ep_dir/steps.jsonl``, in file order; no file gives [].
+
+    A torn or unreadable line is skipped, or with ``strict`` raises ValueError naming the file and line.
+    """
     path = Path(ep_dir) / "steps.jsonl"
     if not path.is_file():
         return []
     out: list[StepRecord] = []
-    for line in path.read_text(encoding="utf-8").splitlines():
+    for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
         if not line.strip():
             continue
         try:
             out.append(StepRecord.model_validate_json(line))
-        except ValueError:
-            continue
+        except ValueError as exc:
+            if strict:
+                first = str(exc).splitlines()
+                raise ValueError(f"{path} line {n} is not a step record: {' '.join(first[:3])}") from None
     return out
 
 
