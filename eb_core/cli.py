@@ -30,6 +30,8 @@ commands:
                              call N (the expert plays the earlier ones); images saved as PNG beside prompt.txt
   tasks generate env=NAME [key=value ...]   write a task file with the env's generator
   audit env=NAME [task_file=PATH] [--quick] [--probe NAME]   shortcut probes of a task set; exit 1 on a failure
+  verify RUN_DIR [...] [--render]   replay every episode from its task, seed and recorded actions (no model)
+                             and check the records and manifest; one line per mismatch, exit 1 on any
 """
 
 GROUPS = ("env", "model", "planner", "ablation")
@@ -73,6 +75,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             from eb_core.audit import cmd_audit
 
             return cmd_audit(rest)
+        if cmd == "verify":
+            from eb_core.verify import cmd_verify
+
+            return cmd_verify(rest)
         if cmd == "serve":
             from eb_core.serve.command import main as cmd_serve
 
@@ -81,8 +87,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _fail(str(exc))
     except KeyboardInterrupt:
         return _fail("interrupted; finished episodes are saved, re-run the same command to resume", 130)
-    hint = difflib.get_close_matches(cmd, ["run", "list", "report", "show", "export", "tasks", "audit"], n=1)
-    return _fail(f"unknown command {cmd!r}; commands: run, list, report, show, export, tasks, audit"
+    hint = difflib.get_close_matches(cmd, ["run", "list", "report", "show", "export", "tasks", "audit", "verify"], n=1)
+    return _fail(f"unknown command {cmd!r}; commands: run, list, report, show, export, tasks, audit, verify"
                  + (f" (did you mean {hint[0]!r}?)" if hint else ""))
 
 

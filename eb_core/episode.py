@@ -31,7 +31,6 @@ from eb_core.env import Env, Observation, StepResult, Task
 from eb_core.events import EpisodeStartEvent, StepEndEvent
 from eb_core.model import (EpisodeContext, ImagePart, ModelBackend, ModelBudgetExceeded, ModelFatalError,
                            ModelRequest, ModelResponse, Usage)
-from eb_core.parsing import PlannerOutput
 from eb_core.planner import Planner, encode_png
 from eb_core.records import ActionRecord, EpisodeRecord, StepRecord
 
@@ -183,9 +182,9 @@ class _Episode:
                 if self.capped():
                     self.end_reason = "invalid_cap"
                     break
-                step, request = self.prepare_step()
+                head, request = self.prepare_step()
                 response = yield request  # the only blocking point: the model call, made by the caller
-                self.handle_answer(step, response)
+                step = self.handle_answer(head, response)
                 self.steps.append(step)
                 if steps_file is not None:
                     steps_file.write(step.to_json_line())
@@ -209,31 +208,31 @@ class _Episode:
         self.backend.start_episode(EpisodeContext(env=self.env, task=self.task, seed=self.seed,
                                                   run_dir=self.opts.run_dir or None, repeat=self.opts.repeat))
 
-    def prepare_step(self) -> tuple[StepRecord, ModelRequest]:
-        """The next model request and the start of its step record (prompt, what was sent, the step's images)."""
+    def prepare_step(self) -> tuple[dict[str, Any], ModelRequest]:
+        """The next model request and the first fields of its step record (prompt, what was sent, images)."""
         obs, planner = self.obs, self.planner
         assert obs is not None
         planner.set_action_space(self.env.action_space())
         request = planner.build_request(obs, seed=self.seed)
         self.planner_steps += 1
-        step = StepRecord.model_validate({
+        head: dict[str, Any] = {
             "planner_step": self.planner_steps, "env_step_before": self.env_steps,
             "prompt": request.messages[-1].text,
             # what the model was actually sent with this turn (no image under language_only; views, frames)
             "sent_images": [p.name for p in request.messages[-1].content if isinstance(p, ImagePart)],
             # what the image the model saw shows (objects with a box), for the perception check (eb_core.errors)
-            "visible_objects": [{"name": o.name, "type": o.type} for o in obs.objects if o.box is not None]})
+            "visible_objects": [{"name": o.name, "type": o.type} for o in obs.objects if o.box is not None]}
         if self.opts.save_images and self.opts.step_dir is not None and obs.primary_image is not None:
-            self._save_images(step, obs)
-        return step, request
+            self._save_images(head, obs)
+        return head, request
 
-    def _save_images(self, step: StepRecord, obs: Observation) -> None:
+    def _save_images(self, head: dict[str, Any], obs: Observation) -> None:
         step_dir = self.opts.step_dir
         assert step_dir is not None and obs.primary_image is not None
         name = f"step{self.planner_steps:03d}_{obs.primary}.png"
         png = self.planner.last_primary_png or encode_png(obs.primary_image)
         (step_dir / name).write_bytes(png)
-        step.image = name
+        head["image"] = name
         if self.cfg.multi_view:
             extra = []
             for key, img in obs.images.items():
@@ -241,24 +240,23 @@ class _Episode:
                     extra_name = f"step{self.planner_steps:03d}_{key}.png"
                     (step_dir / extra_name).write_bytes(encode_png(img))
                     extra.append(extra_name)
-            step.extra_images = extra
+            head["extra_images"] = extra
 
-    def handle_answer(self, step: StepRecord, response: ModelResponse) -> None:
+    def handle_answer(self, head: dict[str, Any], response: ModelResponse) -> StepRecord:
         """Account the call, parse the answer and apply the rules: an output error, an empty plan, an invalid
-        first item, or actions to execute."""
+        first item, or actions to execute. Returns the step's record."""
         call_usage = response.usage if response.usage.calls else response.usage.model_copy(update={"calls": 1})
         self.usage = self.usage + call_usage
         if self.opts.budget is not None:
             self.opts.budget.add(response.usage.cost_usd)
         planner = self.planner
-        step.raw_output = response.text
-        step.usage = Usage.model_validate(response.usage.model_dump())  # every field set: all are written
         planner.record_answer(response.text)
         parsed = planner.parse(response.text)
-        step.parsed = None if parsed.output is None else PlannerOutput.model_validate(parsed.output.model_dump())
-        step.error = parsed.error
-        step.plan_error = parsed.plan_error
-        step.actions = []
+        # built from plain values so every field it was given is written (the file keeps its shape)
+        step = StepRecord.model_validate({
+            **head, "raw_output": response.text, "usage": response.usage.model_dump(),
+            "parsed": None if parsed.output is None else parsed.output.model_dump(), "error": parsed.error,
+            "plan_error": parsed.plan_error, "actions": []})
         if parsed.error is not None:
             self.output_error(parsed.error)
         elif not parsed.actions and parsed.truncated_at is None:
@@ -278,6 +276,7 @@ class _Episode:
             self.execute(step, parsed.actions)
             if parsed.plan_error and not self.done:
                 planner.record_plan_cut(parsed.plan_error)
+        return step
 
     def execute(self, step: StepRecord, actions: Sequence[Any]) -> None:
         """Run the plan in order, cut to the step budget; stop at the end, a failure (when re-planning), the

@@ -88,7 +88,7 @@ def _registry_for(_plugins: str | None, _autoload_off: str | None) -> Any:
 @lru_cache(maxsize=16)
 def _test_tasks(world: str, overrides: tuple[str, ...], subset: str | None, _plugins: int) -> tuple[Task, ...]:
     """The shipped tasks (of ``subset``), loaded once per process and shared by its environments (read only)."""
-    from eb_core.runner import Components
+    from eb_core.components import Components
 
     tasks = Components(_compose(world, overrides), _registry()).load_tasks()
     if subset is not None:
@@ -156,7 +156,7 @@ class EBEnv(gymnasium.Env):
                  reward: str | Mapping[str, float] = "progress", overrides: Sequence[str] = (),
                  subset: str | None = None, expert_labels: bool = True, raw_action_n: int | None = None,
                  render_mode: str | None = None) -> None:
-        from eb_core.runner import Components
+        from eb_core.components import Components
 
         if obs_mode not in ("prompt", "raw"):
             raise ValueError(f"obs_mode must be 'prompt' or 'raw', got {obs_mode!r}")
@@ -236,7 +236,7 @@ class EBEnv(gymnasium.Env):
     # -- gymnasium API -----------------------------------------------------------------------------
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
-        from eb_core.runner import episode_seed
+        from eb_core.components import episode_seed
 
         super().reset(seed=seed)
         options = options or {}
