@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from eb_core.components import Components, episode_seed, select_tasks
-from eb_core.config import RunConfig
+from eb_core.config import ConfigError, RunConfig
 from eb_core.env import Env, Task
 from eb_core.manifest import config_digest, library_versions
 from eb_core.planner import Planner
@@ -273,6 +273,17 @@ def _episodes(run: RunLog, selected: Sequence[Task], repeats: int, out: VerifyRe
     return [by_key[k] for k in wanted if k in by_key and by_key[k].status == "ok"]
 
 
+def _replay_env(comps: Components, render: bool) -> Env:
+    """The run's env for replay: with ``render: false`` where the world takes that parameter (every world here
+    does; one that rejects it renders)."""
+    if not render and comps.cfg.env.params.get("render", True) is not False:
+        try:
+            return comps.make_env(render=False)
+        except ConfigError:
+            pass
+    return comps.make_env()
+
+
 def verify_run(run_dir: str | Path, *, render: bool = False, plugins: Iterable[Any] = (),
                registry: Registry | None = None) -> VerifyResult:
     """Verify the run in ``run_dir`` (see the module docstring). ``plugins``: extra plugin modules (tests)."""
@@ -286,8 +297,7 @@ def verify_run(run_dir: str | Path, *, render: bool = False, plugins: Iterable[A
     _check_manifest(run, comps, all_tasks, selected, registry, out)
     records = _episodes(run, selected, cfg.runner.repeats, out)
     tasks = {t.id: t for t in selected}
-    overrides = {} if render or "render" not in cfg.env.params else {"render": False}
-    env = comps.make_env(**overrides)
+    env = _replay_env(comps, render)
     # only the planner's parse is used: its prompt settings (json schema, images) do not matter here
     planner = comps.planner_cls(cfg.planner, cfg.env)
     try:
