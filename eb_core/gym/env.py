@@ -129,6 +129,27 @@ def request_observation(request: ModelRequest) -> tuple[str, list[np.ndarray]]:
     return "\n".join(chunks), images
 
 
+def _step_info(rec: Any, failed: int) -> dict[str, Any]:
+    """The ``info`` entries of a prompt-mode step from its step record (None: the episode ended without one)."""
+    acts = rec.actions if rec is not None else []
+    format_error = rec.error if rec is not None else None
+    plan_error = rec.plan_error if rec is not None else None
+    format_ok = format_error is None
+    cut = plan_error is not None
+    nothing_valid = format_ok and cut and not acts
+    parsed = rec.parsed if rec is not None else None
+    return {
+        "plan": None if parsed is None else parsed.executable_plan,
+        "executed_actions": [a.action for a in acts],
+        "executed_action_names": [a.action_name for a in acts],
+        "action_valid": format_ok and not cut and failed == 0 and not nothing_valid,
+        "format_ok": format_ok,
+        "format_error": format_error,
+        "plan_error": plan_error,
+        "feedback": acts[-1].feedback if acts else (format_error or plan_error or ""),
+    }
+
+
 def _jsonable(v: Any) -> Any:
     return list(v) if isinstance(v, tuple) else v
 
@@ -330,52 +351,35 @@ class EBEnv(gymnasium.Env):
         acts = rec.actions if rec is not None else []
         format_error = rec.error if rec is not None else None
         plan_error = rec.plan_error if rec is not None else None
-        format_ok = format_error is None
         failed = sum(1 for a in acts if not a.success)
-        cut = plan_error is not None
-        nothing_valid = format_ok and cut and not acts
-        invalid = failed + (1 if cut else 0)
         progress = acts[-1].progress if acts else self._progress
         self._steps += len(acts)
-        terminated = truncated = False
-        success = False
-        error = None
         if driver.done:
-            record = driver.record
-            self._done = True
-            success = bool(record.success)
-            if record.success:
-                progress = 1.0
-            if record.end_reason in _END_TERMINATED:
-                terminated = True
-            else:
-                truncated = True
-            if record.status == "error":
-                error = (record.error or "").splitlines()[0]
-                self._rebuild()
-            self._driver = None
-            obs = self._last_obs
+            obs, success, progress, terminated, truncated, error = self._end_prompt_episode(driver, progress)
         else:
             obs = self._prompt_obs(driver.next_request())
-        parsed = rec.parsed if rec is not None else None
-        feedback = acts[-1].feedback if acts else (format_error or plan_error or "")
-        info = self._finish_info(progress, success, invalid, 0 if format_ok else 1)
-        info.update({
-            "plan": None if parsed is None else parsed.executable_plan,
-            "executed_actions": [a.action for a in acts],
-            "executed_action_names": [a.action_name for a in acts],
-            "action_valid": format_ok and not cut and failed == 0 and not nothing_valid,
-            "format_ok": format_ok,
-            "format_error": format_error,
-            "plan_error": plan_error,
-            "feedback": feedback,
-            "replaced_chars": self._replaced,
-        })
+            success, terminated, truncated, error = False, False, False, None
+        info = self._finish_info(progress, success, failed + (plan_error is not None), int(format_error is not None))
+        info.update(_step_info(rec, failed))
+        info["replaced_chars"] = self._replaced
         if error is not None:
             info["error"] = error
         if driver.done:
             info["end_reason"] = driver.record.end_reason
         return obs, info.pop("_reward"), terminated, truncated, info
+
+    def _end_prompt_episode(self, driver: Any, progress: float) -> tuple[Any, bool, float, bool, bool, str | None]:
+        """The episode's record has come: observation, success, progress, terminated, truncated, error line."""
+        record = driver.record
+        self._done = True
+        error = None
+        if record.status == "error":
+            error = (record.error or "").splitlines()[0]
+            self._rebuild()
+        self._driver = None
+        terminated = record.end_reason in _END_TERMINATED
+        return (self._last_obs, bool(record.success), 1.0 if record.success else progress, terminated,
+                not terminated, error)
 
     def _close_driver(self) -> None:
         if self._driver is not None:
