@@ -175,34 +175,20 @@ def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: di
     progress = _Progress(len(pending), cfg.runner.quiet, f"{cfg.env.name} / {cfg.model.name}")
     try:
         if pending:
-            def preflight() -> float:
-                """The one cheap call before the first episode; returns its cost (logged in preflight.jsonl)."""
-                backend = comps.make_backend()
-                try:
-                    usage = backend.preflight()
-                    info = getattr(backend, "info", None)
-                    if callable(info):  # what the backend settled on (e.g. its structured-output mode and why)
-                        files.write_json("model_info.json", info())
-                except ModelFatalError as exc:
-                    raise RunError(str(exc)) from None
-                finally:
-                    backend.close()
-                if isinstance(usage, Usage):
-                    files.append_line("preflight.jsonl", json.dumps(usage.model_dump()))
-                    return usage.cost_usd
-                return 0.0
-
-            if cfg.runner.executor == "ray":
-                from eb_core.ray_executor import run_on_ray  # imports ray; only here
-
-                stopped = run_on_ray(cfg, cfg_dict, files, pending, progress, hook, plugin_modules, preflight)
-            elif cfg.runner.workers <= 1 and concurrency(cfg) <= 1:
-                stopped = _run_inline(cfg, comps, files, pending, progress, hook, preflight)
-            else:  # workers start up while the preflight call is in flight
-                stopped = run_workers(cfg, cfg_dict, files, pending, progress, hook, plugin_modules, preflight)
+            stopped = _play(cfg, cfg_dict, comps, files, pending, progress, hook, plugin_modules)
     finally:
         progress.close()
 
+    summary = _summarize(cfg, files, registry, selected, stopped)
+    files.write_json("summary.json", summary)
+    hook.eb_on_run_end(event=RunEndEvent(run_dir=str(files.root), summary=summary, stopped_early=stopped))
+    return summary
+
+
+def _summarize(cfg: RunConfig, files: RunFiles, registry: Registry, selected: list[Any],
+               stopped: str | None) -> dict[str, Any]:
+    """``summary.json``: the paper's metrics over the selected episodes in ``episodes.jsonl``, and the run's facts."""
+    repeats = cfg.runner.repeats
     all_records = files.load_episodes()
     files.clean_partial({episode_dir_name(*r.key) for r in all_records})  # staging dirs of stopped episodes
     wanted = {(t.id, r) for t in selected for r in range(repeats)}
@@ -212,7 +198,7 @@ def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: di
     subsets = list(dict.fromkeys(t.subset for t in selected))
     pre = _preflight_usage(files)
     body = compute_summary(records, metric_fns, subsets)
-    summary: dict[str, Any] = {
+    return {
         "env": cfg.env.name,
         "model": cfg.model.name,
         "ablation": cfg.ablation.name,
@@ -229,9 +215,41 @@ def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: di
         "total_cost_usd": round(float(body["overall"].get("cost_usd", 0.0)) + pre["cost_usd"], 6),
         "plugins": plugin_versions(registry.pm),
     }
-    files.write_json("summary.json", summary)
-    hook.eb_on_run_end(event=RunEndEvent(run_dir=str(files.root), summary=summary, stopped_early=stopped))
-    return summary
+
+
+def _preflight(comps: Components, files: RunFiles) -> float:
+    """The one cheap call before the first episode; returns its cost (logged in preflight.jsonl)."""
+    backend = comps.make_backend()
+    try:
+        usage = backend.preflight()
+        info = backend.info()
+        if info is not None:  # what the backend settled on (e.g. its structured-output mode and why)
+            files.write_json("model_info.json", info)
+    except ModelFatalError as exc:
+        raise RunError(str(exc)) from None
+    finally:
+        backend.close()
+    if isinstance(usage, Usage):
+        files.append_line("preflight.jsonl", json.dumps(usage.model_dump()))
+        return usage.cost_usd
+    return 0.0
+
+
+def _play(cfg: RunConfig, cfg_dict: dict[str, Any], comps: Components, files: RunFiles, pending: list[Job],
+          progress: _Progress, hook: Any, plugin_modules: list[str]) -> str | None:
+    """Play ``pending`` on the configured executor (inline, local worker processes or Ray), the preflight call
+    first; returns why the run stopped early, or None."""
+    def preflight() -> float:
+        return _preflight(comps, files)
+
+    if cfg.runner.executor == "ray":
+        from eb_core.ray_executor import run_on_ray  # imports ray; only here
+
+        return run_on_ray(cfg, cfg_dict, files, pending, progress, hook, plugin_modules, preflight)
+    if cfg.runner.workers <= 1 and concurrency(cfg) <= 1:
+        return _run_inline(cfg, comps, files, pending, progress, hook, preflight)
+    # workers start up while the preflight call is in flight
+    return run_workers(cfg, cfg_dict, files, pending, progress, hook, plugin_modules, preflight)
 
 
 def _preflight_usage(files: RunFiles) -> dict[str, Any]:
