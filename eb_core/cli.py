@@ -23,13 +23,19 @@ commands:
                              [--plot FILE.png|.svg] [--errors: relabel from the step files, per subset];
                              `report A B --paired`: is B's difference to A real?
   show RUN_DIR [RUN_DIR ...] write RUN_DIR/index.html: every episode, step, image, answer, feedback and
-                             error label, with filters; several runs: a side-by-side comparison [--out DIR]
+                             error label, with filters; several runs: a side-by-side comparison [--out DIR];
+                             --bundle OUT RUN...: a static results site (leaderboards, capabilities, viewers)
   export RUN_DIR --out DIR   planner steps as a dataset [--format parquet|chat] [--images embed|paths]
-                             [--only-success]; with a dataset card (README.md)
+                             [--only-success]; with a dataset card (README.md); --format video: one replayed,
+                             captioned MP4 (or --gif) per episode; RUN... --format matrix: task x run table
   prompt env=NAME task=ID [step=N] [ablation=NAME] [out=DIR]   print what the model receives at planner
                              call N (the expert plays the earlier ones); images saved as PNG beside prompt.txt
   tasks generate env=NAME [key=value ...]   write a task file with the env's generator
   audit env=NAME [task_file=PATH] [--quick] [--probe NAME]   shortcut probes of a task set; exit 1 on a failure
+  verify RUN_DIR [...] [--render]   replay every episode from its task, seed and recorded actions (no model)
+                             and check the records and manifest; one line per mismatch, exit 1 on any
+  plan env=NAME target=width:PTS|diff:PTS [subset=...] [from=RUN]   tasks, repeats and cost a measurement needs
+  serve env=NAME [taskset=...] [split=...] [runner.workers=N] [port=...]   the worlds as an HTTP service
 """
 
 GROUPS = ("env", "model", "planner", "ablation")
@@ -77,6 +83,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             from eb_core.budget import cmd_plan
 
             return cmd_plan(rest)
+        if cmd == "verify":
+            from eb_core.verify import cmd_verify
+
+            return cmd_verify(rest)
         if cmd == "serve":
             from eb_core.serve.command import main as cmd_serve
 
@@ -85,8 +95,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _fail(str(exc))
     except KeyboardInterrupt:
         return _fail("interrupted; finished episodes are saved, re-run the same command to resume", 130)
-    hint = difflib.get_close_matches(cmd, ["run", "list", "report", "show", "export", "tasks", "audit"], n=1)
-    return _fail(f"unknown command {cmd!r}; commands: run, list, report, show, export, tasks, audit"
+    hint = difflib.get_close_matches(cmd, ["run", "list", "report", "show", "export", "tasks", "audit", "verify", "plan",
+                                           "serve"], n=1)
+    return _fail(f"unknown command {cmd!r}; commands: run, list, report, show, export, tasks, audit, verify, plan, "
+                 "serve"
                  + (f" (did you mean {hint[0]!r}?)" if hint else ""))
 
 

@@ -228,6 +228,7 @@ def label_episode(steps: Sequence[dict[str, Any]], record: dict[str, Any] | None
     ``vocabulary``: object terms of the whole run, so a description naming an object out of view is caught.
     """
     record = record or {}
+    steps = [_plain(s) for s in steps]
     vocab = set(vocabulary)
     for s in steps:
         for obj in s.get("visible_objects") or []:
@@ -340,23 +341,22 @@ def label_episode(steps: Sequence[dict[str, Any]], record: dict[str, Any] | None
 
 
 def load_steps(ep_dir: str | Path) -> list[dict[str, Any]]:
-    """The lines of ``ep_dir/steps.jsonl`` (a torn line is skipped); [] when there is none."""
-    path = Path(ep_dir) / "steps.jsonl"
-    out: list[dict[str, Any]] = []
-    if path.exists():
-        for line in path.read_text(encoding="utf-8").splitlines():
-            try:
-                out.append(json.loads(line))
-            except ValueError:
-                continue
-    return out
+    """The lines of ``ep_dir/steps.jsonl`` via the run reader (a torn line is skipped); [] when there is none."""
+    from eb_core.records import read_steps
+
+    return [s.as_dict() for s in read_steps(ep_dir)]
+
+
+def _plain(step: Any) -> dict[str, Any]:
+    """A step as its JSON line's dict, whether given as an :class:`eb_core.records.StepRecord` or a dict."""
+    return step if isinstance(step, dict) else step.as_dict()
 
 
 def run_vocabulary(step_sets: Iterable[Sequence[dict[str, Any]]]) -> set[str]:
     """Object terms seen in view anywhere in a run."""
     vocab: set[str] = set()
     for steps in step_sets:
-        for s in steps:
+        for s in map(_plain, steps):
             for obj in s.get("visible_objects") or []:
                 vocab.add(_term(obj))
     vocab.discard("")

@@ -22,7 +22,7 @@ import shutil
 from pathlib import Path
 from typing import Any
 
-from eb_core.records import episode_dir_name
+from eb_core.records import StepRecord, episode_dir_name, read_steps
 
 __all__ = ["export_run", "cmd_export"]
 
@@ -32,31 +32,31 @@ LABELS = ("model", "expert")
 SHARD_ROWS = 2000
 
 
-def _step_images(step: dict[str, Any]) -> list[str]:
+def _step_images(step: StepRecord) -> list[str]:
     """File names of the images the model was sent at this step (the primary image and any extra views)."""
-    if "sent_images" in step:
-        names = [str(n) for n in step.get("sent_images") or []]
-        return [n for n in names if n.endswith(".png")] or ([step["image"]] if names and step.get("image") else [])
-    if step.get("image") is None:
+    if step.sent_images is not None:
+        names = [str(n) for n in step.sent_images]
+        return [n for n in names if n.endswith(".png")] or ([step.image] if names and step.image else [])
+    if step.image is None:
         return []
-    return [step["image"], *step.get("extra_images", [])]
+    return [step.image, *(step.extra_images or [])]
 
 
 def _rows(run: dict[str, Any], images: str, out: Path, only_success: bool):
     """One dict per planner step of the run, in episode order."""
-    from eb_core.errors import label_episode, load_steps, run_vocabulary
+    from eb_core.errors import label_episode, run_vocabulary
 
     root = Path(run["dir"])
     records = [r for r in run["records"] if r.status == "ok" and (r.success or not only_success)]
-    steps_of = {r.key: load_steps(root / "episodes" / episode_dir_name(*r.key)) for r in records}
+    steps_of = {r.key: read_steps(root / "episodes" / episode_dir_name(*r.key)) for r in records}
     vocab = run_vocabulary(steps_of.values())
     for rec in records:
         ep_name = episode_dir_name(*rec.key)
         steps = steps_of[rec.key]
         labels = label_episode(steps, rec.model_dump(), vocab)["steps"]
         for step, lab in zip(steps, labels):
-            parsed = step.get("parsed") or {}
-            actions = step.get("actions") or []
+            parsed = step.parsed
+            actions = [a.model_dump(mode="json", exclude_unset=True) for a in step.actions]
             imgs = []
             for name in _step_images(step):
                 src = root / "episodes" / ep_name / name
@@ -72,18 +72,18 @@ def _rows(run: dict[str, Any], images: str, out: Path, only_success: bool):
             yield {
                 "env": run["env"], "model": run["model"], "ablation": run["ablation"],
                 "task_id": rec.task_id, "repeat": rec.repeat, "subset": rec.subset, "instruction": rec.instruction,
-                "episode_success": rec.success, "planner_step": int(step.get("planner_step", 0)),
-                "prompt": step.get("prompt") or "", "images": imgs, "raw_output": step.get("raw_output") or "",
-                "visual_state_description": parsed.get("visual_state_description"),
-                "reasoning_and_reflection": parsed.get("reasoning_and_reflection"),
-                "language_plan": parsed.get("language_plan"),
-                "executable_plan": json.dumps(parsed.get("executable_plan")) if parsed else None,
-                "output_error": step.get("error"), "plan_error": step.get("plan_error"),
-                "actions": [str(a.get("action_name")) for a in actions],
+                "episode_success": rec.success, "planner_step": step.planner_step,
+                "prompt": step.prompt, "images": imgs, "raw_output": step.raw_output,
+                "visual_state_description": parsed.visual_state_description if parsed else None,
+                "reasoning_and_reflection": parsed.reasoning_and_reflection if parsed else None,
+                "language_plan": parsed.language_plan if parsed else None,
+                "executable_plan": json.dumps(parsed.executable_plan) if parsed else None,
+                "output_error": step.error, "plan_error": step.plan_error,
+                "actions": [str(a.action_name) for a in step.actions],
                 "actions_json": json.dumps(actions, default=str),
-                "action_success": [bool(a.get("success")) for a in actions],
-                "feedback": [str(a.get("feedback") or "") for a in actions],
-                "progress": float(actions[-1].get("progress") or 0.0) if actions else None,
+                "action_success": [a.success for a in step.actions],
+                "feedback": [a.feedback for a in step.actions],
+                "progress": step.actions[-1].progress if step.actions else None,
                 "error_labels": [x["category"] for x in lab["labels"]],
                 "perception_f1": (lab.get("perception") or {}).get("f1"),
             }

@@ -12,12 +12,11 @@ task, step by step) in one folder. All model and env text is escaped.
 from __future__ import annotations
 
 import html
-import json
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from eb_core.records import RunFiles, atomic_write_text, episode_dir_name
+from eb_core.records import RunFiles, StepRecord, atomic_write_text, episode_dir_name, read_run, read_steps
 
 __all__ = ["write_compare", "write_html"]
 
@@ -121,7 +120,7 @@ def _status(rec: dict[str, Any]) -> str:
     return "<span class=ok>success</span>" if rec["success"] else "<span class=fail>fail</span>"
 
 
-def _what_was_sent(step: dict[str, Any], conf: dict[str, Any]) -> tuple[bool, str]:
+def _what_was_sent(step: StepRecord, conf: dict[str, Any]) -> tuple[bool, str]:
     """Whether the model received images at this step, and one line saying what it received.
 
     A step that lists ``sent_images`` (the names of the images in the request) is taken at its word;
@@ -130,8 +129,8 @@ def _what_was_sent(step: dict[str, Any], conf: dict[str, Any]) -> tuple[bool, st
     """
     planner = conf.get("planner") or {}
     env = conf.get("env") or {}
-    if "sent_images" in step:
-        names = [str(n) for n in step.get("sent_images") or []]
+    if step.sent_images is not None:
+        names = [str(n) for n in step.sent_images]
         if not names:
             return False, "The model was sent no image at this step (text only)."
         return True, f"The model was sent {len(names)} image(s): {_describe_images(names)}."
@@ -180,19 +179,11 @@ def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path, conf: dict[
              f" · progress {100 * rec['progress']:.0f}% · tokens {rec['prompt_tokens']}+{rec['completion_tokens']}</p>"]
     if rec.get("error"):
         parts.append(f"<h2>Error</h2><pre>{_e(rec['error'])}</pre>")
-    steps_path = ep_dir / "steps.jsonl"
-    steps = []
-    if steps_path.exists():
-        for line in steps_path.read_text(encoding="utf-8").splitlines():
-            try:
-                steps.append(json.loads(line))
-            except ValueError:
-                continue
-    for s in steps:
+    for s in read_steps(ep_dir):
         sent, what = _what_was_sent(s, conf)
         seen = "what the model saw" if sent else "the scene (not sent to the model)"
-        img = (f"<img src='{_e(s['image'])}' alt='{seen} at step {s['planner_step']}'>" if s.get("image") else "")
-        for extra in s.get("extra_images", []):
+        img = (f"<img src='{_e(s.image)}' alt='{seen} at step {s.planner_step}'>" if s.image else "")
+        for extra in s.extra_images or []:
             img += f"<img src='{_e(extra)}' alt='extra view {_e(extra)}'>"
         if img and sent:
             img = (f"<div style='display:flex;flex-direction:column;gap:6px;width:300px;flex:none'>"
@@ -204,25 +195,25 @@ def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path, conf: dict[
         else:
             img = f"<div style='width:300px;flex:none'><p class=sent>{_e(what)}</p></div>"
         actions = "".join(
-            f"<tr><td class=num>{a['env_step']}</td><td>{_e(a['action_name'])}</td>"
-            f"<td>{'<span class=ok>ok</span>' if a['success'] else '<span class=fail>failed</span>'}</td>"
-            f"<td>{_e(a['feedback'])}</td></tr>" for a in s.get("actions", []))
-        parsed = s.get("parsed") or {}
+            f"<tr><td class=num>{a.env_step}</td><td>{_e(a.action_name)}</td>"
+            f"<td>{'<span class=ok>ok</span>' if a.success else '<span class=fail>failed</span>'}</td>"
+            f"<td>{_e(a.feedback)}</td></tr>" for a in s.actions)
+        parsed = s.parsed
         notes = []
-        if s.get("error"):
-            notes.append(f"<p class=err>Output error: {_e(s['error'])}</p>")
-        if s.get("plan_error"):
-            notes.append(f"<p class=err>{_e(s['plan_error'])}</p>")
+        if s.error:
+            notes.append(f"<p class=err>Output error: {_e(s.error)}</p>")
+        if s.plan_error:
+            notes.append(f"<p class=err>{_e(s.plan_error)}</p>")
         parts.append(
-            f"<div class=step>{img}<div class=body><b>Planner step {s['planner_step']}</b>"
-            + _labels_html(by_step.get(s["planner_step"]))
+            f"<div class=step>{img}<div class=body><b>Planner step {s.planner_step}</b>"
+            + _labels_html(by_step.get(s.planner_step))
             + "".join(notes)
-            + (f"<p><b>Reasoning:</b> {_e(parsed.get('reasoning_and_reflection'))}</p>"
-               f"<p><b>Plan:</b> {_e(parsed.get('language_plan'))}</p>" if parsed else "")
+            + (f"<p><b>Reasoning:</b> {_e(parsed.reasoning_and_reflection)}</p>"
+               f"<p><b>Plan:</b> {_e(parsed.language_plan)}</p>" if parsed else "")
             + (f"<table><tr><th>step</th><th>action</th><th>result</th><th>feedback</th></tr>{actions}</table>"
                if actions else "")
-            + f"<details><summary>raw model answer</summary><pre>{_e(s.get('raw_output'))}</pre></details>"
-            + f"<details><summary>prompt</summary><pre>{_e(s.get('prompt'))}</pre></details>"
+            + f"<details><summary>raw model answer</summary><pre>{_e(s.raw_output)}</pre></details>"
+            + f"<details><summary>prompt</summary><pre>{_e(s.prompt)}</pre></details>"
             + "</div></div>")
     return _page(f"{rec['task_id']} — {run_title}", "\n".join(parts))
 
@@ -273,14 +264,14 @@ def write_html(run_dir: str | Path) -> Path:
     files = RunFiles(root)
     run = load_run(root)  # recomputed from episodes.jsonl: also right for a run stopped before its end
     conf = _run_config(root)
-    meta = json.loads((root / "summary.json").read_text()) if (root / "summary.json").exists() else {}
-    from eb_core.errors import CATEGORIES, label_episode, load_steps, run_vocabulary
+    meta = read_run(root).summary or {}
+    from eb_core.errors import CATEGORIES, label_episode, run_vocabulary
 
     records = [r.model_dump() for r in run["records"]]
     repeats = int(run.get("repeats") or 1)
     title = f"{run['env']} / {run['model']} / {run['ablation']}"
     step_sets = {episode_dir_name(r["task_id"], r.get("repeat", 0)):
-                 load_steps(files.episodes_dir / episode_dir_name(r["task_id"], r.get("repeat", 0))) for r in records}
+                 read_steps(files.episodes_dir / episode_dir_name(r["task_id"], r.get("repeat", 0))) for r in records}
     vocab = run_vocabulary(step_sets.values())
     rows = []
     used: set[str] = set()
@@ -358,29 +349,29 @@ def write_html(run_dir: str | Path) -> Path:
 # -- several runs side by side ---------------------------------------------------------------------------
 
 
-def _compare_step(s: dict[str, Any] | None, step_labels: dict[str, Any] | None, img_prefix: str) -> str:
+def _compare_step(s: StepRecord | None, step_labels: dict[str, Any] | None, img_prefix: str) -> str:
     """One run's planner step in a comparison column (images copied beside the page under ``img_prefix``)."""
     if s is None:
         return "<div class=col><p class=muted>(no step: the episode had ended)</p></div>"
-    parsed = s.get("parsed") or {}
-    imgs = "".join(f"<img src='{_e(img_prefix + name)}' alt='step {s.get('planner_step')} {_e(name)}'>"
-                   for name in ([s["image"]] if s.get("image") else []))
+    parsed = s.parsed
+    imgs = "".join(f"<img src='{_e(img_prefix + name)}' alt='step {s.planner_step} {_e(name)}'>"
+                   for name in ([s.image] if s.image else []))
     actions = "".join(
-        f"<tr><td class=num>{a.get('env_step')}</td><td>{_e(a.get('action_name'))}</td>"
-        f"<td>{'<span class=ok>ok</span>' if a.get('success') else '<span class=fail>failed</span>'}</td>"
-        f"<td>{_e(a.get('feedback'))}</td></tr>" for a in s.get("actions", []))
+        f"<tr><td class=num>{a.env_step}</td><td>{_e(a.action_name)}</td>"
+        f"<td>{'<span class=ok>ok</span>' if a.success else '<span class=fail>failed</span>'}</td>"
+        f"<td>{_e(a.feedback)}</td></tr>" for a in s.actions)
     notes = ""
-    if s.get("error"):
-        notes += f"<p class=err>Output error: {_e(s['error'])}</p>"
-    if s.get("plan_error"):
-        notes += f"<p class=err>{_e(s['plan_error'])}</p>"
+    if s.error:
+        notes += f"<p class=err>Output error: {_e(s.error)}</p>"
+    if s.plan_error:
+        notes += f"<p class=err>{_e(s.plan_error)}</p>"
     return ("<div class=col>" + imgs + _labels_html(step_labels) + notes
-            + (f"<p><b>Saw:</b> {_e(parsed.get('visual_state_description'))}</p>"
-               f"<p><b>Reasoning:</b> {_e(parsed.get('reasoning_and_reflection'))}</p>"
-               f"<p><b>Plan:</b> {_e(parsed.get('language_plan'))}</p>" if parsed else "")
+            + (f"<p><b>Saw:</b> {_e(parsed.visual_state_description)}</p>"
+               f"<p><b>Reasoning:</b> {_e(parsed.reasoning_and_reflection)}</p>"
+               f"<p><b>Plan:</b> {_e(parsed.language_plan)}</p>" if parsed else "")
             + (f"<table><tr><th>step</th><th>action</th><th>result</th><th>feedback</th></tr>{actions}</table>"
                if actions else "")
-            + f"<details><summary>raw model answer</summary><pre>{_e(s.get('raw_output'))}</pre></details></div>")
+            + f"<details><summary>raw model answer</summary><pre>{_e(s.raw_output)}</pre></details></div>")
 
 
 def write_compare(run_dirs: Sequence[str | Path], out: str | Path) -> Path:
@@ -390,7 +381,7 @@ def write_compare(run_dirs: Sequence[str | Path], out: str | Path) -> Path:
     planner step. The step images are copied into ``out/img/``. Returns the path of ``index.html``."""
     import shutil
 
-    from eb_core.errors import CATEGORIES, label_episode, load_steps, run_vocabulary
+    from eb_core.errors import CATEGORIES, label_episode, run_vocabulary
     from eb_core.report import load_run
 
     out = Path(out)
@@ -402,11 +393,11 @@ def write_compare(run_dirs: Sequence[str | Path], out: str | Path) -> Path:
     keys = [k for k in recs[0] if all(k in m for m in recs[1:])]
     if not keys:
         raise ValueError("the runs share no task: compare runs of the same env and tasks (same subset=, limit=)")
-    steps: list[dict[Any, list[dict[str, Any]]]] = []
+    steps: list[dict[Any, list[StepRecord]]] = []
     vocabs = []
     for r in runs:
         root = Path(r["dir"])
-        st = {k: load_steps(root / "episodes" / episode_dir_name(*k)) for k in keys}
+        st = {k: read_steps(root / "episodes" / episode_dir_name(*k)) for k in keys}
         steps.append(st)
         vocabs.append(run_vocabulary(st.values()))
     (out / "tasks").mkdir(parents=True, exist_ok=True)
@@ -421,10 +412,10 @@ def write_compare(run_dirs: Sequence[str | Path], out: str | Path) -> Path:
             labels.append(label_episode(steps[i][key], rec.model_dump(), vocabs[i]) if rec.status == "ok" else None)
             src = Path(r["dir"]) / "episodes" / page_name
             for s in steps[i][key]:
-                if s.get("image") and (src / s["image"]).exists():
-                    dst = out / "img" / str(i) / page_name / s["image"]
+                if s.image and (src / s.image).exists():
+                    dst = out / "img" / str(i) / page_name / s.image
                     dst.parent.mkdir(parents=True, exist_ok=True)
-                    shutil.copyfile(src / s["image"], dst)
+                    shutil.copyfile(src / s.image, dst)
         first = recs[0][key]
         wins = [recs[i][key].success for i in range(len(runs))]
         outcome = "all succeeded" if all(wins) else "none succeeded" if not any(wins) else "they differ"

@@ -22,6 +22,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
+from eb_core.components import label_record
 from eb_core.env import Env, Task
 from eb_core.episode import BudgetGuard, EpisodeDriver
 from eb_core.model import ModelBackend, ModelBudgetExceeded, ModelFatalError
@@ -61,7 +62,7 @@ class _Episode:
 class InflightLoop:
     """Up to ``slots`` episodes of one process in flight at once (see the module docstring).
 
-    ``comps`` is the runner's :class:`~eb_core.runner.Components`; ``seed_of(task_id, repeat)`` gives the
+    ``comps`` is the run's :class:`~eb_core.components.Components`; ``seed_of(task_id, repeat)`` gives the
     episode seed; ``on_record(key, record)`` receives every finished episode, ``status="error"`` ones
     included (an env that raised, a model that stayed unreachable, an episode past ``timeout_s`` while it
     waited for its model). :class:`ModelFatalError` and :class:`ModelBudgetExceeded` propagate out of
@@ -71,7 +72,8 @@ class InflightLoop:
     def __init__(self, comps: Any, files: RunFiles, *, slots: int, budget: BudgetGuard, hook: Any,
                  seed_of: Callable[[str, int], int], on_record: Callable[[str, EpisodeRecord], None],
                  timeout_s: float | None = None, node: str | None = None,
-                 call_wrapper: Callable[[Callable[[Any], Any]], Callable[[Any], Any]] | None = None) -> None:
+                 call_wrapper: Callable[[Callable[[Any], Any]], Callable[[Any], Any]] | None = None,
+                 label: bool = True) -> None:
         self.comps = comps
         self.cfg = comps.cfg
         self.files = files
@@ -84,6 +86,8 @@ class InflightLoop:
         self.node = node or node_name()
         self.call_wrapper = call_wrapper
         """Wraps every ``backend.complete`` (the Ray executor's cluster-wide rate limit)."""
+        self.label = label
+        """Give every finished ``ok`` record its error labels (:func:`eb_core.components.label_record`)."""
         self.active: dict[str, _Episode] = {}
         self._free_envs: list[Env] = []
         self._free_backends: list[ModelBackend] = []
@@ -115,13 +119,10 @@ class InflightLoop:
             raise ValueError(f"episode {key!r} is already in flight")
         env = self._free_envs.pop() if self._free_envs else self._make_env()
         backend = self._free_backends.pop() if self._free_backends else self.comps.make_backend()
-        cfg = self.cfg
         driver = EpisodeDriver(
             env=env, task=task, seed=self.seed_of(task.id, repeat), planner=self.comps.make_planner(backend),
-            backend=backend, env_config=cfg.env, step_dir=self.files.staging_dir(task.id, repeat),
-            save_images=cfg.runner.save_images, augmenters=self.comps.augmenters, budget=self.budget,
-            hook=self.hook, run_dir=str(self.files.root), expert_labels=cfg.runner.expert_labels, repeat=repeat,
-        )
+            backend=backend, env_config=self.cfg.env,
+            options=self.comps.episode_options(self.files, task, repeat, budget=self.budget, hook=self.hook))
         ep = _Episode(key=key, task=task, repeat=repeat, driver=driver, env=env, backend=backend)
         self.active[key] = ep
         self._advance(ep, driver.next_request)
@@ -188,6 +189,8 @@ class InflightLoop:
             self._free_backends.append(ep.backend)
             assert ep.driver.record is not None
             rec = ep.driver.record.model_copy(update={"repeat": ep.repeat})
+            if self.label:  # here, where the steps are in memory: nothing re-reads steps.jsonl
+                rec = label_record(rec, ep.driver.steps)
             self.on_record(ep.key, with_node(rec, self.node))
             return
         call = ep.backend.complete if self.call_wrapper is None else self.call_wrapper(ep.backend.complete)

@@ -156,6 +156,11 @@ class ModelBackend(ABC):
         """
         return None
 
+    def info(self) -> "dict[str, Any] | None":
+        """Optional: what the backend settled on at preflight (e.g. its structured-output mode and why); the
+        runner writes it to ``model_info.json`` and the summary. None (the default) when there is nothing to say."""
+        return None
+
     def start_episode(self, ctx: EpisodeContext) -> None:
         """Called before each episode's first request."""
 

@@ -32,7 +32,7 @@ import hashlib
 import io
 import json
 from collections import deque
-from typing import Any
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from PIL import Image
@@ -42,7 +42,7 @@ from eb_core.env import ActionSpace, Observation, PromptParts, Task, VectorActio
 from eb_core.model import ImagePart, Message, ModelFatalError, ModelRequest, TextPart
 from eb_core.parsing import ParseResult, parse_planner_output
 
-__all__ = ["PlannerConfigError", "VLMPlanner", "answer_fields", "encode_png", "field_descriptions",
+__all__ = ["Planner", "PlannerConfigError", "VLMPlanner", "answer_fields", "encode_png", "field_descriptions",
            "response_schema"]
 
 FIELDS = ("visual_state_description", "reasoning_and_reflection", "language_plan", "executable_plan")
@@ -61,6 +61,48 @@ _VECTOR_PLAN_HELP = ("The actions to execute now, in order, each a list of integ
 
 #: The worlds whose plugins ship visual in-context examples (the original had them for these two).
 VISUAL_ICL_WORLDS = ("navigation", "manipulation")
+
+
+@runtime_checkable
+class Planner(Protocol):
+    """The contract of a planner plugin (``eb_register_planners``): what :mod:`eb_core.episode` calls.
+
+    A planner is built per episode as ``cls(planner_config, env_config, supports_json_schema=...,
+    supports_images=...)``. Per episode: :meth:`reset` once, then for every planner step :meth:`build_request`,
+    :meth:`record_answer` and :meth:`parse` of the model's answer; in between the episode reports what happened
+    through ``observe`` and the ``record_*`` methods, which feed the next prompt's history.
+    """
+
+    last_primary_png: bytes | None
+    """Optional: PNG bytes of the current primary image of the last request, so the episode saves it without
+    encoding it again; None when the planner has none (the episode encodes the image itself)."""
+
+    def reset(self, task: Task, parts: PromptParts, space: ActionSpace, obs: Observation | None = None) -> None:
+        """Start an episode of ``task`` with the world's prompt parts and its action space."""
+
+    def observe(self, obs: Observation) -> None:
+        """The observation after reset and after every env step."""
+
+    def set_action_space(self, space: ActionSpace) -> None:
+        """The action space for the next request (some worlds change it as objects appear)."""
+
+    def build_request(self, obs: Observation, seed: int | None = None) -> ModelRequest:
+        """The model request of the next planner step."""
+
+    def record_answer(self, raw_text: str) -> None:
+        """The model's raw answer to the last request (kept in the chat history where enabled)."""
+
+    def parse(self, raw_text: str) -> ParseResult:
+        """The answer's fields and its valid actions, or why it cannot be used."""
+
+    def record_action(self, env_step: int, action_name: str, action_repr: str, success: bool, feedback: str) -> None:
+        """One executed action and the world's feedback."""
+
+    def record_output_error(self, reason: str) -> None:
+        """The last answer could not be used, and why."""
+
+    def record_plan_cut(self, reason: str) -> None:
+        """The last plan was cut before its end (an invalid item), and why."""
 
 
 class PlannerConfigError(ConfigError, ModelFatalError):

@@ -23,7 +23,6 @@ Importing this module imports ``ray``; the runner does so only when ``runner.exe
 
 from __future__ import annotations
 
-import json
 import os
 import shutil
 import sys
@@ -47,7 +46,7 @@ __all__ = ["EnvActor", "INSTALL_HINT", "connect", "get_limiter", "run_on_ray"]
 
 def require_ray() -> Any:
     if ray is None:
-        from eb_core.runner import RunError
+        from eb_core.components import RunError
 
         raise RunError(INSTALL_HINT)
     return ray
@@ -75,10 +74,10 @@ class _EnvActor:
                 sys.path.insert(0, p)
         from eb_core.episode import BudgetGuard
         from eb_core.inflight import InflightLoop
-        from eb_core.runner import Components, _build_registry, episode_seed
+        from eb_core.components import Components, build_registry, episode_seed
 
         cfg = RunConfig.model_validate(cfg_dict)
-        registry = _build_registry(plugin_modules)
+        registry = build_registry(plugin_modules)
         self.node = ray.get_runtime_context().get_node_id()
         self.staging = tempfile.mkdtemp(prefix="eb_ray_actor_")
         self.done: list[tuple[str, str]] = []
@@ -208,73 +207,122 @@ def limited(limiter: Any) -> Any:
 EnvActor = None if ray is None else ray.remote(num_cpus=1, max_restarts=0, max_task_retries=0)(_EnvActor)
 
 
-def run_on_ray(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pending: list[Any], progress: Any,
-               hook: Any, plugin_modules: list[str], preflight: Any = None) -> str | None:
-    """Play ``pending`` (task, repeat) jobs on Ray actors; the runner's ``_finish`` writes every record."""
-    require_ray()
-    from eb_core.episode import BudgetGuard
-    from eb_core.inflight import error_record
-    from eb_core.model import ModelBudgetExceeded
-    from eb_core.runner import RunError, _concurrency, _finish, episode_seed, job_key, split_slots
+class _Slot:
+    """One env actor seen from the driver: the jobs it holds (with their start times) and its pending call."""
 
-    started_ray = connect(cfg.runner.ray_address)
-    budget = BudgetGuard(cfg.model.max_cost_usd)
-    stopped: str | None = None
-    if preflight is not None:
-        try:
-            budget.add(preflight())
-        except ModelBudgetExceeded as exc:
-            return f"budget: {exc}"
-    timeout = cfg.runner.episode_timeout_s
-    kill_after = None if timeout is None else timeout + max(1.0, 0.1 * timeout)
-    queue_: list[Any] = list(pending)
-    tries: dict[str, int] = {}
-    sys_path = [p for p in sys.path if p]
-    limiter = get_limiter(cfg.model.model_dump())  # model.rpm / max_concurrency across the cluster and the sweep
+    def __init__(self, pool: "_RayPool", slots: int) -> None:
+        self.slots = slots
+        self.actor = EnvActor.remote(pool.cfg_dict, pool.plugin_modules, slots, pool.sys_path, pool.limiter)
+        self.jobs: dict[str, tuple[Any, float]] = {}
+        self.call: Any = None
 
-    class Slot:
-        def __init__(self, slots: int) -> None:
-            self.slots = slots
-            self.actor = EnvActor.remote(cfg_dict, plugin_modules, slots, sys_path, limiter)
-            self.jobs: dict[str, tuple[Any, float]] = {}
-            self.call: Any = None
+    def ask(self, pool: "_RayPool") -> None:
+        from eb_core.workers import job_key
 
-        def ask(self) -> None:
-            new = []
-            while len(self.jobs) < self.slots and queue_ and stopped is None:
-                (task, repeat) = queue_.pop(0)
-                key = job_key(task.id, repeat)
-                self.jobs[key] = ((task, repeat), time.monotonic())
-                new.append({"key": key, "task": task.model_dump(mode="json"), "repeat": repeat})
-            if self.call is None and (new or self.jobs):
-                self.call = self.actor.step.remote(new, 1.0)
+        new = []
+        while len(self.jobs) < self.slots and pool.queue and pool.stopped is None:
+            (task, repeat) = pool.queue.pop(0)
+            key = job_key(task.id, repeat)
+            self.jobs[key] = ((task, repeat), time.monotonic())
+            new.append({"key": key, "task": task.model_dump(mode="json"), "repeat": repeat})
+        if self.call is None and (new or self.jobs):
+            self.call = self.actor.step.remote(new, 1.0)
 
-    def fail(key: str, job: Any, why: str) -> None:
+
+class _RayPool:
+    """The env actors of one run, the queue of jobs they take from and the run's budget."""
+
+    def __init__(self, cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pending: list[Any], progress: Any,
+                 hook: Any, plugin_modules: list[str]) -> None:
+        from eb_core.episode import BudgetGuard
+        from eb_core.workers import concurrency, kill_after, split_slots
+
+        self.cfg, self.cfg_dict, self.files, self.progress, self.hook = cfg, cfg_dict, files, progress, hook
+        self.plugin_modules = plugin_modules
+        self.budget = BudgetGuard(cfg.model.max_cost_usd)
+        self.stopped: str | None = None
+        self.timeout = cfg.runner.episode_timeout_s
+        self.kill_at = kill_after(self.timeout)
+        self.queue: list[Any] = list(pending)
+        self.tries: dict[str, int] = {}
+        self.sys_path = [p for p in sys.path if p]
+        self.limiter = get_limiter(cfg.model.model_dump())  # model.rpm / max_concurrency across cluster and sweep
+        self.sizes = split_slots(concurrency(cfg), cfg.runner.workers, len(pending))
+        self.slots: list[_Slot] = []
+
+    def start(self) -> None:
+        self.slots = [_Slot(self, n) for n in self.sizes]
+
+    def fail(self, job: Any, why: str) -> None:
+        from eb_core.components import episode_seed
+        from eb_core.inflight import error_record
+        from eb_core.workers import finish_episode
+
         task, repeat = job
-        _finish(files, error_record(task, repeat, episode_seed(cfg.seed, task.id, repeat), why), progress, hook)
+        rec = error_record(task, repeat, episode_seed(self.cfg.seed, task.id, repeat), why)
+        finish_episode(self.files, rec, self.progress, self.hook)
 
-    def lost(s: Slot, why: str, culprit: str | None = None) -> None:
+    def lost(self, s: _Slot, why: str, culprit: str | None = None) -> None:
         """An actor is gone: its episodes go back to the queue (an episode lost twice is an error)."""
         for key, (job, _t0) in s.jobs.items():
-            tries[key] = tries.get(key, 0) + 1
+            self.tries[key] = self.tries.get(key, 0) + 1
             if key == culprit:
-                fail(key, job, f"episode exceeded runner.episode_timeout_s={timeout}")
-            elif tries[key] >= 2:
-                fail(key, job, f"{why} (twice; this episode is redone on resume)")
+                self.fail(job, f"episode exceeded runner.episode_timeout_s={self.timeout}")
+            elif self.tries[key] >= 2:
+                self.fail(job, f"{why} (twice; this episode is redone on resume)")
             else:
-                queue_.insert(0, job)
+                self.queue.insert(0, job)
         s.jobs.clear()
 
-    sizes = split_slots(_concurrency(cfg), cfg.runner.workers, len(pending))
-    slots = [Slot(n) for n in sizes]
-    try:
-        while stopped is None:
-            for s in slots:
-                s.ask()
-            calls = {s.call: s for s in slots if s.call is not None}
+    def take(self, s: _Slot, out: dict[str, Any]) -> None:
+        """The answer of an actor's ``step`` call: finished episodes (their files written into the run), or why
+        to stop."""
+        from eb_core.components import RunError
+        from eb_core.model import ModelBudgetExceeded
+        from eb_core.workers import finish_episode
+
+        if "stop" in out:
+            if out["stop"] == "fatal":
+                raise RunError(out["why"])
+            self.stopped = f"budget: {out['why']}"
+            return
+        for item in out["done"]:
+            if s.jobs.pop(item["key"], None) is None:
+                continue  # not ours any more (never happens: a dead actor is never asked again)
+            rec = EpisodeRecord.model_validate_json(item["record"])
+            stage = self.files.staging_dir(rec.task_id, rec.repeat)
+            for rel, data in item["files"].items():
+                path = stage / rel
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_bytes(data)
+            finish_episode(self.files, rec, self.progress, self.hook)
+            try:
+                self.budget.add(rec.cost_usd)
+            except ModelBudgetExceeded as exc:
+                self.stopped = f"budget: {exc}"
+
+    def kill_hung(self) -> None:
+        """Kill the actors holding an episode past the timeout; replace them while there is work."""
+        if self.kill_at is None:
+            return
+        now = time.monotonic()
+        for s in list(self.slots):
+            hung = [k for k, (_j, t0) in s.jobs.items() if now - t0 > self.kill_at]
+            if hung:
+                ray.kill(s.actor, no_restart=True)
+                self.lost(s, "actor killed", culprit=hung[0])
+                self.slots.remove(s)
+                if self.queue or any(x.jobs for x in self.slots):
+                    self.slots.append(_Slot(self, s.slots))
+
+    def run(self) -> None:
+        while self.stopped is None:
+            for s in self.slots:
+                s.ask(self)
+            calls = {s.call: s for s in self.slots if s.call is not None}
             if not calls:
-                if queue_ and not slots:  # every actor was lost: start one more
-                    slots.append(Slot(sizes[0]))
+                if self.queue and not self.slots:  # every actor was lost: start one more
+                    self.slots.append(_Slot(self, self.sizes[0]))
                     continue
                 break
             ready, _ = ray.wait(list(calls), num_returns=1, timeout=1.0)
@@ -284,49 +332,45 @@ def run_on_ray(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pendin
                 try:
                     out = ray.get(ref)
                 except ray.exceptions.RayError as exc:
-                    lost(s, f"Ray actor lost ({type(exc).__name__})")
-                    slots.remove(s)
+                    self.lost(s, f"Ray actor lost ({type(exc).__name__})")
+                    self.slots.remove(s)
                     continue
-                if "stop" in out:
-                    if out["stop"] == "fatal":
-                        raise RunError(out["why"])
-                    stopped = f"budget: {out['why']}"
+                self.take(s, out)
+                if self.stopped is not None and "stop" in out:
                     break
-                for item in out["done"]:
-                    job = s.jobs.pop(item["key"], None)
-                    if job is None:
-                        continue  # not ours any more (never happens: a dead actor is never asked again)
-                    rec = EpisodeRecord.model_validate_json(item["record"])
-                    stage = files.staging_dir(rec.task_id, rec.repeat)
-                    for rel, data in item["files"].items():
-                        path = stage / rel
-                        path.parent.mkdir(parents=True, exist_ok=True)
-                        path.write_bytes(data)
-                    _finish(files, rec, progress, hook)
-                    try:
-                        budget.add(rec.cost_usd)
-                    except ModelBudgetExceeded as exc:
-                        stopped = f"budget: {exc}"
-            if kill_after is not None:
-                now = time.monotonic()
-                for s in list(slots):
-                    hung = [k for k, (_j, t0) in s.jobs.items() if now - t0 > kill_after]
-                    if hung:
-                        ray.kill(s.actor, no_restart=True)
-                        lost(s, "actor killed", culprit=hung[0])
-                        slots.remove(s)
-                        if queue_ or any(x.jobs for x in slots):
-                            slots.append(Slot(s.slots))
-    finally:
+            self.kill_hung()
+
+    def close(self) -> None:
         try:  # let live actors remove their staging directories
-            ray.get([s.actor.close.remote() for s in slots], timeout=5)
+            ray.get([s.actor.close.remote() for s in self.slots], timeout=5)
         except Exception:
             pass
-        for s in slots:
+        for s in self.slots:
             try:
                 ray.kill(s.actor, no_restart=True)
             except Exception:
                 pass
+
+
+def run_on_ray(cfg: RunConfig, cfg_dict: dict[str, Any], files: RunFiles, pending: list[Any], progress: Any,
+               hook: Any, plugin_modules: list[str], preflight: Any = None) -> str | None:
+    """Play ``pending`` (task, repeat) jobs on Ray actors; :func:`eb_core.workers.finish_episode` writes every
+    record (labelled by the actor, where its steps were in memory). Returns why the run stopped early, or None."""
+    require_ray()
+    from eb_core.model import ModelBudgetExceeded
+
+    started_ray = connect(cfg.runner.ray_address)
+    pool = _RayPool(cfg, cfg_dict, files, pending, progress, hook, plugin_modules)
+    try:
+        if preflight is not None:
+            try:
+                pool.budget.add(preflight())
+            except ModelBudgetExceeded as exc:
+                return f"budget: {exc}"
+        pool.start()
+        pool.run()
+    finally:
+        pool.close()
         if started_ray:
             ray.shutdown()
-    return stopped
+    return pool.stopped

@@ -13,14 +13,10 @@ Everything a step can go wrong on (an env bug, a closed world) ends the episode 
 from __future__ import annotations
 
 import io
-import json
-import shutil
 import string
-import tempfile
 import traceback
 from collections.abc import Mapping, Sequence
 from functools import lru_cache
-from pathlib import Path
 from typing import Any
 
 import gymnasium
@@ -92,7 +88,7 @@ def _registry_for(_plugins: str | None, _autoload_off: str | None) -> Any:
 @lru_cache(maxsize=16)
 def _test_tasks(world: str, overrides: tuple[str, ...], subset: str | None, _plugins: int) -> tuple[Task, ...]:
     """The shipped tasks (of ``subset``), loaded once per process and shared by its environments (read only)."""
-    from eb_core.runner import Components
+    from eb_core.components import Components
 
     tasks = Components(_compose(world, overrides), _registry()).load_tasks()
     if subset is not None:
@@ -133,6 +129,27 @@ def request_observation(request: ModelRequest) -> tuple[str, list[np.ndarray]]:
     return "\n".join(chunks), images
 
 
+def _step_info(rec: Any, failed: int) -> dict[str, Any]:
+    """The ``info`` entries of a prompt-mode step from its step record (None: the episode ended without one)."""
+    acts = rec.actions if rec is not None else []
+    format_error = rec.error if rec is not None else None
+    plan_error = rec.plan_error if rec is not None else None
+    format_ok = format_error is None
+    cut = plan_error is not None
+    nothing_valid = format_ok and cut and not acts
+    parsed = rec.parsed if rec is not None else None
+    return {
+        "plan": None if parsed is None else parsed.executable_plan,
+        "executed_actions": [a.action for a in acts],
+        "executed_action_names": [a.action_name for a in acts],
+        "action_valid": format_ok and not cut and failed == 0 and not nothing_valid,
+        "format_ok": format_ok,
+        "format_error": format_error,
+        "plan_error": plan_error,
+        "feedback": acts[-1].feedback if acts else (format_error or plan_error or ""),
+    }
+
+
 def _jsonable(v: Any) -> Any:
     return list(v) if isinstance(v, tuple) else v
 
@@ -160,7 +177,7 @@ class EBEnv(gymnasium.Env):
                  reward: str | Mapping[str, float] = "progress", overrides: Sequence[str] = (),
                  subset: str | None = None, expert_labels: bool = True, raw_action_n: int | None = None,
                  render_mode: str | None = None) -> None:
-        from eb_core.runner import Components
+        from eb_core.components import Components
 
         if obs_mode not in ("prompt", "raw"):
             raise ValueError(f"obs_mode must be 'prompt' or 'raw', got {obs_mode!r}")
@@ -179,7 +196,6 @@ class EBEnv(gymnasium.Env):
             self._tasks = None
             self.env_cls.split_tasks(split, 0, 1, **params)  # one clear error for an unknown split, up front
         self.env: Env | None = None
-        self._tmp = tempfile.mkdtemp(prefix="eb-gym-")
         self._driver: Any = None
         self._last_obs: Any = None
         self._last_image: np.ndarray | None = None
@@ -241,7 +257,7 @@ class EBEnv(gymnasium.Env):
     # -- gymnasium API -----------------------------------------------------------------------------
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
-        from eb_core.runner import episode_seed
+        from eb_core.components import episode_seed
 
         super().reset(seed=seed)
         options = options or {}
@@ -294,20 +310,19 @@ class EBEnv(gymnasium.Env):
     def close(self) -> None:
         self._close_driver()
         self._rebuild()
-        shutil.rmtree(self._tmp, ignore_errors=True)
 
     # -- prompt mode -------------------------------------------------------------------------------
 
     def _reset_prompt(self, env: Env, task: Task) -> Any:
-        from eb_core.episode import EpisodeDriver
+        from eb_core.episode import EpisodeDriver, EpisodeOptions
 
         backend = _AnswerBackend()
         planner = self.comps.make_planner(backend)
-        (Path(self._tmp) / "steps.jsonl").unlink(missing_ok=True)
+        # no step files: the driver keeps the step records in memory (driver.steps)
         self._driver = EpisodeDriver(env=env, task=task, seed=self.world_seed, planner=planner, backend=backend,
-                                     env_config=self.cfg.env, step_dir=Path(self._tmp), save_images=False,
-                                     augmenters=self.comps.augmenters, expert_labels=False)
-        self._lines_read = 0
+                                     env_config=self.cfg.env,
+                                     options=EpisodeOptions(save_images=False, augmenters=self.comps.augmenters))
+        self._steps_seen = 0
         request = self._driver.next_request()
         if request is None:
             rec = self._driver.record
@@ -330,56 +345,41 @@ class EBEnv(gymnasium.Env):
                                                        if isinstance(action, bytes) else str(action))
         driver = self._driver
         driver.submit(ModelResponse(text=text, usage=Usage(calls=1)))
-        lines = (Path(self._tmp) / "steps.jsonl").read_text(encoding="utf-8").splitlines()
-        rec = json.loads(lines[-1]) if len(lines) > self._lines_read else {}
-        self._lines_read = len(lines)
-        acts = rec.get("actions", [])
-        format_ok = rec.get("error") is None
-        failed = sum(1 for a in acts if not a["success"])
-        cut = rec.get("plan_error") is not None
-        nothing_valid = format_ok and cut and not acts
-        invalid = failed + (1 if cut else 0)
-        progress = acts[-1]["progress"] if acts else self._progress
+        steps = driver.steps
+        rec = steps[-1] if len(steps) > self._steps_seen else None
+        self._steps_seen = len(steps)
+        acts = rec.actions if rec is not None else []
+        format_error = rec.error if rec is not None else None
+        plan_error = rec.plan_error if rec is not None else None
+        failed = sum(1 for a in acts if not a.success)
+        progress = acts[-1].progress if acts else self._progress
         self._steps += len(acts)
-        terminated = truncated = False
-        success = False
-        error = None
         if driver.done:
-            record = driver.record
-            self._done = True
-            success = bool(record.success)
-            if record.success:
-                progress = 1.0
-            if record.end_reason in _END_TERMINATED:
-                terminated = True
-            else:
-                truncated = True
-            if record.status == "error":
-                error = (record.error or "").splitlines()[0]
-                self._rebuild()
-            self._driver = None
-            obs = self._last_obs
+            obs, success, progress, terminated, truncated, error = self._end_prompt_episode(driver, progress)
         else:
             obs = self._prompt_obs(driver.next_request())
-        parsed = rec.get("parsed")
-        feedback = acts[-1]["feedback"] if acts else (rec.get("error") or rec.get("plan_error") or "")
-        info = self._finish_info(progress, success, invalid, 0 if format_ok else 1)
-        info.update({
-            "plan": None if parsed is None else parsed.get("executable_plan"),
-            "executed_actions": [a["action"] for a in acts],
-            "executed_action_names": [a["action_name"] for a in acts],
-            "action_valid": format_ok and not cut and failed == 0 and not nothing_valid,
-            "format_ok": format_ok,
-            "format_error": rec.get("error"),
-            "plan_error": rec.get("plan_error"),
-            "feedback": feedback,
-            "replaced_chars": self._replaced,
-        })
+            success, terminated, truncated, error = False, False, False, None
+        info = self._finish_info(progress, success, failed + (plan_error is not None), int(format_error is not None))
+        info.update(_step_info(rec, failed))
+        info["replaced_chars"] = self._replaced
         if error is not None:
             info["error"] = error
         if driver.done:
             info["end_reason"] = driver.record.end_reason
         return obs, info.pop("_reward"), terminated, truncated, info
+
+    def _end_prompt_episode(self, driver: Any, progress: float) -> tuple[Any, bool, float, bool, bool, str | None]:
+        """The episode's record has come: observation, success, progress, terminated, truncated, error line."""
+        record = driver.record
+        self._done = True
+        error = None
+        if record.status == "error":
+            error = (record.error or "").splitlines()[0]
+            self._rebuild()
+        self._driver = None
+        terminated = record.end_reason in _END_TERMINATED
+        return (self._last_obs, bool(record.success), 1.0 if record.success else progress, terminated,
+                not terminated, error)
 
     def _close_driver(self) -> None:
         if self._driver is not None:

@@ -9,7 +9,6 @@ for more answers than were recorded means the runs diverged: that is an error, n
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 from typing import Any
@@ -25,7 +24,7 @@ from eb_core.model import (
     ModelTransientError,
     Usage,
 )
-from eb_core.records import episode_dir_name
+from eb_core.records import StepRecord, episode_dir_name, read_steps
 from eb_models._settings import BackendSettings, ModelConfigError, validate_settings
 
 __all__ = ["ReplayBackend", "ReplaySettings", "load_recorded_outputs"]
@@ -36,21 +35,13 @@ class ReplaySettings(BackendSettings):
     """The earlier run directory (the one holding ``episodes.jsonl`` and ``episodes/``)."""
 
 
-def load_recorded_outputs(steps_file: Path) -> list[dict[str, Any]]:
-    """The recorded planner steps of one episode, sorted by ``planner_step``."""
-    rows: list[dict[str, Any]] = []
-    with open(steps_file, encoding="utf-8") as fh:
-        for n, line in enumerate(fh, 1):
-            if not line.strip():
-                continue
-            try:
-                row = json.loads(line)
-            except ValueError:
-                raise ModelTransientError(f"replay: {steps_file} line {n} is not JSON") from None
-            if not isinstance(row, dict) or not isinstance(row.get("raw_output"), str):
-                raise ModelTransientError(f"replay: {steps_file} line {n} has no raw_output string")
-            rows.append(row)
-    rows.sort(key=lambda r: int(r.get("planner_step", 0)))
+def load_recorded_outputs(steps_file: Path) -> list[StepRecord]:
+    """The recorded planner steps of one episode (typed, via the run reader), sorted by ``planner_step``."""
+    try:
+        rows = read_steps(steps_file.parent, strict=True)
+    except ValueError as exc:
+        raise ModelTransientError(f"replay: {exc}") from None
+    rows.sort(key=lambda r: r.planner_step)
     return rows
 
 
@@ -68,7 +59,7 @@ class ReplayBackend(ModelBackend):
             )
         self.task_id: str | None = None
         self.steps_file: Path | None = None
-        self.rows: list[dict[str, Any]] = []
+        self.rows: list[StepRecord] = []
         self.next_index = 0
         self.load_error: str | None = None
 
@@ -106,11 +97,9 @@ class ReplayBackend(ModelBackend):
             )
         row = self.rows[self.next_index]
         self.next_index += 1
-        recorded = row.get("usage") if isinstance(row.get("usage"), dict) else {}
-        usage = Usage(prompt_tokens=int(recorded.get("prompt_tokens", 0) or 0),
-                      completion_tokens=int(recorded.get("completion_tokens", 0) or 0),
+        usage = Usage(prompt_tokens=row.usage.prompt_tokens, completion_tokens=row.usage.completion_tokens,
                       cost_usd=0.0, latency_s=time.perf_counter() - t0, calls=1)
-        return ModelResponse(text=row["raw_output"], usage=usage, model="replay")
+        return ModelResponse(text=row.raw_output, usage=usage, model="replay")
 
     def close(self) -> None:
         self.rows = []
