@@ -21,6 +21,8 @@ from typing import Any
 
 import numpy as np
 
+from eb_core.records import StepRecord, read_steps
+
 __all__ = ["VIDEO_NAMES", "episode_frames", "write_videos"]
 
 VIDEO_NAMES = ("episode.mp4", "episode.gif")
@@ -63,7 +65,7 @@ def _primary(obs: Any) -> np.ndarray | None:
     return None if img is None else np.asarray(img)
 
 
-def episode_frames(env: Any, task: Any, seed: int, steps: list[dict[str, Any]]) -> tuple[list[Frame], str | None]:
+def episode_frames(env: Any, task: Any, seed: int, steps: list[StepRecord]) -> tuple[list[Frame], str | None]:
     """Replay one episode with rendering; returns its captioned frames and, if the replay left the record, why."""
     obs = env.reset(task, seed)
     frames: list[Frame] = []
@@ -71,28 +73,25 @@ def episode_frames(env: Any, task: Any, seed: int, steps: list[dict[str, Any]]) 
     if first is not None:
         frames.append(Frame(first, f"{task.id}: {task.instruction}", model_view=True))
     for step in steps:
-        n = step.get("planner_step", 0)
-        actions = step.get("actions") or []
-        if not actions:
-            answer = "no usable plan" if step.get("error") else "empty plan"
+        n = step.planner_step
+        if not step.actions:
+            answer = "no usable plan" if step.error else "empty plan"
             if frames:
                 frames.append(Frame(frames[-1].image, f"planner step {n}: {answer}", model_view=True))
             continue
-        for j, act in enumerate(actions):
-            result = env.step(act["action"])
-            if bool(result.action_success) != bool(act.get("success")) or (result.feedback or "") != act.get(
-                    "feedback", result.feedback or ""):
+        for j, act in enumerate(step.actions):
+            result = env.step(act.action)
+            if bool(result.action_success) != bool(act.success) or (result.feedback or "") != (act.feedback or ""):
                 return frames, (f"planner step {n} action {j + 1}: the replay gave "
                                 f"{'success' if result.action_success else 'failure'} ({result.feedback!r}), the "
-                                f"record {act.get('feedback')!r}; the video stops there")
+                                f"record {act.feedback!r}; the video stops there")
             img = _primary(result.observation)
             if img is None:
                 continue
-            mark = "ok" if act.get("success") else "FAILED"
-            name = act.get("action_name") or json.dumps(act["action"])
-            last_of_call = j == len(actions) - 1
-            frames.append(Frame(img, f"planner step {n} · env step {act.get('env_step', '?')} · {name} · {mark}: "
-                                     f"{act.get('feedback', '')}", model_view=last_of_call))
+            mark = "ok" if act.success else "FAILED"
+            name = act.action_name or json.dumps(act.action)
+            frames.append(Frame(img, f"planner step {n} · env step {act.env_step} · {name} · {mark}: "
+                                     f"{act.feedback}", model_view=j == len(step.actions) - 1))
     return frames, None
 
 
@@ -153,7 +152,11 @@ def write_videos(run_dir: str | Path, *, out: str | Path | None = None, gif: boo
             if target.exists() and not overwrite:
                 problems.append(f"{target} exists; pass --overwrite to replace it")
                 continue
-            steps = [json.loads(line) for line in steps_file.read_text(encoding="utf-8").splitlines() if line.strip()]
+            try:
+                steps = read_steps(steps_file.parent, strict=True)
+            except ValueError as exc:
+                problems.append(f"{ep}: {exc}")
+                continue
             frames, why = episode_frames(env, by_id[rec.task_id], rec.seed, steps)
             if why:
                 problems.append(f"{ep}: {why}")
