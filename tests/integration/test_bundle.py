@@ -89,3 +89,22 @@ def test_every_link_opens_in_headless_chromium(bundle):
     names = {Path(unquote(urlparse(u).path)).relative_to(out.resolve()).as_posix() for u in seen}
     assert "capabilities.html" in names and "compare/navigation/index.html" in names
     assert any(n.startswith("runs/") and n.count("/") >= 3 for n in names)  # an episode page was reached
+
+
+def test_runs_are_verified_and_a_tampered_run_is_marked(bundle, tmp_path):
+    out, runs = bundle
+    meta = json.loads((out / "runs.json").read_text())
+    assert all(m["verified"] is True for m in meta), meta
+    bad = tmp_path / "tampered"
+    shutil.copytree(runs[0], bad)
+    lines = (bad / "episodes.jsonl").read_text().splitlines()
+    first = json.loads(lines[0])
+    first["success"] = not first["success"]
+    (bad / "episodes.jsonl").write_text("\n".join([json.dumps(first), *lines[1:]]) + "\n")
+    site = tmp_path / "site"
+    p = subprocess.run([sys.executable, "-m", "eb_core", "show", "--bundle", str(site), str(bad)],
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    entry = json.loads((site / "runs.json").read_text())[0]
+    assert entry["verified"] is False and "success" in entry["verify"]
+    assert "<span class=bad" in (site / "index.html").read_text()
