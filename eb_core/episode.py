@@ -62,7 +62,11 @@ class BudgetGuard:
 
 
 #: World ``StepResult.info`` keys copied into each action's record for error analysis (docs/error_analysis.md).
-_INFO_KEYS_RECORDED = ("distance_to_goal", "wrong_target")
+_INFO_KEYS_RECORDED = ("distance_to_goal", "wrong_target", "position")
+"""World state a step's ``info`` carries that the step record keeps (``position``: where the agent stands, for the
+viewer's map of a walk)."""
+FINAL_IMAGE_PREFIX = "final_"
+"""``final_<view>.png``: the state the episode ended in (the viewer's last picture; no model saw it)."""
 
 
 def _jsonable(obj: Any) -> Any:
@@ -191,6 +195,7 @@ class _Episode:
                     steps_file.flush()
             if not self.done and self.end_reason == "max_steps" and self.capped():
                 self.end_reason = "invalid_cap"
+            self._save_final_image()
         except (ModelFatalError, ModelBudgetExceeded):
             raise
         except Exception as exc:  # a model that stayed unreachable, or an env bug: recorded, the run goes on
@@ -225,6 +230,14 @@ class _Episode:
         if self.opts.save_images and self.opts.step_dir is not None and obs.primary_image is not None:
             self._save_images(head, obs)
         return head, request
+
+    def _save_final_image(self) -> None:
+        """The frame after the last action, so a viewer shows how the episode ended (the model never saw it)."""
+        obs = self.obs
+        if (not self.opts.save_images or self.opts.step_dir is None or obs is None or obs.primary_image is None
+                or not self.env_steps):
+            return
+        (self.opts.step_dir / f"{FINAL_IMAGE_PREFIX}{obs.primary}.png").write_bytes(encode_png(obs.primary_image))
 
     def _save_images(self, head: dict[str, Any], obs: Observation) -> None:
         step_dir = self.opts.step_dir

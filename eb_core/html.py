@@ -179,7 +179,8 @@ def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path, conf: dict[
              f" · progress {100 * rec['progress']:.0f}% · tokens {rec['prompt_tokens']}+{rec['completion_tokens']}</p>"]
     if rec.get("error"):
         parts.append(f"<h2>Error</h2><pre>{_e(rec['error'])}</pre>")
-    for s in read_steps(ep_dir):
+    steps = read_steps(ep_dir)
+    for s in steps:
         sent, what = _what_was_sent(s, conf)
         seen = "what the model saw" if sent else "the scene (not sent to the model)"
         img = (f"<img src='{_e(s.image)}' alt='{seen} at step {s.planner_step}'>" if s.image else "")
@@ -215,7 +216,69 @@ def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path, conf: dict[
             + f"<details><summary>raw model answer</summary><pre>{_e(s.raw_output)}</pre></details>"
             + f"<details><summary>prompt</summary><pre>{_e(s.prompt)}</pre></details>"
             + "</div></div>")
+    parts += _ending_html(ep_dir, steps)
     return _page(f"{rec['task_id']} — {run_title}", "\n".join(parts))
+
+
+def _walk_svg(steps: list[Any]) -> str:
+    """A small map of the agent's walk (recorded ``position`` per action) and its distance to the target."""
+    pts = [(a.model_extra or {}).get("position") for s in steps for a in s.actions]
+    dist = [a.distance_to_goal for s in steps for a in s.actions]
+    pts = [p for p in pts if isinstance(p, (list, tuple)) and len(p) == 2]
+    out = []
+    if len(pts) >= 2:
+        xs, ys = [float(p[0]) for p in pts], [float(p[1]) for p in pts]
+        span = max(max(xs) - min(xs), max(ys) - min(ys), 0.5)
+        scale = 220 / span
+
+        def xy(x: float, y: float) -> str:  # north up: y grows upwards
+            return f"{20 + (x - min(xs)) * scale:.1f},{240 - (y - min(ys)) * scale:.1f}"
+
+        line = " ".join(xy(x, y) for x, y in zip(xs, ys))
+        out.append(
+            "<figure style='margin:0'><svg width=260 height=260 style='background:#fff;border:1px solid #dde1e6'>"
+            f"<polyline points='{line}' fill='none' stroke='#3b82f6' stroke-width='2'></polyline>"
+            f"<circle cx='{xy(xs[0], ys[0]).split(',')[0]}' cy='{xy(xs[0], ys[0]).split(',')[1]}' r='5' "
+            "fill='#0a7a2f'></circle>"
+            f"<circle cx='{xy(xs[-1], ys[-1]).split(',')[0]}' cy='{xy(xs[-1], ys[-1]).split(',')[1]}' r='5' "
+            "fill='#b42318'></circle></svg><figcaption class=muted>The walk seen from above (north up): green after the "
+            f"first action, red at the end; {span:.1f} m across.</figcaption></figure>")
+    known = [d for d in dist if d is not None]
+    if known:
+        top = max(max(known), 1.0)
+        w = 260 / max(1, len(dist) - 1)
+        line = " ".join(f"{i * w:.1f},{110 - 100 * d / top:.1f}" for i, d in enumerate(dist) if d is not None)
+        out.append(
+            "<figure style='margin:0'><svg width=270 height=120 style='background:#fff;border:1px solid #dde1e6'>"
+            f"<polyline points='{line}' fill='none' stroke='#a15c00' stroke-width='2'></polyline></svg><figcaption class=muted>"
+            f"Distance to the target after each action: {known[0]:.2f} m to {known[-1]:.2f} m (top of the chart "
+            f"{top:.1f} m).</figcaption></figure>")
+    return "".join(out)
+
+
+def _ending_html(ep_dir: Path, steps: list[Any]) -> list[str]:
+    """The end of an episode page: the final state, a map of the walk, and the episode's video if exported."""
+    from eb_core.episode import FINAL_IMAGE_PREFIX
+    from eb_core.video import VIDEO_NAMES
+
+    parts = []
+    finals = sorted(p.name for p in ep_dir.glob(f"{FINAL_IMAGE_PREFIX}*.png")) if ep_dir.is_dir() else []
+    walk = _walk_svg(steps)
+    if finals or walk:
+        imgs = "".join(f"<img src='{_e(n)}' alt='the final state' style='width:300px;border:1px solid #ccd'>"
+                       for n in finals[:1])
+        parts.append("<h2>How it ended</h2><div style='display:flex;gap:16px;align-items:flex-start'>"
+                     + (f"<figure style='margin:0'>{imgs}<figcaption class=muted>The state after the last action "
+                        f"(not sent to the model).</figcaption></figure>" if imgs else "")
+                     + walk + "</div>")
+    for name in VIDEO_NAMES:
+        if (ep_dir / name).is_file():
+            tag = (f"<video controls width=520 src='{_e(name)}'></video>" if name.endswith(".mp4")
+                   else f"<img src='{_e(name)}' alt='the episode replayed' width=520>")
+            parts.append(f"<h2>Replay</h2>{tag}<p class=muted>Every action replayed in the world "
+                         f"(<code>eb export RUN --format video</code>); the model's views are framed in blue.</p>")
+            break
+    return parts
 
 
 def _ci_cell(block: dict[str, Any], key: str) -> str:

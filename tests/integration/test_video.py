@@ -55,3 +55,15 @@ def test_gif_and_a_tampered_record_stops_with_one_line(run_dir, tmp_path):
     assert "action 2: the replay gave success" in p.stderr and "the video stops there" in p.stderr
     with Image.open(tmp_path / "gifs" / f"{ep.name}.gif") as gif:
         assert gif.n_frames == 2  # the start and the first action: it stops at the edited one
+
+
+def test_viewer_shows_final_state_walk_map_and_video(run_dir):
+    p = subprocess.run([sys.executable, "-m", "eb_core", "show", str(run_dir)], capture_output=True, text=True,
+                       timeout=300)
+    assert p.returncode == 0, p.stderr
+    ep = sorted((run_dir / "episodes").iterdir())[1]  # the untampered one
+    page = (ep / "index.html").read_text()
+    finals = list(ep.glob("final_*.png"))
+    assert len(finals) == 1 and f"src='{finals[0].name}'" in page and "How it ended" in page
+    assert "The walk seen from above" in page and "<polyline" in page and "Distance to the target" in page
+    assert "<video controls" in page and "src='episode.mp4'" in page
