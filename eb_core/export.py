@@ -196,7 +196,8 @@ def _card(run: dict[str, Any], out: Path, n_rows: int, files: list[str], fmt: st
 
     root = Path(run["dir"])
     o = run["overall"]
-    lines = ["---", "configs:", "- config_name: default", "  data_files:", "  - split: train",
+    split = _split_of(run)
+    lines = ["---", "configs:", "- config_name: default", "  data_files:", f"  - split: {split}",
              "    path: " + ("data/*.parquet" if fmt == "parquet" else "chat.jsonl"), "---", "",
              f"# EmbodiedBench trajectories: {run['env']} / {run['model']} / {run['ablation']}", "",
              f"{n_rows} {'rows, one per planner step' if fmt == 'parquet' else 'chat samples, one per planner call'}"
@@ -239,8 +240,15 @@ def _card(run: dict[str, Any], out: Path, n_rows: int, files: list[str], fmt: st
     return "\n".join(lines)
 
 
+def _split_of(run: dict[str, Any]) -> str:
+    """The dataset split of a run's trajectories: the benchmark's own tasks are ``test`` (they must never be
+    trained on by mistake); runs on generated splits keep theirs (``train``, ``val``)."""
+    return str((run.get("config") or {}).get("split") or "test")
+
+
 def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt: str = "parquet",
-               only_success: bool = False, shard_rows: int = SHARD_ROWS, label: str = "model") -> dict[str, Any]:
+               only_success: bool = False, shard_rows: int = SHARD_ROWS, label: str = "model",
+               overwrite: bool = False) -> dict[str, Any]:
     """Export ``run_dir`` into ``out``; returns ``{"rows": n, "files": [...]}`` (paths relative to ``out``).
     ``label`` (chat only): ``model`` (the assistant turn is the model's answer) or ``expert`` (the expert's
     action from the state the model saw, as a one-action answer; needs a run with ``runner.expert_labels``)."""
@@ -255,8 +263,14 @@ def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt:
     if label != "model" and fmt != "chat":
         raise ValueError("--label expert is for --format chat; the parquet rows carry the expert labels in "
                          "actions_json")
-    run = load_run(run_dir)
     out = Path(out)
+    existing = [p for p in (out / "README.md", out / "chat.jsonl") if p.exists()] + sorted((out / "data").glob("*.parquet"))
+    if existing and not overwrite:
+        raise FileExistsError(f"{existing[0]} exists (an earlier export); choose another --out or pass --overwrite")
+    for old in existing:  # --overwrite: nothing of the earlier export may be left to be read as this one
+        old.unlink()
+    run = load_run(run_dir)
+    split = _split_of(run)
     out.mkdir(parents=True, exist_ok=True)
     files: list[str] = []
     n = 0
@@ -271,12 +285,12 @@ def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt:
         rows = list(_rows(run, images, out, only_success))
         n = len(rows)
         (out / "data").mkdir(exist_ok=True)
-        for old in (out / "data").glob("train-*.parquet"):
+        for old in (out / "data").glob("*.parquet"):
             old.unlink()
         shards = max(1, -(-n // shard_rows))
         for i in range(shards):
             chunk = rows[i * shard_rows:(i + 1) * shard_rows]
-            name = f"data/train-{i:05d}-of-{shards:05d}.parquet"
+            name = f"data/{split}-{i:05d}-of-{shards:05d}.parquet"
             pq.write_table(pa.Table.from_pylist(chunk, schema=schema), out / name)
             files.append(name)
     else:
@@ -290,7 +304,7 @@ def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt:
 
 def cmd_export(args: list[str]) -> int:
     """``eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] [--label model|expert]
-    [--only-success]``."""
+    [--only-success] [--overwrite]``."""
     from eb_core.cli import CliError
 
     if "matrix" in [a.split("=", 1)[1] if a.startswith("--format=") else a for a in args] and any(
@@ -304,8 +318,9 @@ def cmd_export(args: list[str]) -> int:
 
         return cmd_video(args)
     usage = ("usage: eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] "
-             "[--label model|expert] [--only-success]")
+             "[--label model|expert] [--only-success] [--overwrite]")
     run_dir, out, images, fmt, only_success, label = None, None, "paths", "parquet", False, "model"
+    overwrite = False
     it = iter(args)
     for a in it:
         key, eq, val = a.partition("=")
@@ -323,6 +338,8 @@ def cmd_export(args: list[str]) -> int:
                 fmt = value
         elif a == "--only-success":
             only_success = True
+        elif a == "--overwrite":
+            overwrite = True
         elif a.startswith("-"):
             raise CliError(f"unknown option {a!r} for export; {usage}")
         elif run_dir is None:
@@ -339,8 +356,8 @@ def cmd_export(args: list[str]) -> int:
     if not (Path(run_dir) / "episodes.jsonl").exists():
         raise CliError(f"{run_dir} is not a run directory (no episodes.jsonl)")
     try:
-        result = export_run(run_dir, out, images, fmt, only_success, label=label)
-    except ValueError as exc:
+        result = export_run(run_dir, out, images, fmt, only_success, label=label, overwrite=overwrite)
+    except (ValueError, FileExistsError) as exc:
         raise CliError(str(exc)) from None
     print(f"{result['rows']} rows -> {out} ({', '.join(result['files'])}, README.md)")
     return 0

@@ -152,3 +152,20 @@ def test_expert_labels_need_a_run_that_recorded_them(mixed, tmp_path, capsys):
     assert "has no expert labels" in err and "runner.expert_labels=true" in err and err.count("\n") == 1
     assert main(["export", str(mixed), "--out", str(tmp_path / "x"), "--format", "chat", "--label", "gold"]) == 2
     assert "use model" in capsys.readouterr().err
+
+
+def test_card_split_is_the_runs_and_an_export_is_never_overwritten_silently(mixed, tmp_path, capsys):
+    from eb_core.cli import main
+
+    out = tmp_path / "ds"
+    export_run(mixed, out, images="paths")
+    card = (out / "README.md").read_text()
+    assert "  - split: test" in card and "split: train" not in card  # benchmark tasks are test data
+    assert all(p.name.startswith("test-") for p in (out / "data").glob("*.parquet"))
+    before = (out / "README.md").read_bytes()
+    assert main(["export", str(mixed), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "exists (an earlier export)" in err and "--overwrite" in err and err.count("\n") == 1
+    assert (out / "README.md").read_bytes() == before
+    assert main(["export", str(mixed), "--out", str(out), "--format", "chat", "--overwrite"]) == 0
+    assert (out / "chat.jsonl").exists() and not list((out / "data").glob("*.parquet"))
