@@ -98,6 +98,8 @@ class EBVectorEnv(VectorEnv):
 
         import cloudpickle
 
+        _refuse_in_bootstrapping_worker()
+
         self.closed, self._ray_started, self.workers = False, False, []
         n = len(env_fns)
         if n < 1:
@@ -180,7 +182,11 @@ class EBVectorEnv(VectorEnv):
                 return worker
             except _WorkerLost as exc:
                 last = exc
-        raise RuntimeError(f"worker {k} could not be started ({_START_ATTEMPTS} attempts): {last}")
+        hint = ""
+        if "exited while starting" in str(last) and self.context in ("spawn", "forkserver"):
+            hint = (f"; if the script that builds the vector env does so at its top level, put that code under "
+                    f"`if __name__ == \"__main__\":` ({self.context} workers import the script again)")
+        raise RuntimeError(f"worker {k} could not be started ({_START_ATTEMPTS} attempts): {last}{hint}") from None
 
     @property
     def worker_pids(self) -> list[int]:
@@ -343,6 +349,16 @@ class EBVectorEnv(VectorEnv):
                 self.close()
             except Exception:
                 pass
+
+
+def _refuse_in_bootstrapping_worker() -> None:
+    """A worker process that is still importing the user's script must not build vector envs of its own: that
+    is a script without the ``__main__`` guard. Say so in one line instead of a traceback from every worker."""
+    import multiprocessing
+
+    if getattr(multiprocessing.current_process(), "_inheriting", False):
+        raise SystemExit("eb: a worker process re-ran the script that builds the vector env; put that code under "
+                         "`if __name__ == \"__main__\":` (spawn and forkserver workers import the script again)")
 
 
 def make_vector_env(world: str | None, num_envs: int, *, workers: int | None = None, executor: str = "local",
