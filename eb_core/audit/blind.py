@@ -139,14 +139,17 @@ def _policy_table(setup: AuditSetup, tasks: list[Task], policies: Sequence[Any])
         if best > BLIND_MAX_SUCCESS:
             failing += [t.id for s, ts in groups.items() if rates[s] > BLIND_MAX_SUCCESS for t in ts if t.id in ids]
         rows.append({"policy": pol.name, "best subset": best_subset, "success": _pct(best),
-                     "solved": len(ids), "_rate": best})
+                     "solved": len(ids), "_rate": best,
+                     "_subsets": ", ".join(f"{s} {100 * r:.1f}" for s, r in rates.items())})
     rows.sort(key=lambda r: -r["_rate"])
     return rows, failing, worst
 
 
 def _policy_result(name: str, policies: Sequence[Any], kinds: Counter[str], rows: list[dict[str, Any]],
-                   failing: list[str], worst: tuple) -> ProbeResult:
-    shown = [{k: v for k, v in r.items() if k != "_rate"} for r in rows[:8]]
+                   failing: list[str], worst: tuple, per_subset: bool = False) -> ProbeResult:
+    """The probe's result; ``per_subset`` adds each shown policy's success in every subset (in %)."""
+    shown = [{k if k != "_subsets" else "per subset (%)": v for k, v in r.items()
+              if k != "_rate" and (per_subset or k != "_subsets")} for r in rows[:8]]
     bad = [r for r in rows if r["_rate"] > BLIND_MAX_SUCCESS]
     mix = ", ".join(f"{v} {k}" for k, v in kinds.items())
     value = (f"{len(policies)} policies ({mix}); worst {_pct(worst[0])} ({worst[1]} on {worst[2]})" if policies
@@ -309,4 +312,4 @@ def probe_feedback_policies(setup: AuditSetup) -> ProbeResult:
     rows, failing, worst = _policy_table(setup, tasks, policies)
     kinds = Counter("turn or side-step after a failure" if isinstance(p, ReactivePolicy) else
                     "next candidate after a failure" for p in policies)
-    return _policy_result("feedback_policies", policies, kinds, rows, failing, worst)
+    return _policy_result("feedback_policies", policies, kinds, rows, failing, worst, per_subset=True)
