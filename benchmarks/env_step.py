@@ -68,7 +68,7 @@ def measure_resets(env: str, n: int, resolution: int = 500) -> dict:
     for line in out.stdout.splitlines():
         if line.startswith("RESULT "):
             return json.loads(line[7:])
-    raise RuntimeError(f"{env}: reset benchmark failed: {(out.stderr or out.stdout).strip().splitlines()[-1:]}")
+    raise RuntimeError(f"{env}: reset benchmark failed: {_last_error(out.stderr or out.stdout)}")
 
 
 def reset_table(envs: list[str], n: int) -> None:
@@ -96,7 +96,14 @@ def measure(env: str, n: int) -> dict:
     for line in out.stdout.splitlines():
         if line.startswith("RESULT "):
             return json.loads(line[7:])
-    raise RuntimeError(f"{env}: benchmark failed: {(out.stderr or out.stdout).strip().splitlines()[-1:]}")
+    raise RuntimeError(f"{env}: benchmark failed: {_last_error(out.stderr or out.stdout)}")
+
+
+def _last_error(text: str) -> str:
+    """The child's own error line: the last line before any "Exception ignored in" report of a destructor that
+    ran at exit (which would otherwise hide the error that stopped the child)."""
+    head = text.split("Exception ignored in")[0].strip() or text.strip()
+    return head.splitlines()[-1] if head else "no output"
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -49,11 +49,11 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--render", default=None, choices=["true", "false"],
                     help="env.params.render, for the worlds that have it (default: the world's own)")
     ap.add_argument("--repeats", type=int, default=2)
-    ap.add_argument("--quick", action="store_true", help="a few seconds: 2 episodes, 1 repeat (checks that the "
+    ap.add_argument("--quick", action="store_true", help="a few seconds: 1 episode, 1 repeat, no rendering (checks that the "
                     "benchmark runs; its figures mean little)")
     a = ap.parse_args(argv)
     if a.quick:
-        a.limit, a.repeats = 2, 1
+        a.limit, a.repeats, a.render = 1, 1, a.render or "false"
     base = [f"env={a.env}", f"model={a.model}", f"limit={a.limit}", "runner.quiet=true",
             "runner.save_images=false"] + ([f"env.params.render={a.render}"] if a.render else [])
     walls: dict[bool, list[float]] = {False: [], True: []}

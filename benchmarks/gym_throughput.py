@@ -197,11 +197,11 @@ def main(argv: list[str] | None = None) -> None:
                          "worker process: more memory, no model switch between the envs a worker steps in turn")
     ap.add_argument("--json", default=None, help="write the results to this file")
     ap.add_argument("--quick", action="store_true", help="a few seconds: navigation, sizes 1 and 2 on one worker, "
-                    "2 steps, 2 resets, 64 px (checks that the benchmark runs; its figures mean little)")
+                    "2 steps, 1 reset, 64 px (checks that the benchmark runs; its figures mean little)")
     args = ap.parse_args(argv)
     if args.quick:
         args.worlds, args.sizes, args.workers, args.steps, args.resets, args.resolution = \
-            "navigation", "1,2", 1, 2, 2, 64
+            "navigation", "1,2", 1, 2, 1, 64
     if args.private_gl:
         os.environ["EB_SCENEKIT_PRIVATE_GL"] = "1"  # the workers take this process's environment
     sizes = [int(s) for s in args.sizes.split(",") if s.strip()]

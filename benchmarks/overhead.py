@@ -59,17 +59,19 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--limit", type=int, default=20)
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--no-images", action="store_true", help="do not save step PNGs in the pipeline run")
-    ap.add_argument("--quick", action="store_true", help="a few seconds: 2 episodes, once (checks that the "
+    ap.add_argument("--quick", action="store_true", help="a few seconds: 1 episode at 64 px, once (checks that the "
                     "benchmark runs; its figures mean little)")
     args = ap.parse_args(argv)
     if args.quick:
-        args.limit, args.repeat = 2, 1
+        args.limit, args.repeat = 1, 1
 
     registry = Registry.create()
     cfg_dict = _env_config(registry, args.env)
     cfg_dict["limit"] = args.limit
     cfg_dict["runner"]["quiet"] = True
     cfg_dict["runner"]["save_images"] = not args.no_images
+    if args.quick:
+        cfg_dict["env"]["resolution"] = 64
     cfg = validate_config(cfg_dict)
     env_cls = registry.get("env", cfg.env.name).load()
     tasks = select_tasks(env_cls.load_tasks(**cfg.env.params), cfg)

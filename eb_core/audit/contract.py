@@ -103,8 +103,8 @@ class BlindPolicy:
             return self.prefix[i]
         return self.cycle[(i - len(self.prefix)) % len(self.cycle)]
 
-    def actions(self, n: int) -> list[Any]:
-        """The first ``n`` items the policy plays."""
+    def actions(self, n: int = 20) -> list[Any]:
+        """The first ``n`` items the policy plays (default 20, navigation's step budget)."""
         return [self.item(i) for i in range(n)]
 
     def policy(self, task: Task | None = None) -> Policy:
