@@ -270,9 +270,16 @@ def _guided(instruction: str, objects: list[str]) -> list[str]:
     return sorted(objects, key=lambda o: -score(o))
 
 
+_ARTICLES = ("a", "an", "the")
+
+
 def _kind(name: str) -> str:
-    """An action's kind: its first two words with the space after them (``"pick up "``, ``"find a "``)."""
+    """An action's kind, with the space after it: its words up to an article among the first three (``"pick up
+    the "``, ``"find a "``), else its first two words (``"press 1 "``); ``""`` for shorter names."""
     parts = name.split(" ")
+    for k in range(1, min(3, len(parts) - 1) + 1):
+        if parts[k - 1].lower() in _ARTICLES:
+            return " ".join(parts[:k]) + " "
     return " ".join(parts[:2]) + " " if len(parts) > 2 else ""
 
 
