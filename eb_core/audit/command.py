@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -39,10 +40,19 @@ class AuditArgs:
     help: bool = False
 
 
-def _error(msg: str) -> Exception:
-    from eb_core.cli import CliError
+def _config_path() -> tuple[type[Exception], Callable[..., Any], Callable[..., Any]]:
+    """``(CliError, compose, validate)`` from the one config path (``eb_core.exceptions``, ``eb_core.compose``),
+    or from the CLI module that held them before it (so this module works on either side of that move)."""
+    try:
+        from eb_core.compose import compose, validate
+        from eb_core.exceptions import CliError
+    except ImportError:
+        from eb_core.cli import CliError, _validate as validate, compose  # type: ignore[no-redef]
+    return CliError, compose, validate
 
-    return CliError(msg)
+
+def _error(msg: str) -> Exception:
+    return _config_path()[0](msg)
 
 
 def parse_args(args: list[str]) -> AuditArgs:
@@ -94,8 +104,7 @@ def _ints(extra: dict[str, str], n_tasks: int) -> dict[str, int]:
 def _composed(parsed: AuditArgs) -> Any:
     """The validated run config (no model: the probes drive the env directly, so any installed set of plugins
     can be audited), with ``task_file=`` put into the env's params."""
-    from eb_core.cli import _validate, compose
-
+    _, compose, validate = _config_path()
     overrides = list(parsed.overrides)
     if not any(o.lstrip("+~").split("=", 1)[0] == "model" for o in overrides):
         overrides.append("~model")
@@ -110,14 +119,17 @@ def _composed(parsed: AuditArgs) -> Any:
                          f"`eb tasks generate env={cfg_dict['env']['name']} out=...`")
         key = "task_dir" if ("task_dir" in params and "task_file" not in params) or path.is_dir() else "task_file"
         params[key] = str(path)
-    return _validate(cfg_dict)
+    try:
+        return validate(cfg_dict)
+    except ValueError as exc:  # ConfigError: one line naming the key
+        raise _error(str(exc)) from None
 
 
 def _load(cfg: Any) -> tuple[Any, type, list[Any]]:
     """The env's spec, its class and the selected tasks of the chosen task set (loaded as ``eb run`` does)."""
     from eb_core.config import ConfigError
     from eb_core.plugins import PluginError, Registry
-    from eb_core.runner import select_tasks
+    from eb_core.components import select_tasks
     from eb_core.specs import MissingDependencyError
 
     try:

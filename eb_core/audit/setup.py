@@ -167,7 +167,7 @@ def _spread(tasks: Sequence[Task], k: int) -> list[Task]:
 
 
 def _reset_seed(seed: int, task_id: str) -> int:
-    from eb_core.runner import episode_seed
+    from eb_core.components import episode_seed
 
     return episode_seed(seed, task_id)
 
