@@ -26,6 +26,7 @@ from __future__ import annotations
 from eb_core.audit.blind import (
     BLIND_MAX_SUCCESS,
     CandidateSearch,
+    FetchSearch,
     ReactivePolicy,
     feedback_policies,
     probe_blind_policies,
@@ -58,6 +59,7 @@ __all__ = [
     "CandidateSearch",
     "EpisodeOutcome",
     "FRESH_PER_SUBSET",
+    "FetchSearch",
     "FeedbackPolicy",
     "MAX_LISTED",
     "NOISE_LEVELS",

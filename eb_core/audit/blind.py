@@ -5,7 +5,8 @@
 * ``feedback_policies``: policies that still ignore the image but react to what the env answers, as a model
   told nothing about the scene can: walk forward and turn or side-step after a failed move; or try the
   candidates of one kind of action (``find a ...``, ``pick up the ...``) one after another, the ones whose
-  names share words with the instruction first, moving to the next candidate after a failure.
+  names share words with the instruction first, moving to the next candidate after a failure; or fetch the
+  instruction's object to the instruction's place, searching the places one by one.
 
 Both hold every policy to at most :data:`BLIND_MAX_SUCCESS` success in every subset.
 """
@@ -25,7 +26,7 @@ from eb_core.audit.playing import _Job, play_jobs
 from eb_core.audit.setup import AuditSetup, _by_subset, _listed, _pct, _reset_seed, random_action
 from eb_core.env import Action, ActionSpace, DiscreteActionSpace, Env, StepResult, Task
 
-__all__ = ["BLIND_MAX_SUCCESS", "CandidateSearch", "ReactivePolicy", "feedback_policies", "probe_blind_policies",
+__all__ = ["BLIND_MAX_SUCCESS", "CandidateSearch", "FetchSearch", "ReactivePolicy", "feedback_policies", "probe_blind_policies",
            "probe_feedback_policies"]
 
 BLIND_MAX_SUCCESS = 0.05
@@ -209,6 +210,34 @@ class _Reactive(FeedbackPolicy):
         self.fails = 0 if result.action_success else self.fails + 1
 
 
+class _Chunks(FeedbackPolicy):
+    """Plays chunks of action names in turn; a failed action, a missing name or a finished chunk moves on to the
+    next chunk. ``chunks(names, instruction)`` makes them from the episode's action list at the first step."""
+
+    def __init__(self, chunks: Any, instruction: str) -> None:
+        self.make, self.instruction = chunks, instruction
+        self.chunks: list[tuple[str, ...]] | None = None
+        self.k, self.step = 0, 0
+
+    def __call__(self, env: Env, i: int) -> Action | None:
+        space = env.action_space()
+        if not isinstance(space, DiscreteActionSpace):
+            return None
+        if self.chunks is None:
+            self.chunks = [c for c in self.make(list(space.actions), self.instruction) if c]
+        while self.k < len(self.chunks) and self.chunks[self.k][self.step] not in space.actions:
+            self.k, self.step = self.k + 1, 0
+        if self.k >= len(self.chunks):
+            return None
+        return space.actions.index(self.chunks[self.k][self.step])
+
+    def observe(self, result: StepResult) -> None:
+        assert self.chunks is not None
+        self.step += 1
+        if not result.action_success or self.step >= len(self.chunks[self.k]):
+            self.k, self.step = self.k + 1, 0
+
+
 @dataclass(frozen=True)
 class CandidateSearch:
     """Skill worlds: for each candidate object in turn, play one action of every kind in ``kinds`` on it (``find
@@ -221,32 +250,53 @@ class CandidateSearch:
     kinds: tuple[str, ...]
 
     def policy(self, task: Task | None = None) -> FeedbackPolicy:
-        return _Search(self, task.instruction if task is not None else "")
+        return _Chunks(self.chunks, task.instruction if task is not None else "")
+
+    def chunks(self, names: list[str], instruction: str) -> list[tuple[str, ...]]:
+        have = set(names)
+        objects = [n[len(self.kinds[0]):] for n in names if n.startswith(self.kinds[0])]
+        order = _guided(instruction, [o for o in objects if all(k + o in have for k in self.kinds)])
+        return [tuple(k + o for k in self.kinds) for o in order]
 
 
-class _Search(FeedbackPolicy):
-    def __init__(self, spec: CandidateSearch, instruction: str) -> None:
-        self.spec, self.instruction = spec, instruction
-        self.order: list[str] | None = None
-        self.obj, self.step = 0, 0
+_LOCATE = re.compile(r"^(find|navigate to|go to|walk to)\b", re.I)
+_TAKE = re.compile(r"^(pick up|take|grab)\b", re.I)
+_PUT = re.compile(r"^(put|place|drop)\b", re.I)
 
-    def __call__(self, env: Env, i: int) -> Action | None:
-        space = env.action_space()
-        if not isinstance(space, DiscreteActionSpace):
-            return None
-        if self.order is None:
-            names = set(space.actions)
-            objects = [n[len(self.spec.kinds[0]):] for n in space.actions if n.startswith(self.spec.kinds[0])]
-            self.order = _guided(self.instruction, [o for o in objects if all(k + o in names for k in self.spec.kinds)])
-        if self.obj >= len(self.order):
-            return None
-        name = self.spec.kinds[self.step] + self.order[self.obj]
-        return space.actions.index(name) if name in space.actions else None
 
-    def observe(self, result: StepResult) -> None:
-        self.step += 1
-        if not result.action_success or self.step >= len(self.spec.kinds):
-            self.obj, self.step = self.obj + 1, 0
+@dataclass(frozen=True)
+class FetchSearch:
+    """Skill worlds with go-to, pick-up and put actions: the fetch a blind model plays from the instruction alone.
+    It picks up the object the instruction names (the pick-up action sharing most words with it) and brings it to
+    the place the instruction names: go to each candidate place in turn (the instances of the object's type when
+    the go-to list has them, ``find a Mug_2``; else every place), pick up, go to the destination, put down. A
+    failed action moves on to the next place, and so does a delivery that did not end the episode (a wrong
+    instance shows itself)."""
+
+    name: str = "fetch: go to each place in turn, pick up the instruction's object, put it at its destination"
+
+    def policy(self, task: Task | None = None) -> FeedbackPolicy:
+        return _Chunks(self.chunks, task.instruction if task is not None else "")
+
+    @staticmethod
+    def chunks(names: list[str], instruction: str) -> list[tuple[str, ...]]:
+        locate = [n for n in names if _LOCATE.search(n)]
+        take = _guided(instruction, [n for n in names if _TAKE.search(n)], _object_of)
+        put = [n for n in names if _PUT.search(n)]
+        if not (locate and take and put):
+            return []
+        obj = _squash(_object_of(take[0]))
+        same = [n for n in locate if _squash(re.sub(r"_\d+$", "", _object_of(n))) == obj]
+        others = [n for n in locate if n not in same]
+        dest = _guided(instruction, others, _object_of)[0] if others else locate[0]
+        drop = _guided(_object_of(dest), _guided(instruction, put, _object_of), _object_of)[0]
+        return [(place, take[0], dest, drop) for place in same or locate]
+
+
+def _object_of(name: str) -> str:
+    """What an action acts on: the words after its kind (``"Mug_2"`` of ``"find a Mug_2"``)."""
+    kind = _kind(name)
+    return name[len(kind):] if kind else name
 
 
 _WORD = re.compile(r"[a-z]+")
@@ -256,16 +306,19 @@ def _squash(text: str) -> str:
     return "".join(_WORD.findall(text.lower()))
 
 
-def _guided(instruction: str, objects: list[str]) -> list[str]:
-    """``objects`` with those whose words occur in ``instruction`` first (more shared words first, then list
-    order); a CamelCase name counts when its letters occur in the instruction's letters (``SideTable``)."""
+def _guided(instruction: str, objects: list[str], key: Any = None) -> list[str]:
+    """``objects`` by how much of ``instruction`` their names cover (list order among equals): the letters of a
+    name found whole in the instruction's letters (``SideTable`` in "the side table"), else the letters of its
+    words found among the instruction's words. ``key`` maps an item to the name scored (default: itself)."""
     words = set(_WORD.findall(instruction.lower()))
     squashed = _squash(instruction)
 
-    def score(obj: str) -> int:
-        ws = [w for w in _WORD.findall(re.sub(r"_\d+$", "", obj).lower()) if len(w) > 2 and w != "the"]
-        name = _squash(re.sub(r"_\d+$", "", obj))
-        return sum(w in words for w in ws) + (2 if len(name) > 2 and name in squashed else 0)
+    def score(item: str) -> int:
+        name = re.sub(r"_\d+$", "", key(item) if key else item)
+        whole = _squash(name)
+        if len(whole) > 2 and whole in squashed:
+            return len(whole)
+        return sum(len(w) for w in _WORD.findall(name.lower()) if len(w) > 2 and w != "the" and w in words)
 
     return sorted(objects, key=lambda o: -score(o))
 
@@ -283,12 +336,13 @@ def _kind(name: str) -> str:
     return " ".join(parts[:2]) + " " if len(parts) > 2 else ""
 
 
-def feedback_policies(ranked: list[str]) -> list[ReactivePolicy | CandidateSearch]:
+def feedback_policies(ranked: list[str]) -> list[ReactivePolicy | CandidateSearch | FetchSearch]:
     """The policies of ``feedback_policies`` for a discrete action list (names by frequency): movement worlds
     (a forward action and turns or side-steps) get walk-forward policies that turn or side-step after a failed
-    move; skill worlds (kinds of action with several objects each) get candidate searches over their four most
-    frequent kinds, alone and in ordered pairs."""
-    out: list[ReactivePolicy | CandidateSearch] = []
+    move; skill worlds (kinds of action with several objects each) get the fetch (:class:`FetchSearch`, when they
+    have go-to, pick-up and put actions) and candidate searches over their four most frequent kinds, alone and in
+    ordered pairs."""
+    out: list[ReactivePolicy | CandidateSearch | FetchSearch] = []
     forwards = [a for a in ranked if _FORWARD.search(a)]
     turns = [a for a in ranked if _TURN.search(a) and _SIDES.search(a)]
     steps = [a for a in ranked if _SIDESTEP.search(a) and _SIDES.search(a) and not _TURN.search(a)]
@@ -300,6 +354,8 @@ def feedback_policies(ranked: list[str]) -> list[ReactivePolicy | CandidateSearc
         return out
     kinds = Counter(_kind(a) for a in ranked if _kind(a))
     top = [k for k, n in kinds.most_common() if n >= 2][:4]
+    if FetchSearch.chunks(ranked, ""):
+        out.append(FetchSearch())
     out += [CandidateSearch(f"'{k.strip()} ...' on each candidate, next after a failure", (k,)) for k in top]
     out += [CandidateSearch(f"'{a.strip()} X' then '{b.strip()} X' for each candidate X, next after a failure",
                             (a, b)) for a in top for b in top if a != b]
@@ -318,5 +374,6 @@ def probe_feedback_policies(setup: AuditSetup) -> ProbeResult:
                            threshold="<= 5 % success per subset, every policy")
     rows, failing, worst = _policy_table(setup, tasks, policies)
     kinds = Counter("turn or side-step after a failure" if isinstance(p, ReactivePolicy) else
+                    "fetch, next place after a failure" if isinstance(p, FetchSearch) else
                     "next candidate after a failure" for p in policies)
     return _policy_result("feedback_policies", policies, kinds, rows, failing, worst, per_subset=True)

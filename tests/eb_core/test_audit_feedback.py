@@ -197,3 +197,21 @@ def test_env_spec_names_its_audit_probes_as_module_function():
         assert "package.module:function" in str(exc)
     else:
         raise AssertionError("a probe entry point without ':' must be refused")
+
+
+def test_the_fetch_searches_the_places_for_the_instructions_object_and_brings_it_to_its_place():
+    from eb_core.audit import FetchSearch
+
+    names = ["find a Vase", "find a Vase_2", "find a Table", "find a SideTable", "pick up the Vase",
+             "pick up the Apple", "put down the object in hand"]
+    assert FetchSearch.chunks(names, "Take a vase and leave it on the side table.") == [
+        ("find a Vase", "pick up the Vase", "find a SideTable", "put down the object in hand"),
+        ("find a Vase_2", "pick up the Vase", "find a SideTable", "put down the object in hand")]
+    rooms = ["navigate to the left counter", "navigate to the dining table", "pick up the apple", "pick up the plum",
+             "place it on the left counter", "place it on the dining table"]
+    chunks = FetchSearch.chunks(rooms, "I would like the plum on the dining table.")
+    assert [c[0] for c in chunks] == ["navigate to the left counter", "navigate to the dining table"]
+    assert {c[1:] for c in chunks} == {("pick up the plum", "navigate to the dining table",
+                                        "place it on the dining table")}
+    assert FetchSearch.chunks(list(MOVES), "Walk to the sofa.") == []  # no pick-up or put actions
+    assert any(isinstance(p, FetchSearch) for p in feedback_policies(rooms))
