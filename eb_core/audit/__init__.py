@@ -33,7 +33,15 @@ from eb_core.audit.blind import (
     probe_feedback_policies,
 )
 from eb_core.audit.command import AUDIT_USAGE, cmd_audit
-from eb_core.audit.contract import AuditProbe, BlindPolicy, EpisodeOutcome, FeedbackPolicy, Policy, ProbeResult
+from eb_core.audit.contract import (
+    AuditProbe,
+    BlindPolicy,
+    EpisodeOutcome,
+    FeedbackPolicy,
+    NamedPolicy,
+    Policy,
+    ProbeResult,
+)
 from eb_core.audit.expert import P50_WARN, RISE_Z, probe_closed_loop, probe_noise_curve
 from eb_core.audit.forms import PARALLEL_ALPHA, PARALLEL_NOISE, find_form_generator, probe_parallel_forms
 from eb_core.audit.instructions import (
@@ -63,6 +71,7 @@ __all__ = [
     "FeedbackPolicy",
     "MAX_LISTED",
     "NOISE_LEVELS",
+    "NamedPolicy",
     "P50_WARN",
     "PARALLEL_ALPHA",
     "PARALLEL_NOISE",

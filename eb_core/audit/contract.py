@@ -11,13 +11,13 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 from pydantic import BaseModel, ConfigDict, Field
 
 from eb_core.env import Action, DiscreteActionSpace, Env, StepResult, Task
 
-__all__ = ["AuditProbe", "BlindPolicy", "EpisodeOutcome", "FeedbackPolicy", "Policy", "ProbeResult"]
+__all__ = ["AuditProbe", "BlindPolicy", "EpisodeOutcome", "FeedbackPolicy", "NamedPolicy", "Policy", "ProbeResult"]
 
 
 class ProbeResult(BaseModel):
@@ -83,6 +83,15 @@ class FeedbackPolicy(ABC):
     @abstractmethod
     def observe(self, result: StepResult) -> None:
         """The env's answer to the last action."""
+
+
+class NamedPolicy(Protocol):
+    """A policy the blind probes play: a name for the table, and a fresh player per episode (given the task, so a
+    policy may read the instruction)."""
+
+    name: str
+
+    def policy(self, task: Task | None = None) -> Policy | FeedbackPolicy: ...
 
 
 @dataclass(frozen=True)

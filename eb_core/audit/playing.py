@@ -6,14 +6,11 @@ from __future__ import annotations
 import random
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from eb_core.audit.contract import BlindPolicy, EpisodeOutcome, FeedbackPolicy, Policy
+from eb_core.audit.contract import EpisodeOutcome, FeedbackPolicy, NamedPolicy, Policy
 from eb_core.audit.setup import AuditSetup, _reset_seed, random_action
 from eb_core.env import Action, Env, Task
-
-if TYPE_CHECKING:
-    from eb_core.audit.blind import ReactivePolicy
 
 __all__ = ["play", "play_jobs", "noisy_expert_episode"]
 
@@ -68,7 +65,7 @@ class _Job:
     """One episode to play: a blind policy, or the noisy expert at ``noise`` (repeat ``repeat``)."""
 
     task: Task
-    policy: "BlindPolicy | ReactivePolicy | None" = None
+    policy: NamedPolicy | None = None
     noise: float = 0.0
     repeat: int = 0
     params: str = ""
