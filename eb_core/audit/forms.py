@@ -36,11 +36,18 @@ def find_form_generator(generator: Callable[..., Any] | None) -> Callable[..., A
 
 
 def _write_fresh_form(setup: AuditSetup, workdir: Path) -> tuple[str, str, bool]:
-    """Generate a fresh form in ``workdir``: (its path, how it was made, whether it is a per-subset sample)."""
+    """Generate a fresh form in ``workdir``: (its path, how it was made, whether it is a per-subset sample).
+
+    Another task set than ``classic`` is drawn at its difficulty: by the world's ``audit_form`` when it takes
+    ``difficulty``, else by its whole task generator when that does; when neither does, the default draw (the
+    value says so: such a comparison tells little)."""
     if setup.generator is None and setup.form_generator is None:
         raise LookupError("the world registers no task generator")
     src = workdir / "parallel"
     sample = setup.form_generator is not None
+    if (sample and setup.taskset != "classic" and not _difficulty(setup.form_generator, setup.taskset)
+            and _difficulty(setup.generator, setup.taskset)):
+        sample = False  # only the whole generator draws at this difficulty
     with contextlib.redirect_stdout(io.StringIO()):
         if sample:
             k = setup.fresh_per_subset()
@@ -53,6 +60,8 @@ def _write_fresh_form(setup: AuditSetup, workdir: Path) -> tuple[str, str, bool]
             how = f"generated with seed={setup.parallel_seed}"
         if more:
             how += f", difficulty={more['difficulty']}"
+        elif setup.taskset != "classic":
+            how += f", at the generator's default difficulty (it takes no difficulty={setup.taskset})"
     if src.is_file():
         src = src.rename(workdir / "parallel.json")
     return str(src), how, sample

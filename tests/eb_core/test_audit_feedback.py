@@ -177,7 +177,16 @@ def test_an_audit_of_another_task_set_draws_its_fresh_form_at_that_difficulty(tm
 
     calls.clear()
     res = probe_parallel_forms(yard_setup(tmp_path, classic + hard, taskset="hard", form_generator=old_form))
-    assert calls == [{"seed": 2718}] and "difficulty" not in res.value
+    assert calls == [{"seed": 2718}] and "at the generator's default difficulty" in res.value
+
+    def generate(out: str, seed: int, difficulty: str = "classic") -> None:  # the whole set, at a difficulty
+        calls.append({"whole": seed, "difficulty": difficulty})
+        Path(out).write_text(json.dumps(yard_tasks([[4, 3], [3, 4], [3, 3]], wall=[], taskset=difficulty)))
+
+    calls.clear()
+    res = probe_parallel_forms(yard_setup(tmp_path, classic + hard, taskset="hard", form_generator=old_form,
+                                          generator=generate))
+    assert calls == [{"whole": 2718, "difficulty": "hard"}] and "difficulty=hard" in res.value
 
 
 def test_skipped_probes_are_counted_apart(tmp_path):
