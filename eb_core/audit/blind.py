@@ -366,11 +366,11 @@ def probe_feedback_policies(setup: AuditSetup) -> ProbeResult:
     tasks = setup.sampled_tasks()
     spaces = _spaces(setup, tasks)
     ranked = _ranked_actions(spaces, random.Random(f"eb-audit-feedback:{setup.seed}"))
-    policies = feedback_policies(ranked) if isinstance(next(iter(spaces.values()), None), DiscreteActionSpace) \
-        else []
+    discrete = isinstance(next(iter(spaces.values()), None), DiscreteActionSpace)
+    policies = feedback_policies(ranked) if discrete else []
     if not policies:
-        return ProbeResult(name="feedback_policies", passed=True, skipped=True,
-                           value="n/a (no forward move and no kinds of action with several objects)",
+        why = "no forward move and no kinds of action with several objects" if discrete else "actions are vectors"
+        return ProbeResult(name="feedback_policies", passed=True, skipped=True, value=f"n/a ({why})",
                            threshold="<= 5 % success per subset, every policy")
     rows, failing, worst = _policy_table(setup, tasks, policies)
     kinds = Counter("turn or side-step after a failure" if isinstance(p, ReactivePolicy) else
