@@ -1,7 +1,8 @@
 """What a world's audit code implements and returns: probes, their results and named blind policies.
 
-World plugins import only this module (``from eb_core.audit.contract import AuditProbe, ProbeResult``); it
-pulls in nothing but pydantic and :mod:`eb_core.env`. A world registers its probes on its ``EnvSpec``
+World plugins import their names from this module (``from eb_core.audit.contract import AuditProbe,
+ProbeResult``), which depends on :mod:`eb_core.env` alone, so no world module and no probe module of the core
+import each other. A world registers its probes on its ``EnvSpec``
 (``audit_probes="package.module:function"``, a function returning ``list[AuditProbe]``) and may name blind
 policies of its own through :meth:`eb_core.env.Env.audit_blind_policies`.
 """
