@@ -16,6 +16,7 @@ Two numbers per run:
 Usage::
 
     python benchmarks/concurrency.py [--episodes 32] [--latency 2.0] [--workers 1,8,32]
+    python benchmarks/concurrency.py --quick   # a few seconds (what tests/benchmarks runs)
 
 The module is also the benchmark's env plugin (a one-action world), registered directly with the
 runner; worker processes import it by name, so it must stay importable as ``concurrency``.
@@ -107,7 +108,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--latency", type=float, default=2.0, help="seconds the stub server takes per answer")
     ap.add_argument("--workers", default="1,8,32", help="comma-separated worker counts; 1 (serial) comes first")
     ap.add_argument("--verbose", action="store_true", help="also print when the first request came and the last ended")
+    ap.add_argument("--quick", action="store_true", help="a few seconds: 4 episodes, 0.2 s latency, workers 1,2 "
+                    "(checks that the benchmark runs; its figures mean little)")
     args = ap.parse_args(argv)
+    if args.quick:
+        args.episodes, args.latency, args.workers = 4, 0.2, "1,2"
     counts = [int(w) for w in args.workers.split(",")]
     if counts[0] != 1:
         counts = [1] + counts

@@ -3,6 +3,7 @@
 
     python benchmarks/env_step.py [--n 30] [--envs navigation,habitat,alfred,manipulation]
     python benchmarks/env_step.py --resets [--n 12]     # reset time per world, rendered (goal: median <= 0.25 s)
+    python benchmarks/env_step.py --quick               # a few seconds (what tests/benchmarks runs)
 
 Each env is measured in its own fresh process (so peak RSS is that env's), by the plugin's own
 ``<package>.bench.step_times(n)``; ratios are computed within one process run, so machine load cancels out.
@@ -67,7 +68,7 @@ def measure_resets(env: str, n: int, resolution: int = 500) -> dict:
     for line in out.stdout.splitlines():
         if line.startswith("RESULT "):
             return json.loads(line[7:])
-    raise RuntimeError(f"{env}: reset benchmark failed: {(out.stderr or out.stdout).strip().splitlines()[-1:]}")
+    raise RuntimeError(f"{env}: reset benchmark failed: {_last_error(out.stderr or out.stdout)}")
 
 
 def reset_table(envs: list[str], n: int) -> None:
@@ -95,16 +96,27 @@ def measure(env: str, n: int) -> dict:
     for line in out.stdout.splitlines():
         if line.startswith("RESULT "):
             return json.loads(line[7:])
-    raise RuntimeError(f"{env}: benchmark failed: {(out.stderr or out.stdout).strip().splitlines()[-1:]}")
+    raise RuntimeError(f"{env}: benchmark failed: {_last_error(out.stderr or out.stdout)}")
 
 
-def main() -> int:
+def _last_error(text: str) -> str:
+    """The child's own error line: the last line before any "Exception ignored in" report of a destructor that
+    ran at exit (which would otherwise hide the error that stopped the child)."""
+    head = text.split("Exception ignored in")[0].strip() or text.strip()
+    return head.splitlines()[-1] if head else "no output"
+
+
+def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=None, help="steps per world (default 30); with --resets: resets "
                     "per kind (default 12)")
     ap.add_argument("--envs", default=",".join(PACKAGES))
     ap.add_argument("--resets", action="store_true", help="time env.reset (test, train, same task again) instead")
-    args = ap.parse_args()
+    ap.add_argument("--quick", action="store_true", help="a few seconds: 3 steps of navigation only (checks that "
+                    "the benchmark runs; its figures mean little)")
+    args = ap.parse_args(argv)
+    if args.quick:
+        args.n, args.envs = args.n or 3, "navigation" if args.envs == ",".join(PACKAGES) else args.envs
     if args.resets:
         reset_table(args.envs.split(","), args.n or 12)
         return 0

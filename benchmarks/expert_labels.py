@@ -12,6 +12,7 @@ or ``--model oracle``.
 Usage::
 
     python benchmarks/expert_labels.py [--env habitat] [--limit 10] [--model random] [--render true|false] [--repeats 2]
+    python benchmarks/expert_labels.py --quick   # a few seconds (what tests/benchmarks runs)
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ def _play(overrides: list[str], run_dir: Path) -> tuple[float, list[dict]]:
     return wall, actions
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--env", default="habitat")
     ap.add_argument("--limit", type=int, default=10)
@@ -48,7 +49,11 @@ def main() -> None:
     ap.add_argument("--render", default=None, choices=["true", "false"],
                     help="env.params.render, for the worlds that have it (default: the world's own)")
     ap.add_argument("--repeats", type=int, default=2)
-    a = ap.parse_args()
+    ap.add_argument("--quick", action="store_true", help="a few seconds: 1 episode, 1 repeat, no rendering (checks that the "
+                    "benchmark runs; its figures mean little)")
+    a = ap.parse_args(argv)
+    if a.quick:
+        a.limit, a.repeats, a.render = 1, 1, a.render or "false"
     base = [f"env={a.env}", f"model={a.model}", f"limit={a.limit}", "runner.quiet=true",
             "runner.save_images=false"] + ([f"env.params.render={a.render}"] if a.render else [])
     walls: dict[bool, list[float]] = {False: [], True: []}

@@ -3,6 +3,7 @@
     python benchmarks/gym_throughput.py [--worlds navigation,habitat,manipulation,alfred] [--sizes 1,8,32,128]
                                         [--workers 2] [--steps 10] [--max-env-steps 640] [--resets 10]
                                         [--resolution 500] [--private-gl] [--json out.json]
+    python benchmarks/gym_throughput.py --quick   # a few seconds (what tests/benchmarks runs)
 
 Raw mode with rendering on (every step renders the world's first-person image unless it changed nothing the
 renderer reads). For each world, in this process with one env:
@@ -195,7 +196,12 @@ def main(argv: list[str] | None = None) -> None:
                     help="every env its own GL state (EB_SCENEKIT_PRIVATE_GL=1) instead of one pooled renderer per "
                          "worker process: more memory, no model switch between the envs a worker steps in turn")
     ap.add_argument("--json", default=None, help="write the results to this file")
+    ap.add_argument("--quick", action="store_true", help="a few seconds: navigation, sizes 1 and 2 on one worker, "
+                    "2 steps, 1 reset, 64 px (checks that the benchmark runs; its figures mean little)")
     args = ap.parse_args(argv)
+    if args.quick:
+        args.worlds, args.sizes, args.workers, args.steps, args.resets, args.resolution = \
+            "navigation", "1,2", 1, 2, 1, 64
     if args.private_gl:
         os.environ["EB_SCENEKIT_PRIVATE_GL"] = "1"  # the workers take this process's environment
     sizes = [int(s) for s in args.sizes.split(",") if s.strip()]

@@ -25,6 +25,7 @@ Usage::
                                   [--plan fixed|expert]
     python benchmarks/inflight.py --world-memory 16   # MB per rendered env in each world (one GL pool)
     python benchmarks/inflight.py --step-cpu 10       # CPU seconds per env step and reset in each world
+    python benchmarks/inflight.py --quick             # a few seconds (what tests/benchmarks runs)
 """
 
 from __future__ import annotations
@@ -271,7 +272,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--world-memory", type=int, default=0, metavar="N",
                     help="instead: memory per rendered env in every world (N envs in one process), then exit")
     ap.add_argument("--world-memory-one", default="", help=argparse.SUPPRESS)
+    ap.add_argument("--quick", action="store_true", help="a few seconds: 2 episodes in flight on 1 worker, 0.1 s "
+                    "latency, no rendering (checks that the benchmark runs; its figures mean little)")
     args = ap.parse_args(argv)
+    if args.quick:
+        args.inflight, args.workers, args.latency, args.no_render = "2", 1, 0.1, True
     if args.world_memory_one:
         _world_memory_one(args.world_memory_one)
         return 0

@@ -2,6 +2,7 @@
 a zero-latency model (the oracle backend) vs a raw loop that drives the env with the same expert actions.
 
     python benchmarks/overhead.py [--env navigation] [--limit 20] [--no-images]
+    python benchmarks/overhead.py --quick   # a few seconds (what tests/benchmarks runs)
 
 Prints both times, their ratio (goal <= 1.10) and the peak RSS of this process. Both loops run in this one
 process, back to back, so machine noise affects them alike; run it twice if the machine is busy.
@@ -52,19 +53,25 @@ def raw_loop(cfg, env_cls, tasks) -> tuple[float, int]:
     return elapsed, steps
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--env", default="navigation")
     ap.add_argument("--limit", type=int, default=20)
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--no-images", action="store_true", help="do not save step PNGs in the pipeline run")
-    args = ap.parse_args()
+    ap.add_argument("--quick", action="store_true", help="a few seconds: 1 episode at 64 px, once (checks that the "
+                    "benchmark runs; its figures mean little)")
+    args = ap.parse_args(argv)
+    if args.quick:
+        args.limit, args.repeat = 1, 1
 
     registry = Registry.create()
     cfg_dict = _env_config(registry, args.env)
     cfg_dict["limit"] = args.limit
     cfg_dict["runner"]["quiet"] = True
     cfg_dict["runner"]["save_images"] = not args.no_images
+    if args.quick:
+        cfg_dict["env"]["resolution"] = 64
     cfg = validate_config(cfg_dict)
     env_cls = registry.get("env", cfg.env.name).load()
     tasks = select_tasks(env_cls.load_tasks(**cfg.env.params), cfg)

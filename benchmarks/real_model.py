@@ -14,6 +14,7 @@ Needs the ``[local]`` extra (``pip install -r requirements-test.txt``). Usage::
 
     python benchmarks/real_model.py [--episodes 2] [--max-steps 3] [--modes auto,json_schema,...]
         [--max-tokens 256 --max-plan-length 3]   # the integration test's settings
+    python benchmarks/real_model.py --quick      # 1 episode of 1 step, one mode (what tests/benchmarks runs)
 """
 
 from __future__ import annotations
@@ -84,7 +85,7 @@ def eb_run(model_args: list[str], run_dir: Path, episodes: int, max_steps: int,
             "success": sum(1 for e in eps if e.get("success")), "wall_s": wall}
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--episodes", type=int, default=2)
     ap.add_argument("--max-steps", type=int, default=3)
@@ -93,7 +94,12 @@ def main() -> None:
     ap.add_argument("--max-plan-length", type=int, default=None,
                     help="planner.max_plan_length (default 20; the integration test uses 3 with --max-tokens 256)")
     ap.add_argument("--no-inprocess", action="store_true")
-    a = ap.parse_args()
+    ap.add_argument("--quick", action="store_true", help="1 episode of 1 step, the first mode only, no in-process "
+                    "run (checks that the benchmark runs; its figures mean little)")
+    a = ap.parse_args(argv)
+    if a.quick:
+        a.episodes, a.max_steps, a.modes, a.no_inprocess = 1, 1, MODES[0], True
+        a.max_tokens, a.max_plan_length = a.max_tokens or 256, a.max_plan_length or 3
 
     from eb_models.llamacpp_backend import find_packaged_gguf
 

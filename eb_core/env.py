@@ -345,7 +345,16 @@ class Env(ABC):
 
     @classmethod
     def audit_probes(cls) -> list[Any]:
-        """World-specific shortcut probes for ``eb audit`` (:class:`eb_core.audit.AuditProbe` objects)."""
+        """World-specific shortcut probes for ``eb audit`` (:class:`eb_core.audit.contract.AuditProbe` objects).
+
+        Worlds name theirs on their ``EnvSpec`` instead (``audit_probes="module:function"``), which the audit
+        prefers; this class-level hook stays for plugins written before that field."""
+        return []
+
+    @classmethod
+    def audit_blind_policies(cls) -> list[Any]:
+        """Named blind policies for ``eb audit``'s ``blind_policies`` probe, beside the generic ones
+        (:class:`eb_core.audit.contract.BlindPolicy` objects, e.g. a keypad's factory code). Default: none."""
         return []
 
     #: Generated task splits besides ``test`` (the shipped tasks) that :meth:`split_tasks` serves.

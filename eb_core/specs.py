@@ -82,6 +82,18 @@ class EnvSpec(ComponentSpec):
     :meth:`eb_core.env.Env.load_tasks` (and ``split_tasks``) as the keyword ``taskset``."""
     task_generator: str | None = None
     """Optional ``"module:function"`` behind ``eb tasks generate env=<name> key=value...``."""
+    audit_probes: str | None = None
+    """Optional ``"module:function"`` returning the world's own ``eb audit`` probes
+    (``list[eb_core.audit.contract.AuditProbe]``), imported only when an audit runs."""
+
+    @field_validator("task_generator", "audit_probes")
+    @classmethod
+    def _function_form(cls, value: str | None) -> str | None:
+        if value is not None:
+            module, sep, attr = value.partition(":")
+            if not module or not sep or not attr:
+                raise ValueError(f"must look like 'package.module:function', got {value!r}")
+        return value
 
 
 class ModelBackendSpec(ComponentSpec):

@@ -8,7 +8,9 @@ repeats together. ``docs/statistics.md`` explains the choices:
 * success rate, one repeat: the Wilson score interval (binomial outcomes, close to exact coverage);
 * everything else (subgoal rates, success with repeats): percentile cluster bootstrap over tasks;
 * paired comparison of two runs on the same tasks: McNemar's exact test with one repeat each,
-  otherwise a paired bootstrap over tasks; the interval of the difference is a paired bootstrap.
+  otherwise a paired bootstrap over tasks; the interval of the difference is a paired bootstrap;
+* task-set audits (``eb audit``, ``docs/audit.md``): the noise curve's p50 and rise test, and the parallel-forms
+  permutation test with the difference it can detect.
 
 Every bootstrap uses a fixed seed, so the same files always give the same numbers.
 """
@@ -28,12 +30,16 @@ __all__ = [
     "bootstrap_weights",
     "cluster_bootstrap_interval",
     "describe_interval",
+    "detectable_difference",
     "mcnemar_exact",
     "min_detectable_difference",
     "outcome_matrix",
+    "p50",
     "paired_comparison",
+    "permutation_p_value",
     "rate_interval",
     "repeat_sd",
+    "rise_z",
     "wilson_interval",
 ]
 
@@ -243,4 +249,66 @@ def describe_interval(block: dict[str, Any], key: str) -> str:
     if ci.get("ci_low") is not None:
         text += f" [{100 * ci['ci_low']:.1f}, {100 * ci['ci_high']:.1f}]"
     return text
+
+
+# -- task-set audits (``eb audit``) --------------------------------------------------------------------------
+
+
+def p50(curve: Sequence[tuple[float, float]]) -> float | None:
+    """Noise level where success first falls to 50 % (linear between grid points); None if it never does."""
+    prev_p, prev_s = curve[0]
+    if prev_s <= 0.5:
+        return prev_p
+    for p, s in curve[1:]:
+        if s <= 0.5:
+            return prev_p + (p - prev_p) * (prev_s - 0.5) / (prev_s - s)
+        prev_p, prev_s = p, s
+    return None
+
+
+def rise_z(lo: tuple[int, int], hi: tuple[int, int]) -> float:
+    """One-sided two-proportion z statistic for success rising from ``lo`` to ``hi`` ((successes, n) pairs)."""
+    (s1, n1), (s2, n2) = lo, hi
+    pooled = (s1 + s2) / (n1 + n2)
+    var = pooled * (1 - pooled) * (1 / n1 + 1 / n2)
+    if var == 0:
+        return 0.0
+    return (s2 / n2 - s1 / n1) / math.sqrt(var)
+
+
+def permutation_p_value(a: Sequence[float], b: Sequence[float], *, permutations: int = 20000,
+                        seed: int = 0) -> float:
+    """Two-sided permutation test on the difference of means of two samples of task scores.
+
+    Tasks are the sampling units: under the null hypothesis both forms draw tasks from one population, so
+    shuffling the form labels gives the difference that task sampling alone explains.
+    """
+    x = np.asarray(list(a) + list(b), dtype=float)
+    n = len(a)
+    if n == 0 or len(b) == 0:
+        return 1.0
+    observed = abs(x[:n].mean() - x[n:].mean())
+    rng = np.random.default_rng(seed)
+    hits = 0
+    done = 0
+    while done < permutations:
+        k = min(2000, permutations - done)
+        idx = np.argsort(rng.random((k, len(x))), axis=1)
+        perm = x[idx]
+        diff = np.abs(perm[:, :n].mean(axis=1) - perm[:, n:].mean(axis=1))
+        hits += int((diff >= observed - 1e-12).sum())
+        done += k
+    return (hits + 1) / (permutations + 1)
+
+
+
+def detectable_difference(a: Sequence[float], b: Sequence[float], alpha: float = 0.01,
+                          power: float = 0.8) -> float:
+    """The difference of means the two-sided test at ``alpha`` finds with probability ``power``, for samples the
+    size and spread of ``a`` and ``b`` (normal approximation: (z_{1-alpha/2} + z_power) * standard error)."""
+    from statistics import NormalDist
+
+    z = NormalDist().inv_cdf(1 - alpha / 2) + NormalDist().inv_cdf(power)
+    var = sum(float(np.var(x, ddof=1)) / len(x) if len(x) > 1 else 0.25 / max(len(x), 1) for x in (a, b))
+    return z * math.sqrt(var)
 

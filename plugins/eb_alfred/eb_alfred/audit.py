@@ -268,7 +268,7 @@ def _needs_image(task: Any) -> bool:
 
 
 def _result(name: str, failing: dict[str, str], checked: int, threshold: str) -> Any:
-    from eb_core.audit import ProbeResult
+    from eb_core.audit.contract import ProbeResult
 
     return ProbeResult(name=name, passed=not failing, value=f"{len(failing)} of {checked} tasks fail",
                        threshold=threshold, failing_tasks=sorted(failing),
@@ -329,7 +329,7 @@ def _render_probe(name: str) -> Any:
 
 def probes() -> list[Any]:
     """The ALFRED probes for :meth:`AlfredEnv.audit_probes`."""
-    from eb_core.audit import AuditProbe
+    from eb_core.audit.contract import AuditProbe
 
     return [
         AuditProbe("referring_phrase", "A goal that picks one instance among look-alikes must say which one in "

@@ -151,13 +151,6 @@ class AlfredEnv(Env):
         self.expert_reason = None
         return [space.actions.index(a) for a in plan]
 
-    @classmethod
-    def audit_probes(cls) -> list[Any]:
-        """ALFRED's probes: referring phrase present, attributes drawn, targets visible, relations visible."""
-        from eb_alfred.audit import probes
-
-        return probes()
-
     def close(self) -> None:
         if self._renderer is not None:
             self._renderer.close()

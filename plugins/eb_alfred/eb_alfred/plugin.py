@@ -23,6 +23,7 @@ def eb_register_envs() -> list[EnvSpec]:
             description="EB-ALFRED: household tasks with 8 high-level skills over a symbolic AI2-THOR-style world",
             subsets=dict(SUBSETS),
             task_generator="eb_alfred.generate:generate",
+            audit_probes="eb_alfred.audit:probes",
             install_hint="pip install -e plugins/eb_alfred",
         )
     ]

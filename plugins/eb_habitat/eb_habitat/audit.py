@@ -18,7 +18,7 @@ from collections import defaultdict
 from dataclasses import dataclass
 from typing import Any
 
-from eb_core.audit import AuditProbe, ProbeResult
+from eb_core.audit.contract import AuditProbe, ProbeResult
 from eb_core.env import Task
 from eb_habitat.catalog import OBJECT_TYPES, RECEPTACLES, receptacle
 from eb_habitat.goals import Predicate

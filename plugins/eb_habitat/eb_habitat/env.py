@@ -240,13 +240,6 @@ class HabitatEnv(Env):
 
         return split_tasks(split, start, count, task_dir=_params(params).task_dir)
 
-    @classmethod
-    def audit_probes(cls) -> list[Any]:
-        """Habitat's shortcut probes (:mod:`eb_habitat.audit`): word matching on spatial tasks, first branch."""
-        from eb_habitat.audit import probes
-
-        return probes()
-
     def close(self) -> None:
         self._closed = True
         if self._renderer is not None:

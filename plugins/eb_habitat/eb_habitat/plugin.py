@@ -24,6 +24,7 @@ def eb_register_envs() -> list[EnvSpec]:
             "(navigate to receptacles only, pick, place, open, close); 300 tasks in 6 subsets",
             subsets=dict(SUBSETS),
             task_generator="eb_habitat.generate:generate",
+            audit_probes="eb_habitat.audit:probes",
             install_hint="pip install -e plugins/eb_scenekit -e plugins/eb_habitat",
         )
     ]

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from eb_core.audit import AuditProbe, ProbeResult
+from eb_core.audit.contract import AuditProbe, ProbeResult
 from eb_core.env import Task
 
 __all__ = ["BLIND_THRESHOLD", "blind_rule_agent_probe", "BlindRuleAgent", "audit_probes"]

@@ -160,13 +160,6 @@ class ManipulationEnv(Env):
             return None
         return [tuple(a) for a in plan]
 
-    @classmethod
-    def audit_probes(cls) -> list:
-        """The blind rule agent probe (:mod:`eb_manipulation.audit`)."""
-        from eb_manipulation.audit import audit_probes
-
-        return audit_probes()
-
     def close(self) -> None:
         self._release()
         self._closed = True

@@ -15,6 +15,7 @@ def eb_register_envs() -> list[EnvSpec]:
                         "shape sorter, wiping); discrete 7-D gripper poses",
             subsets=dict(SUBSETS),
             task_generator="eb_manipulation.generate:generate",
+            audit_probes="eb_manipulation.audit:audit_probes",
             install_hint="pip install -e plugins/eb_manipulation",
         )
     ]

@@ -17,7 +17,7 @@ from __future__ import annotations
 from collections import defaultdict
 from typing import Any
 
-from eb_core.audit import AuditProbe, ProbeResult
+from eb_core.audit.contract import AuditProbe, ProbeResult
 from eb_core.env import Task
 
 __all__ = ["MAX_RULE_AGENT_RATE", "audit_probes", "target_visible_probe", "text_only_rule_agent_probe"]

@@ -4,7 +4,7 @@ The task generator uses them to reject starts that an agent could solve without 
 probes (:mod:`eb_navigation.audit`) measure them on a whole task file. Everything runs on the lattice of
 :class:`~eb_navigation.geometry.FreeSpace` (no rendering), with the same collision checks as the env.
 
-* **Blind policies** ignore everything: a fixed prefix (none, one or two turns) followed by a fixed action cycle
+* **Blind policies** (the core's :class:`~eb_core.audit.contract.BlindPolicy` over action indices) ignore everything: a fixed prefix (none, one or two turns) followed by a fixed action cycle
   of length 1-4 repeated until the step budget runs out (always forward; turn left once then forward; forward,
   forward, left, ...). Tilting never moves the agent, so actions 6 and 7 are folded into one "wait" action.
   All policies are stepped together with numpy over a transition table of the room's ``(cell, heading)`` states.
@@ -16,14 +16,14 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
+from eb_core.audit.contract import BlindPolicy
 from eb_navigation.geometry import SUCCESS_DISTANCE, AgentState, FreeSpace, _move_delta
 
-__all__ = ["BLIND_POLICIES", "BlindPolicy", "MAX_STEPS", "RULE_AGENTS", "blind_successes", "plan_lengths",
-           "policy_name", "rule_agent_successes"]
+__all__ = ["BLIND_POLICIES", "BlindPolicy", "MAX_STEPS", "RULE_AGENTS", "blind_policy", "blind_successes",
+           "plan_lengths", "policy_name", "rule_agent_successes"]
 
 MAX_STEPS = 20
 """The env's step budget (``max_steps`` in ``conf/env/navigation.yaml``)."""
@@ -34,18 +34,20 @@ _ACTIONS = (0, 1, 2, 3, 4, 5, _WAIT)
 _PREFIXES: tuple[tuple[int, ...], ...] = ((), (4,), (5,), (4, 4))
 
 
-@dataclass(frozen=True)
-class BlindPolicy:
-    """``prefix`` once, then ``cycle`` repeated."""
+_NAMES = {0: "fwd", 1: "back", 2: "right", 3: "left", 4: "turnR", 5: "turnL", _WAIT: "tilt"}
 
-    prefix: tuple[int, ...]
-    cycle: tuple[int, ...]
 
-    def actions(self, n: int = MAX_STEPS) -> list[int]:
-        out = list(self.prefix)
-        while len(out) < n:
-            out.extend(self.cycle)
-        return out[:n]
+def policy_name(p: BlindPolicy) -> str:
+    """``"turnL, then (fwd fwd left)*"``."""
+    return p.name
+
+
+def blind_policy(prefix: tuple[int, ...], cycle: tuple[int, ...]) -> BlindPolicy:
+    """The core's :class:`~eb_core.audit.contract.BlindPolicy` over action indices (6 = a tilt, which neither
+    moves nor turns), named like ``"turnL, then (fwd fwd left)*"``: ``prefix`` once, then ``cycle`` repeated."""
+    cyc = "(" + " ".join(_NAMES[a] for a in cycle) + ")*"
+    name = (" ".join(_NAMES[a] for a in prefix) + ", then " + cyc) if prefix else cyc
+    return BlindPolicy(name, tuple(cycle), tuple(prefix))
 
 
 def _canonical(cycle: tuple[int, ...]) -> bool:
@@ -56,19 +58,12 @@ def _canonical(cycle: tuple[int, ...]) -> bool:
 
 def _policies() -> tuple[BlindPolicy, ...]:
     cycles = [c for n in range(1, 5) for c in itertools.product(_ACTIONS, repeat=n) if _canonical(c)]
-    return tuple(BlindPolicy(p, c) for p in _PREFIXES for c in cycles)
+    return tuple(blind_policy(p, c) for p in _PREFIXES for c in cycles)
 
 
 BLIND_POLICIES: tuple[BlindPolicy, ...] = _policies()
 """Every blind policy the generator and the tests try: 4 prefixes x 2,737 cycles of length <= 4 = 10,948."""
 
-_NAMES = {0: "fwd", 1: "back", 2: "right", 3: "left", 4: "turnR", 5: "turnL", _WAIT: "tilt"}
-
-
-def policy_name(p: BlindPolicy) -> str:
-    """``"turnL, then (fwd fwd left)*"``."""
-    cyc = "(" + " ".join(_NAMES[a] for a in p.cycle) + ")*"
-    return (" ".join(_NAMES[a] for a in p.prefix) + ", then " + cyc) if p.prefix else cyc
 
 
 class _Lattice:
@@ -271,8 +266,8 @@ def blind_table(task_file: str | None = None) -> str:
                 random_wins[task.subset] += 1
                 break
     env.close()
-    fwd = BLIND_POLICIES.index(BlindPolicy((), (0,)))
-    turn_fwd = [BLIND_POLICIES.index(BlindPolicy((t,), (0,))) for t in (4, 5)]
+    fwd = BLIND_POLICIES.index(blind_policy((), (0,)))
+    turn_fwd = [BLIND_POLICIES.index(blind_policy((t,), (0,))) for t in (4, 5)]
     rule_names = list(RULE_AGENTS)
     lines = ["| subset | always forward | turn once, then forward | best of 10,948 blind policies | "
              "best rule agent | random (seed 0) |", "|---|---|---|---|---|---|"]

@@ -266,13 +266,6 @@ class NavigationEnv(Env):
         self.expert_reason = None
         return list(plan)
 
-    @classmethod
-    def audit_probes(cls) -> list[Any]:
-        """Navigation's own shortcut probes (see :mod:`eb_navigation.audit`)."""
-        from eb_navigation.audit import audit_probes
-
-        return audit_probes()
-
     def close(self) -> None:
         if self._world is not None:
             self._world.close()

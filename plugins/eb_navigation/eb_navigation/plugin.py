@@ -23,6 +23,7 @@ def eb_register_envs() -> list[EnvSpec]:
             "low-level moves (step, turn, tilt); 300 tasks in 5 subsets, success within 1 m",
             subsets=dict(SUBSETS),
             task_generator="eb_navigation.generate:generate",
+            audit_probes="eb_navigation.audit:audit_probes",
             install_hint="pip install -e plugins/eb_navigation",
         )
     ]

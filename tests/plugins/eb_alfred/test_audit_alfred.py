@@ -33,8 +33,16 @@ def _first(subset: str, pred) -> Task:
     return next(t for t in _tasks(subset) if pred(t))
 
 
-def test_env_exposes_the_probes() -> None:
-    names = {p.name for p in AlfredEnv.audit_probes()}
+def registered_probes(env: str) -> list:
+    """The world's audit probes as ``eb audit`` finds them: through ``EnvSpec.audit_probes``."""
+    from eb_core.plugins import Registry
+    from eb_core.specs import load_entry_point
+
+    return list(load_entry_point(Registry.create().get("env", env).audit_probes)())
+
+
+def test_the_spec_names_the_probes() -> None:
+    names = {p.name for p in registered_probes("alfred")}
     assert {"referring_phrase", "attribute_rendered", "visible_area", "relation_visible"} <= names
 
 

@@ -27,8 +27,16 @@ def _with(task: Task, **changes) -> Task:
     return Task(**data)
 
 
-def test_env_exposes_the_probes() -> None:
-    probes = HabitatEnv.audit_probes()
+def registered_probes(env: str) -> list:
+    """The world's audit probes as ``eb audit`` finds them: through ``EnvSpec.audit_probes``."""
+    from eb_core.plugins import Registry
+    from eb_core.specs import load_entry_point
+
+    return list(load_entry_point(Registry.create().get("env", env).audit_probes)())
+
+
+def test_the_spec_names_the_probes() -> None:
+    probes = registered_probes("habitat")
     assert [p.name for p in probes] == ["word_matching_spatial", "conditional_first_branch"]
     assert all(isinstance(p, AuditProbe) and p.description for p in probes)
 

@@ -45,8 +45,16 @@ def _easy_start(task: Task) -> Task:
     raise LookupError(task.id)
 
 
-def test_probes_are_offered_by_the_env() -> None:
-    probes = NavigationEnv.audit_probes()
+def registered_probes(env: str) -> list:
+    """The world's audit probes as ``eb audit`` finds them: through ``EnvSpec.audit_probes``."""
+    from eb_core.plugins import Registry
+    from eb_core.specs import load_entry_point
+
+    return list(load_entry_point(Registry.create().get("env", env).audit_probes)())
+
+
+def test_probes_are_named_by_the_spec() -> None:
+    probes = registered_probes("navigation")
     assert [p.name for p in probes] == ["text_only_rule_agent", "target_visible_at_start"]
     assert all(isinstance(p, AuditProbe) and p.description for p in probes)
 

@@ -9,7 +9,7 @@ from eb_scenekit.scene import SceneBuilder
 from eb_navigation.baselines import (
     BLIND_POLICIES,
     RULE_AGENTS,
-    BlindPolicy,
+    blind_policy,
     blind_successes,
     plan_lengths,
     policy_name,
@@ -27,16 +27,16 @@ def _room(*objects: tuple[str, float, float, float], w: float = 5.0, d: float = 
 
 
 def _index(prefix: tuple[int, ...], cycle: tuple[int, ...]) -> int:
-    return BLIND_POLICIES.index(BlindPolicy(prefix, cycle))
+    return BLIND_POLICIES.index(blind_policy(prefix, cycle))
 
 
 def test_policy_set_covers_the_audits_kinds() -> None:
     assert len(BLIND_POLICIES) == len(set(BLIND_POLICIES)) == 10_948
-    assert BlindPolicy((), (0,)) in BLIND_POLICIES and BlindPolicy((5,), (0,)) in BLIND_POLICIES
-    assert BlindPolicy((), (0, 0)) not in BLIND_POLICIES  # a repeat of (0,)
-    assert BlindPolicy((), (0, 0, 3, 2)) in BLIND_POLICIES
-    assert policy_name(BlindPolicy((5,), (0, 0, 3))) == "turnL, then (fwd fwd left)*"
-    assert BlindPolicy((4,), (0, 3)).actions(6) == [4, 0, 3, 0, 3, 0]
+    assert blind_policy((), (0,)) in BLIND_POLICIES and blind_policy((5,), (0,)) in BLIND_POLICIES
+    assert blind_policy((), (0, 0)) not in BLIND_POLICIES  # a repeat of (0,)
+    assert blind_policy((), (0, 0, 3, 2)) in BLIND_POLICIES
+    assert policy_name(blind_policy((5,), (0, 0, 3))) == "turnL, then (fwd fwd left)*"
+    assert blind_policy((4,), (0, 3)).actions(6) == [4, 0, 3, 0, 3, 0]
 
 
 def test_open_floor_straight_ahead_is_solved_blind_and_a_wall_of_furniture_stops_it() -> None:
