@@ -73,3 +73,9 @@ def test_overhead_quick():
 def test_real_model_quick():
     out = quick("real_model.py")
     assert "model:" in out and "server  json_schema" in out
+
+
+@pytest.mark.skipif(importlib.util.find_spec("fastapi") is None, reason="needs the [serve] extra (fastapi, uvicorn)")
+def test_serve_throughput_quick():
+    out = quick("serve_throughput.py")
+    assert "in-process" in out and "over HTTP" in out and "ratio (HTTP / in-process):" in out
