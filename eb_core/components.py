@@ -65,8 +65,9 @@ class Components:
             except (TypeError, ValueError) as exc:
                 raise ConfigError(f"augmenter {aug.name!r}: {exc}") from None
 
-    def load_tasks(self) -> list[Task]:
-        split = self.cfg.split
+    def task_params(self) -> dict[str, Any]:
+        """The keyword arguments of ``Env.load_tasks``/``split_tasks``: ``env.params`` plus ``taskset`` when it is
+        not the classic set (checked against the world's :attr:`~eb_core.specs.EnvSpec.tasksets`)."""
         params = dict(self.cfg.env.params)
         taskset = self.cfg.taskset
         if taskset != "classic":
@@ -74,6 +75,11 @@ class Components:
                 raise ConfigError(f"unknown taskset {taskset!r} for env {self.cfg.env.name!r}; available: "
                                   f"{', '.join(self.env_spec.tasksets)}. Fix: taskset=classic or one of those.")
             params["taskset"] = taskset
+        return params
+
+    def load_tasks(self) -> list[Task]:
+        split = self.cfg.split
+        params = self.task_params()
         if split == "test":
             return self.env_cls.load_tasks(**params)
         if self.cfg.limit is None:

@@ -189,7 +189,7 @@ class EBEnv(gymnasium.Env):
         self.cfg = _compose(world, tuple(overrides))
         self.comps = Components(self.cfg, _registry())
         self.env_cls: type[Env] = self.comps.env_cls
-        params = self.cfg.env.params
+        params = self.comps.task_params()  # env.params, and taskset= when it is not the classic set
         if split == "test":
             self._tasks: Sequence[Task] | None = _test_tasks(world, tuple(overrides), subset, id(_registry()))
         else:
@@ -224,7 +224,7 @@ class EBEnv(gymnasium.Env):
     def task_at(self, index: int) -> Task:
         if self._tasks is not None:
             return self._tasks[index % len(self._tasks)]
-        return self.env_cls.split_tasks(self.split, index, 1, **self.cfg.env.params)[0]
+        return self.env_cls.split_tasks(self.split, index, 1, **self.comps.task_params())[0]
 
     def _task_by_id(self, task_id: str) -> Task:
         if self._tasks is not None:
