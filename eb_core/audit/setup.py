@@ -73,6 +73,10 @@ class AuditSetup:
     rest of the audit -- closed loop, the world's probes, the fresh form's generation -- comes on top)."""
     _cache: dict[Any, Any] = field(default_factory=dict, repr=False)
 
+    def task_file_is_shipped(self) -> bool:
+        """The audit reads the world's shipped tasks (no ``task_file``/``task_dir`` given)."""
+        return not any(self.env_params.get(k) for k in ("task_file", "task_dir"))
+
     def episode_tasks(self) -> list[Task]:
         """The tasks the closed-loop oracle plays: all of them, or the first few per subset under quick."""
         return _spread(self.tasks, self.quick_per_subset) if self.quick else list(self.tasks)
