@@ -163,6 +163,9 @@ def _object_refs(clause: str, table: dict[tuple[str, ...], set[str]], longest: i
     parts = _OBJECT_K.split(clause)
     for k in range(1, len(parts) - 1, 2):
         said = re.split(r"\bobject\b", parts[k + 1], flags=re.IGNORECASE)[0]
+        # only what is said *of* the object ("is a silver cube"), not what stands next to it ("beside the star")
+        said = re.split(r"[,;]|\b(?:and|next|near|on|at|to|beside|behind|left|right|above|below|under|in|into|"
+                        r"with|of|from|than|which|that|while)\b", said, flags=re.IGNORECASE)[0]
         cols = [w for w in words(said) if w in COLOURS or w in ("light", "dark")]
         named = {SHAPES[p] for p in SHAPES if re.search(rf"\b{p}s?\b", said.lower())}
         shape = next(iter(named)) if len(named) == 1 else None

@@ -90,6 +90,9 @@ def test_colour_families_synonyms_and_world_names():
     shape = perception_check("object 1 is a navy star.", [{"name": "object 1", "type": "navy cube"},
                                                           {"name": "object 2", "type": "rose star"}])
     assert shape["hallucinated"] == ["object 1"] and "star" in shape["evidence"][0]["why"]
+    beside = perception_check("object 1 is next to the rose star.", [{"name": "object 1", "type": "navy cube"},
+                                                                    {"name": "object 2", "type": "rose star"}])
+    assert beside["hallucinated"] == []  # the star is what stands beside it, not what it is
 
 
 def test_remembered_denied_and_hedged_objects_are_not_claims():
