@@ -126,9 +126,18 @@ def norm(text: str) -> str:
     return " ".join(singular(w) for w in words(text))
 
 
+#: Colour words that are also things (a mustard bottle, an orange): kept in a type unless a shape follows.
+_THING_COLOURS = {"mustard", "orange", "lime", "olive", "salmon", "chocolate", "cream", "mint", "gold", "copper",
+                  "bronze", "wood", "oak", "walnut", "steel", "metal", "glass", "sky"}
+
+
 def term_of(type_or_name: str) -> str:
-    """An object's term: its type (or name) normalised, colour words dropped (``Red_Cube`` -> ``cube``)."""
-    return " ".join(w for w in norm(type_or_name).split() if w not in COLOURS)
+    """An object's term: its type (or name) normalised, colour words dropped (``Red_Cube`` -> ``cube``), except
+    colour words that name a thing (``mustard bottle``, ``Orange``) unless a shape follows (``lime container``)."""
+    ws = norm(type_or_name).split()
+    shaped = bool(ws) and ws[-1] in SHAPES.values()
+    kept = [w for w in ws if w not in COLOURS or (w in _THING_COLOURS and not shaped)]
+    return " ".join(kept)
 
 
 def colour_families(colour_text: str | None) -> set[str]:

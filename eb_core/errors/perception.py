@@ -128,8 +128,10 @@ def _phrases(known: set[str], visible: Sequence[dict[str, Any]]) -> dict[tuple[s
     for obj in visible:
         t = term_of(obj.get("type") or obj.get("name") or "")
         for alias in obj.get("aliases") or ():
-            add(alias, [t])
-            alias_words = norm(alias).split()
+            alias_words = [w for w in norm(alias).split() if w not in COLOURS and w not in ("a", "an", "the")]
+            if not alias_words or len(alias_words) > 4:
+                continue  # a whole sentence is no name
+            add(" ".join(alias_words), [t])
             if len(alias_words) > 1 and alias_words[-1] not in GENERIC:
                 add(alias_words[-1], [t])
     for phrase, targets in SYNONYMS.items():
@@ -143,9 +145,14 @@ def _clause_mentions(clause: str, table: dict[tuple[str, ...], set[str]], longes
     out: list[_Mention] = []
     i = 0
     last_end = 0
+    def starts_phrase(j: int) -> bool:
+        return any(tuple(sing[j:j + n]) in table for n in range(1, min(longest, len(sing) - j) + 1))
+
     while i < len(sing):
         for n in range(min(longest, len(sing) - i), 0, -1):
             key = tuple(sing[i:i + n])
+            if n == 1 and raw[i] in COLOURS and i + 1 < len(sing) and starts_phrase(i + 1):
+                continue  # "an orange bowl": the colour of the bowl, not an orange
             if key in table:
                 cols = [w for w in raw[max(last_end, i - 3):i] if w in COLOURS or w in ("light", "dark")]
                 out.append(_Mention(" ".join(raw[i:i + n]), set(table[key]), cols, start=i))

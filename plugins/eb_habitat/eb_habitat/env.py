@@ -7,6 +7,7 @@ text-only observations without importing MuJoCo, for fast oracle and logic check
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from pydantic import BaseModel, ConfigDict, ValidationError
@@ -22,11 +23,11 @@ from eb_core.env import (
     Task,
 )
 from eb_habitat import prompts
+from eb_habitat.catalog import object_type
 from eb_habitat.goals import GoalTracker, Predicate
 from eb_habitat.oracle import OracleError, expert_plan
 from eb_habitat.skills import SKILL_NAMES, SKILLS
 from eb_habitat.tasks import TaskSpec, load_tasks, spec_of
-from eb_habitat.catalog import object_type
 from eb_habitat.world import Item, World, item_label
 
 __all__ = ["HabitatEnv", "HabitatParams"]
@@ -254,5 +255,5 @@ def _in_view(item: Item) -> dict[str, Any]:
     """One item the first-person segmentation shows, with its colour and the names a person may use for it (for
     error analysis: "yellow squeeze bottle" for the mustard bottle)."""
     t = object_type(item.type)
-    return {"name": item.name, "type": t.name, "colour": item.color,
-            "aliases": [*t.aliases, t.looks.format(color=item.color)]}
+    looks = re.split(r",| with | whose | narrow ", t.looks.format(color=item.color))[0]  # "a yellow squeeze bottle"
+    return {"name": item.name, "type": t.name, "colour": item.color, "aliases": [*t.aliases, looks]}
