@@ -90,6 +90,14 @@ def test_colour_families_synonyms_and_world_names():
     shape = perception_check("object 1 is a navy star.", [{"name": "object 1", "type": "navy cube"},
                                                           {"name": "object 2", "type": "rose star"}])
     assert shape["hallucinated"] == ["object 1"] and "star" in shape["evidence"][0]["why"]
+    # world names: the mustard bottle is "a yellow squeeze bottle"; "an orange bowl" names a bowl, not an orange
+    mustard = [{"name": "mustard_bottle_1", "type": "mustard bottle", "colour": "yellow",
+                "aliases": ["a yellow squeeze bottle"]}, {"name": "Bowl_1", "type": "Bowl", "colours": ["orange"],
+                                                          "pixels": 500}]
+    p = perception_check("A yellow squeeze bottle and an orange bowl.", mustard, vocabulary=["Orange"])
+    assert p["correct"] == ["bowl", "mustard bottle"] and p["hallucinated"] == []
+    p = perception_check("A red squeeze bottle.", mustard)
+    assert p["hallucinated"] == ["mustard bottle"]
     beside = perception_check("object 1 is next to the rose star.", [{"name": "object 1", "type": "navy cube"},
                                                                     {"name": "object 2", "type": "rose star"}])
     assert beside["hallucinated"] == []  # the star is what stands beside it, not what it is
