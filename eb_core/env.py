@@ -88,6 +88,13 @@ class Observation(BaseModel):
     """Per-object metadata (names, boxes, positions) that augmenters can draw."""
     extra_prompt: str | None = None
     """Text the env adds to every prompt for this observation (manipulation's object coordinates)."""
+    visible_objects: list[dict[str, Any]] | None = None
+    """What the primary image shows, from segmentation pixels (partial objects at the edge included): one dict
+    per object with ``name``, ``type`` and optionally ``colour``, ``aliases`` (the world's names for it),
+    ``pixels``, ``edge``. None: the world does not count pixels, and objects with a box stand for it."""
+    scene_objects: list[str] | None = None
+    """Types of every object the scene holds, in view or not (for error analysis: naming one that is out of view
+    is no hallucination; naming a type the scene lacks is). None: the world does not say."""
 
     @field_validator("images")
     @classmethod

@@ -62,7 +62,7 @@ class BudgetGuard:
 
 
 #: World ``StepResult.info`` keys copied into each action's record for error analysis (docs/error_analysis.md).
-_INFO_KEYS_RECORDED = ("distance_to_goal", "wrong_target", "position")
+_INFO_KEYS_RECORDED = ("distance_to_goal", "path_distance", "wrong_target", "position")
 """World state a step's ``info`` carries that the step record keeps (``position``: where the agent stands, for the
 viewer's map of a walk)."""
 FINAL_IMAGE_PREFIX = "final_"
@@ -225,8 +225,11 @@ class _Episode:
             "prompt": request.messages[-1].text,
             # what the model was actually sent with this turn (no image under language_only; views, frames)
             "sent_images": [p.name for p in request.messages[-1].content if isinstance(p, ImagePart)],
-            # what the image the model saw shows (objects with a box), for the perception check (eb_core.errors)
-            "visible_objects": [{"name": o.name, "type": o.type} for o in obs.objects if o.box is not None]}
+            # what the image the model saw shows (segmentation pixels, else objects with a box), for eb_core.errors
+            "visible_objects": (obs.visible_objects if obs.visible_objects is not None else
+                                [{"name": o.name, "type": o.type} for o in obs.objects if o.box is not None])}
+        if self.planner_steps == 1 and obs.scene_objects is not None:
+            head["scene_objects"] = obs.scene_objects  # what the scene holds, in view or not (eb_core.errors)
         if self.opts.save_images and self.opts.step_dir is not None and obs.primary_image is not None:
             self._save_images(head, obs)
         return head, request

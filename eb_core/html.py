@@ -96,7 +96,56 @@ def _labels_html(step_labels: dict[str, Any] | None) -> str:
         badges.append(f"<span class=muted style='font-size:12px'>perception: named {_e(', '.join(per['mentioned']) or 'nothing')}"
                       f"; in view {_e(', '.join(per['visible']) or 'nothing')}; precision {num(per['precision'])}"
                       f", recall {num(per['recall'])}</span>")
-    return f"<div class=labels>{''.join(badges)}</div>" if badges else ""
+    evidence = _evidence_html(step_labels)
+    return f"<div class=labels>{''.join(badges)}{evidence}</div>" if badges or evidence else ""
+
+
+def _evidence_html(step_labels: dict[str, Any]) -> str:
+    """What made each label fire (words matched, objects in view, the failing state), and the perception
+    check's verdict per mention, as a list under the badges."""
+    from eb_core.errors import CATEGORIES
+
+    items = []
+    for lab in step_labels.get("labels", []):
+        ev = lab.get("evidence") or {}
+        if not ev:
+            continue
+        cat = CATEGORIES.get(lab["category"])
+        facts = "; ".join(f"{_e(k.replace('_', ' '))}: {_e(', '.join(map(str, v)) if isinstance(v, list) else v)}"
+                          for k, v in ev.items())
+        items.append(f"<li><b>{_e(cat.title if cat else lab['category'])}</b>: {facts}</li>")
+    per = step_labels.get("perception") or {}
+    for e in per.get("evidence") or []:
+        why = f" ({_e(e['why'])})" if e.get("why") else ""
+        items.append(f"<li>said <q>{_e(e['words'])}</q>: {_e(e['verdict'])}{why}</li>")
+    if per.get("unjudged"):
+        items.append(f"<li>not judged (remembered, out of view or denied): {_e(', '.join(per['unjudged']))}</li>")
+    if step_labels.get("in_view"):
+        items.append(f"<li>in view: {_e(', '.join(step_labels['in_view']))}</li>")
+    if not items:
+        return ""
+    return f"<details class=evidence><summary>evidence</summary><ul style='font-size:12px'>{''.join(items)}</ul></details>"
+
+
+def _invalid_number(rec: dict[str, Any], labels: dict[str, Any] | None) -> int:
+    """Invalid actions as the labels count them (eb_core.errors.INVALID_LABELS); the runner's counter without."""
+    from eb_core.errors import invalid_count
+
+    counts = (labels or {}).get("counts")
+    return int(rec["invalid_actions"]) if counts is None else invalid_count(counts)
+
+
+def _invalid_text(rec: dict[str, Any], labels: dict[str, Any] | None) -> str:
+    """The episode header's invalid-action count: refused actions as the labels count them
+    (eb_core.errors.INVALID_LABELS), collisions and unmet preconditions beside them; the runner's counter when
+    the episode has no labels."""
+    from eb_core.errors import invalid_count
+
+    counts = (labels or {}).get("counts")
+    if counts is None:
+        return f"invalid actions {rec['invalid_actions']}"
+    return (f"invalid actions {invalid_count(counts)} · collisions {counts.get('collision', 0)} · unmet "
+            f"preconditions {counts.get('precondition_error', 0)}")
 
 
 def _filters(subsets: list[str], categories: list[str], results: tuple[str, ...] = ("success", "fail", "error"),
@@ -175,7 +224,7 @@ def _episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path, conf: dict[
              f"<h1>{_e(rec['task_id'])} <span class=muted>({_e(rec['subset'])}{repeat})</span> {_status(rec)}</h1>",
              f"<p><b>Instruction:</b> {_e(rec['instruction'])}</p>",
              f"<p class=muted>end: {_e(rec['end_reason'])} · env steps {rec['env_steps']} · planner steps "
-             f"{rec['planner_steps']} · invalid actions {rec['invalid_actions']} · output errors {rec['output_errors']}"
+             f"{rec['planner_steps']} · {_invalid_text(rec, labels)} · output errors {rec['output_errors']}"
              f" · progress {100 * rec['progress']:.0f}% · tokens {rec['prompt_tokens']}+{rec['completion_tokens']}</p>"]
     if rec.get("error"):
         parts.append(f"<h2>Error</h2><pre>{_e(rec['error'])}</pre>")
@@ -357,7 +406,7 @@ def write_html(run_dir: str | Path) -> Path:
             f"<tr data-row data-subset='{_e(rec['subset'])}' data-result='{result}' data-errors='{_e(' '.join(counts))}'>"
             f"<td>{link}</td><td>{_e(rec['subset'])}</td><td>{_status(rec)}</td><td>{_e(rec['end_reason'])}</td>"
             f"<td class=num>{rec['env_steps']}</td><td class=num>{rec['planner_steps']}</td>"
-            f"<td class=num>{rec['invalid_actions']}</td><td class=num>{rec['output_errors']}</td>"
+            f"<td class=num>{_invalid_number(rec, labels)}</td><td class=num>{rec['output_errors']}</td>"
             f"<td class=num>{100 * rec['progress']:.0f}%</td><td style='font-size:12px'>{_e(errs)}</td>"
             f"<td class=num>{'-' if score is None else f'{score:.2f}'}</td><td>{_e(rec['instruction'])}</td></tr>")
     overall = run["overall"]

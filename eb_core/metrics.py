@@ -74,10 +74,24 @@ def steps(eps: Sequence[EpisodeRecord]) -> dict[str, float]:
 
 
 def errors(eps: Sequence[EpisodeRecord]) -> dict[str, float]:
+    """Invalid actions per env step, output errors per planner step, empty plans and errored episodes.
+
+    ``invalid_action_ratio`` counts what "invalid action" means everywhere (:data:`eb_core.errors.INVALID_LABELS`:
+    actions the world refuses outright; not collisions, not unmet preconditions) when every measured episode
+    carries error labels; on unlabelled records it falls back to the runner's counter, which is the original's
+    invalid-action cap counter (every failed action and every unusable answer) and is kept as
+    ``cap_counted_ratio``.
+    """
+    from eb_core.errors import invalid_count
+
     ok = _ok(eps)
     total_actions = sum(e.env_steps for e in ok)
+    capped = sum(e.invalid_actions for e in ok)
+    labelled = bool(ok) and all(e.error_counts is not None for e in ok)
+    invalid = sum(invalid_count(e.error_counts) for e in ok) if labelled else capped
     return {
-        "invalid_action_ratio": (sum(e.invalid_actions for e in ok) / total_actions) if total_actions else 0.0,
+        "invalid_action_ratio": (invalid / total_actions) if total_actions else 0.0,
+        "cap_counted_ratio": (capped / total_actions) if total_actions else 0.0,
         "output_error_rate": (sum(e.output_errors for e in ok) / max(1, sum(e.planner_steps for e in ok))),
         "empty_plan_rate": _mean([1.0 if e.empty_plan else 0.0 for e in ok]),
         "error_episodes": float(sum(1 for e in eps if e.status == "error")),
@@ -103,6 +117,7 @@ def error_analysis(eps: Sequence[EpisodeRecord]) -> dict[str, object]:
     groups: dict[str, float] = {}
     for key, cat in CATEGORIES.items():
         groups[cat.group] = groups.get(cat.group, 0.0) + categories[key]["count"]
+    # runs that wrote no description (oracle, random, language_only) have no score: None, never 0
     scores = [e.perception_score for e in labelled if e.perception_score is not None]
     return {"episodes": float(len(labelled)), "labels": total, "categories": categories,
             "group_share": {g: (n / total if total else 0.0) for g, n in groups.items()},

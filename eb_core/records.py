@@ -115,11 +115,15 @@ class ActionRecord(BaseModel):
     expert_reason: str | None = None
     """Why there is no ``expert_action``."""
     distance_to_goal: float | None = None
+    path_distance: float | None = None
+    """Metres along the shortest free path to the goal, where the world reports it (drift, eb_core.errors)."""
     wrong_target: Any = None
 
 
 class SeenObject(BaseModel):
-    """An object with a box in the image the model was shown (for the perception check)."""
+    """An object in the image the model was shown (for the perception check): from the world's segmentation
+    pixels (``Observation.visible_objects``: also ``colour``, ``colours``, ``aliases``, ``pixels``, ``edge``),
+    else an object with a box."""
 
     model_config = ConfigDict(extra="allow")
 
@@ -143,6 +147,8 @@ class StepRecord(BaseModel):
     sent_images: list[str] | None = None
     """Names of the images sent with this turn (None in runs before it was recorded)."""
     visible_objects: list[SeenObject] | None = None
+    scene_objects: list[str] | None = None
+    """First planner step only: the types the scene holds, in view or not (``Observation.scene_objects``)."""
     image: str | None = None
     """File name of the step's primary image PNG, if saved."""
     extra_images: list[str] | None = None

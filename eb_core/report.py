@@ -131,6 +131,10 @@ def relabel(records: list[Any], root: Path, force: bool = False) -> list[Any]:
     if not todo:
         return records
     steps = {r.key: load_steps(root / "episodes" / episode_dir_name(*r.key)) for r in records if r.status == "ok"}
+    if force:  # `eb report --errors`: what was in view is recomputed by replaying the actions in the world
+        from eb_core.errors.replay import replay_run
+
+        steps = replay_run(root, records, steps)
     vocab = run_vocabulary(steps.values())
     out = []
     for r in records:

@@ -170,18 +170,26 @@ def test_perception_precision_and_recall_on_hand_built_scenes():
     p = perception_check("A green cube and a blue star.", cubes)
     assert p["correct"] == ["star"] and p["hallucinated"] == ["cube"] and p["precision"] == 0.5
     assert perception_check("", visible) is None and perception_check("nothing", []) is None
-    blind = perception_check("(the image is ignored)", visible)  # names nothing while three objects are in view
+    blind = perception_check("I will just walk on.", visible)  # names nothing while three objects are in view
     assert blind["precision"] is None and blind["recall"] == 0.0 and blind["f1"] == 0.0
+    # a baseline's placeholder is no description: no score at all, not 0
+    assert perception_check("(the image is ignored)", visible) is None
 
 
-def test_a_description_naming_an_object_out_of_view_is_a_hallucination_and_scores_the_episode():
-    steps = [step(1, [act(1, "open the fridge")], description="An apple and a mug.",
+def test_a_description_naming_an_object_absent_from_the_scene_is_a_hallucination_and_scores_the_episode():
+    steps = [step(1, [act(1, "open the fridge")], description="An apple and a banana.",
                   visible=[{"name": "Apple_1", "type": "Apple"}]),
              step(2, [act(2, "open the fridge")], description="A mug.", visible=[{"name": "Mug_1", "type": "Mug"}])]
-    lab = label_episode(steps)
+    lab = label_episode(steps, vocabulary=["Banana"])  # the world has bananas; this scene has none
     assert cats(lab, 0) == ["hallucinated_object"] and cats(lab, 1) == []
-    # step 1: P 1/2, R 1 -> F1 2/3; step 2: F1 1
-    assert lab["perception_score"] == pytest.approx((2 / 3 + 1) / 2)
+    ev = lab["steps"][0]["labels"][0]["evidence"]
+    assert ev["words"] == ["banana"] and ev["why"] == ["nowhere in the scene"] and ev["in_view"] == ["Apple_1"]
+    # step 1: 1 of 2 judged mentions right; step 2: 1 of 1
+    assert lab["perception_score"] == pytest.approx((1 / 2 + 1) / 2)
+    # the mug of step 2 named at step 1, where it is out of view: remembered, not judged, no label
+    remembered = label_episode([dict(steps[0], parsed=dict(steps[0]["parsed"], visual_state_description="An apple and a mug.")),
+                                steps[1]])
+    assert cats(remembered) == [] and remembered["steps"][0]["perception"]["unjudged"] == ["mug"]
 
 
 def test_every_category_is_documented():

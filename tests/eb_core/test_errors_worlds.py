@@ -20,7 +20,7 @@ class NamedPlanBackend(ModelBackend):
 
     def complete(self, request):
         text = request.messages[-1].text
-        ids = {name: int(i) for i, name in re.findall(r"^action id (\d+): (.+)$", text, flags=re.M)}
+        ids = {name: int(i) for i, name in re.findall(r"^action id (\d+): (.+)$", text, flags=re.MULTILINE)}
         answer = SCRIPT[min(self.i, len(SCRIPT) - 1)]
         self.i += 1
         if isinstance(answer, list):
@@ -39,11 +39,12 @@ def eb_register_model_backends():
 def test_a_scripted_habitat_episode_is_labelled(tmp_path, monkeypatch):
     monkeypatch.delenv("EB_DISABLE_PLUGIN_AUTOLOAD", raising=False)
     monkeypatch.delenv("EB_PLUGINS", raising=False)
+    import test_errors_worlds
+
     from eb_core.cli import compose
     from eb_core.config import validate_config
     from eb_core.plugins import Registry
     from eb_core.runner import run
-    import test_errors_worlds
 
     registry = Registry.create()
     if "habitat" not in registry.envs:

@@ -184,7 +184,9 @@ class AlfredEnv(Env):
         objects = [ObjectInfo(name=o["name"], type=o["type"], box=o.get("box"), position=o.get("position"),
                               is_target=self._is_target(o["name"]))
                    for o in frame.objects]
-        return Observation(images=frame.images, primary="first_person", text=text, objects=objects)
+        return Observation(images=frame.images, primary="first_person", text=text, objects=objects,
+                           visible_objects=[_in_view(world, o) for o in frame.objects],
+                           scene_objects=sorted({o.type for o in world.objects.values()}))
 
     def _failure(self, world: World) -> str | None:
         """The failure label of the action that just failed: the world's own reason, except that a failure in
@@ -198,3 +200,14 @@ class AlfredEnv(Env):
         goal = self._goal or {}
         return any(key in goal and matches(self._world, goal[key], name)  # type: ignore[arg-type]
                    for key in ("object", "receptacle", "movable", "lamp"))
+
+
+def _in_view(world: Any, o: dict[str, Any]) -> dict[str, Any]:
+    """One object the frame's segmentation shows, with its colour and plain noun (for error analysis)."""
+    from eb_alfred.catalog import TYPES
+
+    obj = world.objects.get(o["name"])
+    info = TYPES.get(o["type"])
+    return {"name": o["name"], "type": o["type"], "colour": getattr(obj, "color", None),
+            "colours": o.get("colours", []), "aliases": [info.noun] if info is not None else [],
+            "pixels": o.get("pixels")}

@@ -25,6 +25,7 @@ from eb_scenekit import SceneBuilder, Surface, get_type, set_agent_pose, set_ope
 from eb_scenekit.gl import import_mujoco
 from eb_scenekit.pool import default_pooled, pool_stats
 from eb_scenekit.render import SceneRenderer, free_camera
+from eb_scenekit.visibility import colours_in_view
 
 mujoco = import_mujoco()
 
@@ -442,7 +443,7 @@ class AlfredRenderer:
             sx, sy = self.size
             cam = free_camera((0.0, 0.0, 0.5), max(sx, sy) * 1.25, 90.0, -75.0)
             images["overhead"] = self._renderer.rgb(cam)
-        frame = Frame(images=images, objects=self._objects(world, poses))
+        frame = Frame(images=images, objects=self._objects(world, poses, images["first_person"]))
         self.frames_drawn += 1
         self._last_frame = (tuple(a.copy() for a in inputs), dict(poses),
                             Frame(images={k: v.copy() for k, v in images.items()},
@@ -456,7 +457,7 @@ class AlfredRenderer:
         return (d.qpos, d.mocap_pos, d.mocap_quat, m.geom_rgba, m.geom_matid, m.geom_size, m.geom_pos,
                 m.geom_quat, m.mat_rgba, m.mat_emission, m.light_active, m.light_diffuse, m.cam_fovy)
 
-    def _objects(self, world: World, poses: dict[str, tuple]) -> list[dict[str, Any]]:
+    def _objects(self, world: World, poses: dict[str, tuple], rgb: np.ndarray | None = None) -> list[dict[str, Any]]:
         # boxes from a half-size segmentation pass (4x fewer pixels than the image; boxes are scaled back)
         assert self._renderer is not None
         small = max(64, self.resolution // 2)
@@ -465,6 +466,10 @@ class AlfredRenderer:
         boxes = {name: (int(b[0] * k), int(b[1] * k), min(int((b[2] + 1) * k) - 1, self.resolution - 1),
                         min(int((b[3] + 1) * k) - 1, self.resolution - 1))
                  for name, b in self._renderer.boxes_from_segmentation(seg, min_pixels=5).items()}
+        # pixels and colour families each object shows (eb_scenekit.visibility), for error analysis
+        index = {n: i for i, n in enumerate(self._renderer.instance_names)}
+        counts = np.bincount(seg.ravel(), minlength=len(index))
+        colours = colours_in_view(rgb, seg, [index[n] for n in boxes]) if rgb is not None else {}
         out = []
         for name, box in boxes.items():
             base = name[: -len("__slices")] if name.endswith("__slices") else name
@@ -472,7 +477,8 @@ class AlfredRenderer:
                 continue
             pos = poses.get(base)
             out.append({"name": base, "type": world.objects[base].type, "box": tuple(int(v) for v in box),
-                        "position": tuple(round(v, 3) for v in pos[0]) if pos else None})
+                        "position": tuple(round(v, 3) for v in pos[0]) if pos else None,
+                        "pixels": int(counts[index[name]]), "colours": colours.get(index[name], [])})
         return out
 
     def visible_fraction(self, world: World, resolution: int = 250) -> dict[str, float]:

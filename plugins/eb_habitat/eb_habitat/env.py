@@ -7,6 +7,7 @@ text-only observations without importing MuJoCo, for fast oracle and logic check
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from pydantic import BaseModel, ConfigDict, ValidationError
@@ -22,6 +23,7 @@ from eb_core.env import (
     Task,
 )
 from eb_habitat import prompts
+from eb_habitat.catalog import object_type
 from eb_habitat.goals import GoalTracker, Predicate
 from eb_habitat.oracle import OracleError, expert_plan
 from eb_habitat.skills import SKILL_NAMES, SKILLS
@@ -207,6 +209,8 @@ class HabitatEnv(Env):
             primary="first_person" if images else None,
             text=w.describe(),
             objects=objects,
+            visible_objects=[_in_view(it) for it in visible if it.name in boxes] if images else None,
+            scene_objects=sorted({object_type(it.type).name for it in w.items.values()}),
         )
 
     # -- planner support -------------------------------------------------------------------------
@@ -245,3 +249,11 @@ class HabitatEnv(Env):
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+
+def _in_view(item: Item) -> dict[str, Any]:
+    """One item the first-person segmentation shows, with its colour and the names a person may use for it (for
+    error analysis: "yellow squeeze bottle" for the mustard bottle)."""
+    t = object_type(item.type)
+    looks = re.split(r",| with | whose | narrow ", t.looks.format(color=item.color))[0]  # "a yellow squeeze bottle"
+    return {"name": item.name, "type": t.name, "colour": item.color, "aliases": [*t.aliases, looks]}

@@ -243,7 +243,8 @@ class NavigationEnv(Env):
         self._done = success
         obs = self._observe()
         info = {"distance_to_goal": round(dist, 3), "distance_to_target": round(dist, 3), "position": (new.x, new.y),
-                "yaw": new.yaw_deg, "tilt": new.tilt, "failure": None if ok else FAILURES[reason]}
+                "yaw": new.yaw_deg, "tilt": new.tilt, "failure": None if ok else FAILURES[reason],
+                "path_distance": self._path_distance(new)}
         return StepResult(observation=obs, action_success=ok, feedback=feedback, done=success,
                           task_success=success, progress=1.0 if success else 0.0, info=info)
 
@@ -305,7 +306,41 @@ class NavigationEnv(Env):
         else:
             pixels = self._objects_in_cone()
         return Observation(images=images, primary="first_person" if images else None,
-                           text=self._describe(pixels), objects=self._object_infos(pixels, boxes))
+                           text=self._describe(pixels), objects=self._object_infos(pixels, boxes),
+                           visible_objects=self._in_view(images["first_person"]) if world.scene is not None else None,
+                           scene_objects=sorted({world.room.objects[k].type for k in self._in_room}))
+
+    def _in_view(self, rgb: np.ndarray) -> list[dict[str, Any]]:
+        """The objects the image shows, from the segmentation pixels (edge objects too): for error analysis."""
+        from eb_scenekit.visibility import colours_in_view, objects_in_view
+
+        assert self._world is not None and self._world.scene is not None
+        objects, present = self._world.room.objects, set(self._in_room)
+        omap = self._world.scene.object_map()
+        seen = {k: v for k, v in objects_in_view(omap).items() if k in present}
+        colours = colours_in_view(rgb, omap, list(seen))
+        return [{"name": objects[k].id, "type": objects[k].type, "colour": colour_word(objects[k].colour),
+                 "colours": colours.get(k, []), "aliases": [display_name(objects[k].type)], "pixels": v.pixels,
+                 "edge": v.edge} for k, v in sorted(seen.items(), key=lambda kv: -kv[1].pixels)]
+
+    def _path_distance(self, s: AgentState) -> float | None:
+        """Metres along the shortest free path from ``s`` to a spot within the success distance (None: cut off)."""
+        assert self._free is not None
+        free, goal = self._free, self._free.goal_cells(self._target_xy)
+        if not goal.any():
+            return None
+        seen, frontier, n = {(s.i, s.j)}, [(s.i, s.j)], 0
+        while frontier:
+            if any(goal[i - free.i0, j - free.j0] for i, j in frontier if free._inside(i - free.i0, j - free.j0)):
+                return n * STEP
+            nxt = []
+            for i, j in frontier:
+                for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+                    if (i + di, j + dj) not in seen and free.can_move(i, j, di, dj):
+                        seen.add((i + di, j + dj))
+                        nxt.append((i + di, j + dj))
+            frontier, n = nxt, n + 1
+        return None
 
     def _objects_in_cone(self) -> dict[int, float]:
         """Without rendering: objects within the horizontal field of view (no occlusion test)."""
