@@ -143,23 +143,44 @@ def _add_look_alikes(rng: random.Random, scene: dict[str, Any], xt: str, n_obj: 
         if len(mine) < n_obj or len({o["parent"] for o in mine}) < len(mine):
             return None
         return mine
+    # one instance per place (piece of furniture): after "find a Mug_3" the view shows that mug alone, so which
+    # name goes with which look is never in doubt
+    def top(o: dict[str, Any]) -> str:
+        while "parent" in o and o["parent"] != "?":
+            o = next(p for p in objs if p["name"] == o["parent"])
+        return o["name"]
+
     receps = [o for o in objs if TYPES[o["type"]].receptacle and fits(xt, o["type"]) and o["type"] not in avoid
               and o["type"] not in ("Sink", "Bathtub", "Microwave", "Fridge", "Toaster", "CoffeeMachine",
                                     "GarbageCan", "Safe", "Box")
-              and not TYPES[o["type"]].pickupable]
-    if not receps:
+              and not TYPES[o["type"]].pickupable and top(o) not in avoid_places(objs, avoid)]
+    by_place: dict[str, list[dict[str, Any]]] = {}
+    for r in receps:
+        by_place.setdefault(top(r), []).append(r)
+    places = sorted(by_place)
+    rng.shuffle(places)
+    if len(places) < n_obj:
         return None
-    for o in mine:
-        if o["parent"] == "?":
-            o["parent"] = rng.choice(receps)["name"]
     while len(mine) < n_obj:
-        twin = dict(model, name=f"{xt}_{90 + len(mine)}", parent=rng.choice(receps)["name"])
+        twin = dict(model, name=f"{xt}_{90 + len(mine)}", parent="?")
         objs.append(twin)
         mine.append(twin)
+    for o, place in zip(mine, places):
+        o["parent"] = rng.choice(by_place[place])["name"]
+    for o in mine[n_obj:]:
+        if any(c.get("parent") == o["name"] for c in objs):
+            return None
+        objs.remove(o)
+    mine = mine[:n_obj]
     for o in mine:
         o.pop("is_dirty", None)
         o.pop("slot", None)
     return mine
+
+
+def avoid_places(objs: list[dict[str, Any]], avoid: set[str]) -> set[str]:
+    """Names of the standing furniture of the types in ``avoid`` (the destination's look-alikes)."""
+    return {o["name"] for o in objs if "parent" not in o and o["type"] in avoid}
 
 
 def _single_out_by_looks(rng: random.Random, mine: list[dict[str, Any]], xt: str, n_targets: int,
@@ -275,6 +296,9 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     if long and rng.random() < 0.85:
         shut_goal = dict(goal, object={"type": xt}, receptacle={"type": rt})
         if not _shut_away(rng, world, shut_goal):
+            return None
+        places = [world.place_of(n) for n in world.of_type(xt)]
+        if len(set(places)) < len(places):  # still one per place (see _add_look_alikes)
             return None
     if evaluate(goal, world)[1] > 0:
         return None

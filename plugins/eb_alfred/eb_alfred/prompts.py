@@ -58,7 +58,8 @@ def load_example_records() -> dict[str, list[dict]]:
 
 LEAVE_ALONE = ("When the task says to leave other things alone, any action on one of them -- picking it up, "
                "opening, closing, switching or slicing it, or putting something in or on it -- breaks the task for "
-               "good, even if you undo it later. Walking to one with 'find' and looking at it is fine.")
+               "good, even if you undo it later. Walking to one with 'find' and looking at it is fine: after "
+               "'find a X_2' you face X_2, and it is what the centre of your view shows.")
 """The guideline added when the goal asks to leave look-alikes alone (the hard set)."""
 
 
@@ -96,5 +97,8 @@ def prompt_parts(subset: str, actions: list[str] | tuple[str, ...] | None = None
         guidelines=GUIDELINES + ((LEAVE_ALONE,) if leave_alone else ()),
         examples=chosen,
         output_notes=("Take action ids from the current action list. The examples use this room's ids; an example "
-                      "that needs a numbered thing this room lacks shows action names only."),
+                      "that needs a numbered thing this room lacks shows action names only. Actions run in order; "
+                      "after a failed action the rest of the plan is dropped and you are asked again with the "
+                      "feedback. The episode ends after 30 actions, or as soon as 10 actions have failed (an "
+                      "answer that cannot be read counts as a failed action)."),
     )

@@ -3,13 +3,17 @@
 Task ``i`` of a split is fixed by ``(split, i)``: its subset is ``SUBSETS[i % 6]``, its task type and every
 random choice come from a stream named ``eb-alfred-split/<split>/<i>``, and its scene seeds are drawn from that
 stream in ``[2**40, 2**41)`` -- the test generator numbers its scenes ``1000 * (subset + 1) + 100000 * seed + k``,
-far below. The candidate is made by the test generator's own ``_make_one`` (same rooms, goals, instruction
-templates, oracle step ranges), but symbolically only: the render checks the test files get for
+far below. The candidate is made by the test generator's own draw (:func:`eb_alfred.draw.make_one`; same rooms,
+goals, instruction templates, oracle step ranges), but symbolically only: the render checks the test files get for
 ``spatial_awareness`` and ``visual_appearance`` (every referred thing visible in an image, :func:`image_problems`)
 and the long-horizon plan-length spread are skipped, so a train task may name a relation that is hard to see.
 A draw is refused (and drawn again) when its furniture layout or its full scene is one of a shipped task, or its
 instruction is a shipped instruction word for word, and it is kept only when the expert's plan, played on the
 symbolic world, reaches the goal.
+
+``difficulty=medium|hard`` (or ``taskset=hard`` in a run) draws from :func:`eb_alfred.hard.make_hard` instead, from
+the stream ``eb-alfred-split/<difficulty>/<split>/<i>``, kept apart from the classic and the hard test tasks: a
+curriculum from classic through medium to hard.
 """
 
 from __future__ import annotations
