@@ -12,7 +12,8 @@ Same world, actions, feedback, limits and success checks as classic; what change
 * the instruction asks to leave the look-alikes alone, and the goal checks it (``goal.untouched``: no other mug,
   no other cabinet may be picked up, opened, closed, switched or filled at any time). A wrong guess cannot be
   taken back, so a player who cannot see has one guess among ``n_obj x n_rec`` (about 1 in 24);
-* bigger, fuller rooms and longer plans (up to 26 steps, within the 30-step budget).
+* bigger, fuller rooms and longer plans (up to 26 steps); even an exhaustive search -- one ``find`` for every
+  candidate object and destination, then the plan -- fits the 30-step budget (:func:`search_bound`).
 
 Relations that the text feedback would give away are not used: "the cabinet that holds the book" (``find a
 Book`` says which cabinet), and the object's own place when look-alikes share it. Feedback rules are classic:
@@ -37,7 +38,10 @@ from eb_alfred.oracle import expert_plan
 from eb_alfred.scenes import _renumber, make_scene
 from eb_alfred.world import World
 
-__all__ = ["LEVELS", "KINDS", "STEP_RANGE", "make_hard", "maker"]
+__all__ = ["LEVELS", "KINDS", "MAX_STEPS", "STEP_RANGE", "make_hard", "maker", "search_bound"]
+
+MAX_STEPS = 30
+"""The benchmark's step budget (``conf/env/alfred.yaml``)."""
 
 LEVELS: dict[str, dict[str, Any]] = {
     "medium": {"n_obj": 3, "n_rec": 2, "n_host": 3, "untouched": ("object",)},
@@ -221,7 +225,7 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     if not rooms:
         return None
     room = rng.choice(rooms)
-    scene = make_scene(seed, room, size=0.6 + 0.4 * rng.random())
+    scene = make_scene(seed, room, size=(0.3 + 0.5 * rng.random()) if long else (0.6 + 0.4 * rng.random()))
     world = World.from_scene(scene)
     sliced = long and room == "kitchen" and rng.random() < 0.5
     goal = propose_goal(rng, kind, world, sliced=sliced)
@@ -306,6 +310,8 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     plan = expert_plan(world, goal, limit=hi)
     if plan is None or not lo <= len(plan) <= hi:
         return None
+    if search_bound(world, goal, len(plan)) > MAX_STEPS:
+        return None
     words = _words(rng, subset, goal, world, xt, rt, attr, value, host_type)
     if words is None:
         return None
@@ -320,6 +326,16 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
         if image_problems(seen, views_for(world)):
             return None
     return rec
+
+
+def search_bound(world: World, goal: dict[str, Any], plan_length: int) -> int:
+    """Actions a sighted player needs at worst: one ``find`` for every instance of the object's type and for
+    every piece of furniture of the destination's type (to see each one), then the expert's plan without its two
+    finds of the object and the destination. Kept within the step budget, so even an exhaustive search fits."""
+    xt = world.objects[goal["object"]["instance"]].type if "instance" in goal["object"] else goal["object"]["type"]
+    rt = world.objects[goal["receptacle"]["instance"]].type
+    n_r = sum(1 for n in world.of_type(rt) if world.objects[n].parent is None)
+    return len(world.of_type(xt)) + n_r + plan_length - 2
 
 
 def _words(rng: random.Random, subset: str, goal: dict[str, Any], world: World, xt: str, rt: str,

@@ -16,6 +16,7 @@ from eb_core.taskfile import task_set_digest
 from eb_alfred.blind import guess_episode, random_episode, sweep_episode
 from eb_alfred.env import AlfredEnv
 from eb_alfred.goals import evaluate, look_alikes
+from eb_alfred.hard import search_bound
 from eb_alfred.oracle import expert_plan, why_unreachable
 from eb_alfred.prompts import LEAVE_ALONE
 from eb_alfred.tasks import SUBSETS, TASK_DIR, TaskFileError, load_all, load_task_file
@@ -57,6 +58,11 @@ def test_hard_set_has_the_classic_subsets_and_protects_look_alikes() -> None:
         assert len(look_alikes(w, goal)) >= 3 + 3, t.id  # >= 4 of the object's type and >= 4 destinations
         assert evaluate(goal, w)[1] == 0.0, t.id
         assert t.metadata["oracle_steps"] <= 26
+        # even a search that finds every candidate object and destination once fits the 30-step budget
+        assert search_bound(w, goal, t.metadata["oracle_steps"]) <= 30, t.id
+        kind = w.objects[goal["object"]["instance"]].type if "instance" in goal["object"] else goal["object"]["type"]
+        places = [w.place_of(n) for n in w.of_type(kind)]
+        assert len(set(places)) == len(places), t.id  # one look-alike per place: a find shows which is which
 
 
 def test_unknown_taskset_is_one_line() -> None:
