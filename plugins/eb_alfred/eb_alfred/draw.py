@@ -16,12 +16,11 @@ from __future__ import annotations
 
 import json
 import random
-from pathlib import Path
 from typing import Any
 
 from eb_alfred.actions import scene_actions
 from eb_alfred.catalog import KNIVES, LAMPS, TYPES, fits, is_movable_receptacle
-from eb_alfred.goals import GOAL_KINDS, PROPERTY_OF_KIND, evaluate, properties
+from eb_alfred.goals import PROPERTY_OF_KIND, evaluate, properties
 from eb_alfred.audit import attribute_problems, phrase_problems, relation_problems, visibility_problems
 from eb_alfred.instructions import instruction_with_template, noun, object_relations, plural, receptacle_relations
 from eb_alfred.oracle import expert_plan

@@ -100,8 +100,6 @@ def generate(out: str | None = None, seed: int = 0, n: int | None = None, subset
     shipped test tasks; :mod:`eb_alfred.splits`), at the same ``difficulty`` (a curriculum). Progress goes to
     stderr.
     """
-    from eb_alfred.draw import DIFFICULTIES
-
     if difficulty not in DIFFICULTIES:
         raise ValueError(f"unknown difficulty {difficulty!r}; allowed: {', '.join(DIFFICULTIES)}")
     if split != "test":
@@ -134,11 +132,11 @@ def generate(out: str | None = None, seed: int = 0, n: int | None = None, subset
     return written
 
 
-def audit_form(out: str, seed: int, per_subset: int) -> list[str]:
+def audit_form(out: str, seed: int, per_subset: int, difficulty: str = "classic") -> list[Path]:
     """A fresh form of ``per_subset`` tasks per subset (a folder at ``out``, render checks included) for ``eb
-    audit``'s parallel-forms probe. Subsets are drawn independently and task types in turn, so the sample keeps
-    the full file's mix."""
-    return generate(out=out, seed=seed, n=per_subset)
+    audit``'s parallel-forms probe, at ``difficulty`` (``taskset=hard`` audits pass ``hard``). Subsets are drawn
+    independently and task types in turn, so the sample keeps the full file's mix."""
+    return generate(out=out, seed=seed, n=per_subset, difficulty=difficulty)
 
 
 if __name__ == "__main__":  # python -m eb_alfred.generate [difficulty]

@@ -1,7 +1,7 @@
 """Difficulty figures of EB-ALFRED's task sets, classic against hard (docs/hard_tasks/alfred.md).
 
     MUJOCO_GL=egl python plugins/eb_alfred/scripts/difficulty.py [--sets classic hard] [--per-subset N]
-        [--noise-per-subset N] [--no-render] [--quick]
+        [--noise-per-subset N] [--render-per-subset N] [--no-render] [--quick]
 
 Per set and subset:
 * target area: the share of the first (start) image the goal's object covers (median over tasks; for a goal that
@@ -69,9 +69,9 @@ def _sample(recs: list[Any], k: int) -> list[Any]:
     return [r for s in SUBSETS for r in by[s][:: max(1, len(by[s]) // k)][:k]]
 
 
-def figures(taskset: str, per_subset: int, noise_per_subset: int, render: bool) -> dict[str, dict[str, str]]:
+def figures(taskset: str, per_subset: int, noise_per_subset: int, render_per_subset: int) -> dict[str, dict[str, str]]:
     recs = _sample(load_all(taskset=taskset), per_subset)
-    areas = _areas(recs) if render else {}
+    areas = _areas(_sample(recs, render_per_subset)) if render_per_subset else {}
     rows: dict[str, dict[str, Any]] = defaultdict(lambda: defaultdict(list))
     for r in recs:
         scene, goal = r.scene.model_dump(exclude_defaults=True), r.goal.plain()
@@ -117,27 +117,47 @@ def figures(taskset: str, per_subset: int, noise_per_subset: int, render: bool) 
 
 
 def table(results: dict[str, dict[str, dict[str, str]]]) -> str:
+    """One row per figure, one column per subset; each cell lists the sets' values in order (classic / hard)."""
     sets = list(results)
     keys = list(next(iter(next(iter(results.values())).values())))
-    lines = ["| subset | figure | " + " | ".join(sets) + " |", "|---|---|" + "---|" * len(sets)]
-    for s in SUBSETS:
-        for k in keys:
-            vals = [results[t].get(s, {}).get(k, "-") for t in sets]
-            lines.append(f"| {s} | {k} | " + " | ".join(vals) + " |")
+    subsets = [s for s in SUBSETS if any(s in results[t] for t in sets)]
+    lines = [f"| figure ({' / '.join(sets)}) | " + " | ".join(subsets) + " |", "|---|" + "---|" * len(subsets)]
+    for k in keys:
+        cells = [" / ".join(results[t].get(s, {}).get(k, "-") for t in sets) for s in subsets]
+        lines.append(f"| {k} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
+
+
+def _parse(md: str) -> dict[str, dict[str, dict[str, str]]]:
+    """Read back a one-set table printed by :func:`table` (to merge runs made at different times)."""
+    rows = [[c.strip() for c in line.strip().strip("|").split("|")] for line in md.splitlines() if line.startswith("|")]
+    head, body = rows[0], rows[2:]
+    name = head[0][head[0].index("(") + 1: head[0].index(")")]
+    out: dict[str, dict[str, str]] = {s: {} for s in head[1:]}
+    for row in body:
+        for s, v in zip(head[1:], row[1:]):
+            out[s][row[0]] = v
+    return {name: out}
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--sets", nargs="+", default=["classic", "hard"])
+    ap.add_argument("--sets", nargs="*", default=["classic", "hard"])
     ap.add_argument("--per-subset", type=int, default=50)
     ap.add_argument("--noise-per-subset", type=int, default=10)
+    ap.add_argument("--render-per-subset", type=int, default=50, help="tasks per subset for the image figures")
     ap.add_argument("--no-render", action="store_true", help="skip the image figures (no MuJoCo)")
     ap.add_argument("--quick", action="store_true", help="2 tasks per subset, no rendering (a smoke run)")
+    ap.add_argument("--merge", nargs="*", default=[], help="tables printed earlier for one set each, to put first")
     args = ap.parse_args(argv)
     if args.quick:
         args.per_subset, args.noise_per_subset, args.no_render = 2, 1, True
-    results = {t: figures(t, args.per_subset, args.noise_per_subset, not args.no_render) for t in args.sets}
+    results: dict[str, dict[str, dict[str, str]]] = {}
+    for path in args.merge:
+        results.update(_parse(open(path, encoding="utf-8").read()))
+    for t in args.sets:
+        results[t] = figures(t, args.per_subset, args.noise_per_subset,
+                             0 if args.no_render else min(args.render_per_subset, args.per_subset))
     print(table(results))
     return 0
 
