@@ -27,7 +27,7 @@ import random
 from typing import Any
 
 from eb_alfred.actions import scene_actions
-from eb_alfred.audit import candidate_phrases, phrase_problems
+from eb_alfred.audit import candidate_phrases, phrase_problems, use_phrase
 from eb_alfred.catalog import TYPES, fits
 from eb_alfred.draw import (KIND_ROOMS, LONG_ROOMS, MAX_ACTIONS, MIN_ACTIONS, _PLACE_TARGETS, _add_preparation,
                             _prepare, _shut_away, image_problems, make_one, propose_goal)
@@ -97,13 +97,6 @@ def _shuffle_names(objects: list[dict[str, Any]], rng: random.Random) -> None:
 
 def _standing(scene: dict[str, Any], t: str) -> list[dict[str, Any]]:
     return [o for o in scene["objects"] if o["type"] == t and "parent" not in o]
-
-
-def _definite_use(use: str, word: str) -> str:
-    for art in ("a ", "an ", "the "):
-        if use.startswith(art):
-            return f"the {word} {use[len(art):]}"
-    return f"{use}, the {word} one"
 
 
 def _choose_destination(rng: random.Random, scene: dict[str, Any], goal: dict[str, Any], n_rec: int,
@@ -316,7 +309,7 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     if words is None:
         return None
     template, text = _instruction(rng, subset, goal, world, words, xt, rt, level)
-    if subset != "common_sense" and phrase_problems(text, goal, world):
+    if phrase_problems(text, goal, world):
         return None
     rec = {"instruction": text, "task_type": kind, "goal": goal, "scene": world.to_scene(), "scene_seed": seed,
            "oracle_steps": len(plan), "notes": words["notes"], "template": template}
@@ -360,10 +353,10 @@ def _words(rng: random.Random, subset: str, goal: dict[str, Any], world: World, 
     elif subset == "common_sense":
         use = rng.choice(TYPES[xt].uses)
         if "instance" in goal["object"]:
-            out["obj"] = _definite_use(use, value or "")
+            out["obj"] = use_phrase(use, value or "")
         else:
             out["objs"] = f"{value} {plural(xt)}"
-        out["recep"] = _definite_use(rng.choice(TYPES[rt].uses), world.objects[dest].color or "")
+        out["recep"] = use_phrase(rng.choice(TYPES[rt].uses), world.objects[dest].color or "")
     else:
         out["obj" if "instance" in goal["object"] else "objs"] = (
             f"the {value} {noun(xt)}" if "instance" in goal["object"] else f"{value} {plural(xt)}")

@@ -62,11 +62,32 @@ def _areas(recs: list[Any]) -> dict[str, tuple[float, float, int, int]]:
     return out
 
 
+def _guess_odds(scene: dict[str, Any], goal: dict[str, Any]) -> float:
+    """The chance that one blind choice among the instances of the wanted types is right (1 for a goal any
+    instance satisfies)."""
+    from math import comb
+
+    w = World.from_scene(scene)
+    p = 1.0
+    for role in ("object", "receptacle", "movable"):
+        ref = goal.get(role)
+        if not ref:
+            continue
+        kind = w.objects[ref["instance"]].type if "instance" in ref else ref["type"]
+        names = w.of_type(kind)
+        good = [n for n in names if matches(w, ref, n)]
+        if role == "object" and goal["kind"] == "pick_two_and_place":
+            p *= comb(len(good), 2) / comb(len(names), 2) if len(names) >= 2 else 1.0
+        else:
+            p *= len(good) / len(names)
+    return p
+
+
 def _sample(recs: list[Any], k: int) -> list[Any]:
     by: dict[str, list[Any]] = defaultdict(list)
     for r in recs:
         by[r.subset].append(r)
-    return [r for s in SUBSETS for r in by[s][:: max(1, len(by[s]) // k)][:k]]
+    return [r for s in SUBSETS for r in by[s][:: max(1, len(by[s]) // max(k, 1))][:k]]
 
 
 def figures(taskset: str, per_subset: int, noise_per_subset: int, render_per_subset: int) -> dict[str, dict[str, str]]:
@@ -78,6 +99,7 @@ def figures(taskset: str, per_subset: int, noise_per_subset: int, render_per_sub
         row = rows[r.subset]
         rng = random.Random(f"difficulty:{r.id}")
         row["plan"].append(r.oracle_steps)
+        row["expected"].append(_guess_odds(scene, goal))
         row["text"].append(text_rule_episode(scene, goal, r.instruction))
         row["guess"].append(guess_episode(scene, goal, rng))
         row["sweep"].append(sweep_episode(scene, goal, rng))
@@ -108,6 +130,7 @@ def figures(taskset: str, per_subset: int, noise_per_subset: int, render_per_sub
             "look-alikes in first image (mean)": f"{statistics.mean(row['others']):.1f}" if row["others"] else "-",
             "optimal plan (mean steps)": f"{statistics.mean(row['plan']):.1f}",
             "text-only rule agent": f"{100 * statistics.mean(row['text']):.0f} %",
+            "blind guess, expected (1 / choices)": f"{100 * statistics.mean(row['expected']):.1f} %",
             "blind guess": f"{100 * statistics.mean(row['guess']):.0f} %",
             "blind sweep (reacts to feedback)": f"{100 * statistics.mean(row['sweep']):.0f} %",
             "random": f"{100 * statistics.mean(row['random']):.0f} %",

@@ -65,6 +65,14 @@ def test_hard_set_has_the_classic_subsets_and_protects_look_alikes() -> None:
         assert len(set(places)) == len(places), t.id  # one look-alike per place: a find shows which is which
 
 
+def test_every_hard_instruction_singles_out_what_its_goal_singles_out() -> None:
+    """The audit's referring_phrase probe on the whole set (common_sense names a look and a use: "the red
+    handled cup for hot coffee")."""
+    from eb_alfred.audit import phrase_problems, world_of
+
+    assert [t.id for t in _hard() if phrase_problems(t.instruction, t.metadata["goal"], world_of(t))] == []
+
+
 def test_unknown_taskset_is_one_line() -> None:
     with pytest.raises(ValueError) as err:
         AlfredEnv.load_tasks(taskset="expert")
