@@ -26,7 +26,7 @@ from eb_alfred.catalog import COLORS, TYPES
 from eb_alfred.instructions import noun, object_relations, plural, prep, receptacle_relations
 from eb_alfred.world import VERBS, World
 
-__all__ = ["MIN_AREA", "Views", "attribute_problems", "candidate_phrases", "phrase_problems", "probes",
+__all__ = ["MIN_AREA", "Views", "attribute_problems", "candidate_phrases", "phrase_problems", "probes", "use_phrase",
            "relation_problems", "visibility_problems", "world_of"]
 
 MIN_AREA = 0.001
@@ -64,6 +64,7 @@ def candidate_phrases(world: World, goal: dict[str, Any], role: str) -> list[tup
         v = getattr(o, attr)
         if v and all(getattr(world.objects[y], attr) != v for y in world.of_type(xt) if y != x):
             out.append((f"the {v} {noun(xt)}", [x]))
+            out += [(use_phrase(use, v), [x]) for use in TYPES[xt].uses]  # common_sense: "the red handled cup..."
     out += object_relations(world, x) if TYPES[xt].pickupable else receptacle_relations(world, x)
     parent = o.parent
     if TYPES[xt].pickupable and parent is not None:
@@ -74,6 +75,15 @@ def candidate_phrases(world: World, goal: dict[str, Any], role: str) -> list[tup
             for phrase, refs in receptacle_relations(world, parent):
                 out.append((f"the {noun(xt)} that is {'in' if prep(pt) == 'in' else 'on'} {phrase}", [x, *refs]))
     return out
+
+
+def use_phrase(use: str, word: str) -> str:
+    """A use description singled out by a look word: ("a flat dish for a meal", "blue") -> "the blue flat dish
+    for a meal"; a description without an article gets ", the blue one" (the hard common_sense wording)."""
+    for art in ("a ", "an ", "the "):
+        if use.startswith(art):
+            return f"the {word} {use[len(art):]}"
+    return f"{use}, the {word} one"
 
 
 def phrase_problems(instruction: str, goal: dict[str, Any], world: World) -> list[str]:

@@ -20,7 +20,7 @@ from eb_alfred.goals import conditions, evaluate, failure_label
 from eb_alfred.oracle import expert_plan as _expert_plan
 from eb_alfred.oracle import why_unreachable
 from eb_alfred.prompts import prompt_parts as _prompt_parts
-from eb_alfred.tasks import load_all
+from eb_alfred.tasks import load_all, load_task_file
 from eb_alfred.world import World
 
 __all__ = ["AlfredEnv", "AlfredParams"]
@@ -33,8 +33,16 @@ class AlfredParams(BaseModel):
 
     render: bool = True
     """Render first-person images with MuJoCo; false = symbolic only (text observations, fast)."""
+    task_file: str | None = None
+    """Load tasks from this file, or from this folder of per-subset files, instead of the shipped set (e.g. after
+    ``eb tasks generate``)."""
     task_dir: str | None = None
-    """Load task files from this folder instead of the shipped ones (e.g. after ``eb tasks generate``)."""
+    """The old spelling of ``task_file`` (a folder); still accepted."""
+    difficulty: str | None = None
+    """Generator level of the generated train/val splits (classic, medium, hard); default: the taskset's."""
+
+    def tasks_path(self) -> str | None:
+        return self.task_file or self.task_dir
 
 
 def _params(params: dict[str, Any]) -> AlfredParams:
@@ -66,9 +74,13 @@ class AlfredEnv(Env):
 
     # ------------------------------------------------------------------ tasks
     @classmethod
-    def load_tasks(cls, **params: Any) -> list[Task]:
+    def load_tasks(cls, taskset: str = "classic", **params: Any) -> list[Task]:
         p = _params(params)
-        records = load_all(Path(p.task_dir) if p.task_dir else None)
+        path = p.tasks_path()
+        if path is not None and Path(path).is_file():
+            records = load_task_file(path)
+        else:
+            records = load_all(Path(path) if path else None, taskset=taskset)
         return [
             Task(id=r.id, subset=r.subset, instruction=r.instruction,
                  metadata={"task_type": r.task_type, "goal": r.goal.plain(),
@@ -80,11 +92,13 @@ class AlfredEnv(Env):
     splits: ClassVar[tuple[str, ...]] = ("train", "val")
 
     @classmethod
-    def split_tasks(cls, split: str, start: int, count: int, **params: Any) -> list[Task]:
-        """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_alfred.splits`)."""
+    def split_tasks(cls, split: str, start: int, count: int, taskset: str = "classic", **params: Any) -> list[Task]:
+        """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_alfred.splits`); ``taskset=hard``
+        (or ``env.params.difficulty``) draws them at that generator level."""
         from eb_alfred.splits import split_tasks
 
-        return split_tasks(split, start, count, task_dir=_params(params).task_dir)
+        p = _params(params)
+        return split_tasks(split, start, count, task_dir=p.tasks_path(), difficulty=p.difficulty or taskset)
 
     # ------------------------------------------------------------------ episode
     def reset(self, task: Task, seed: int) -> Observation:
@@ -138,7 +152,8 @@ class AlfredEnv(Env):
 
     def prompt_parts(self) -> PromptParts:
         subset = self._task.subset if self._task is not None else "base"
-        return _prompt_parts(subset)
+        actions = self._space.actions if self._space is not None else None
+        return _prompt_parts(subset, actions=actions, leave_alone=bool((self._goal or {}).get("untouched")))
 
     def expert_plan(self) -> list[int] | None:
         """The shortest plan the expert finds from the current state (a function of the state only); None with

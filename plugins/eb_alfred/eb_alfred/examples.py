@@ -115,7 +115,7 @@ def _knife_in_appliance(world: World, plan: list[str]) -> bool:
 
 
 def build_examples(seed: int = 7) -> dict[str, list[dict[str, Any]]]:
-    from eb_alfred.generate import _make_one  # the task generator's candidate maker (scenes, goals, wording)
+    from eb_alfred.draw import make_one as _make_one  # the task generator's candidate maker (scenes, goals, wording)
 
     from eb_alfred.tasks import load_all
 

@@ -15,6 +15,11 @@ A goal may combine conditions (long_horizon): ``"also": ["clean", "hot"]`` asks 
 object -- washed, heated or chilled (not both hot and cold: chilling undoes heating) -- on top of what its type
 asks. Each extra property adds one condition ``(isClean x)``, and the final condition of the type (the object in
 its receptacle, held under the lamp, in the dish on the table) then holds only for an object that has all of them.
+
+A hard-set goal may also ask to leave look-alikes alone: ``"untouched": ["object", "receptacle"]`` means no
+other instance of the object's (or the receptacle's) type may be handled at any time -- picked up, opened,
+closed, switched, sliced or filled (:attr:`World.touched`). The instruction says so ("only the red one"), so a
+wrong guess cannot be undone: it is one more condition, met only together with all the others.
 """
 
 from __future__ import annotations
@@ -26,7 +31,7 @@ from typing import Any
 from eb_alfred.world import World
 
 __all__ = ["Condition", "GOAL_KINDS", "conditions", "matches", "candidates", "usable", "evaluate", "PROPERTY_OF_KIND",
-           "look_alike", "failure_label", "properties", "EXTRA_PROPERTIES"]
+           "look_alike", "look_alikes", "failure_label", "properties", "EXTRA_PROPERTIES"]
 
 GOAL_KINDS = (
     "pick_and_place",
@@ -106,7 +111,15 @@ _PRED = {"hot": "isHot", "cold": "isCool", "clean": "isClean", "sliced": "isSlic
 
 
 def conditions(goal: dict[str, Any]) -> list[Condition]:
-    """Expand a goal into its conditions, counted as the original's ``goal_conditions_met`` counts them."""
+    """Expand a goal into its conditions, counted as the original's ``goal_conditions_met`` counts them; a goal
+    with ``untouched`` (the hard set) adds the gate of :func:`_untouched` last."""
+    conds = _conditions(goal)
+    if goal.get("untouched"):
+        conds.append(_untouched(goal, list(conds)))
+    return conds
+
+
+def _conditions(goal: dict[str, Any]) -> list[Condition]:
     kind = goal["kind"]
     obj = goal["object"]
     sliced = bool(goal.get("sliced"))
@@ -181,6 +194,31 @@ def conditions(goal: dict[str, Any]) -> list[Condition]:
     conds.append(Condition(and_ready(f"(and ({_PRED[prop]} {xo}) (inReceptacle {xo} {r}))"),
                            some(lambda w, x: _inside(w, x, recep) and _has(w, x, prop) and ready(w, x))))
     return conds
+
+
+def look_alikes(world: World, goal: dict[str, Any]) -> list[str]:
+    """The instances a goal with ``untouched`` asks to leave alone: for each listed role, every instance of
+    the role's type that the role's reference does not mean (the other mugs when the goal wants the red one)."""
+    out: list[str] = []
+    for role in goal.get("untouched", ()):
+        ref = goal.get(role)
+        if not ref:
+            continue
+        kind = ref["type"] if "type" in ref else world.objects[ref["instance"]].type
+        out += [n for n in world.of_type(kind) if not matches(world, ref, n) and n not in out]
+    return out
+
+
+def _untouched(goal: dict[str, Any], inner: list[Condition]) -> Condition:
+    """The gate of a goal with ``untouched``: every other condition holds and no look-alike was ever handled.
+
+    It is counted as one more condition, so progress starts at 0 and reaches 1 only on success."""
+    roles = " ".join(_ref_text(goal[r]) for r in goal["untouched"] if goal.get(r))
+
+    def check(w: World) -> bool:
+        return all(c.check(w) for c in inner) and not (w.touched & set(look_alikes(w, goal)))
+
+    return Condition(f"(and (allOtherConditions) (untouchedLookAlikes {roles}))", check)
 
 
 def evaluate(goal: dict[str, Any], world: World) -> tuple[bool, float, list[bool]]:

@@ -26,7 +26,7 @@ from collections.abc import Iterable
 from typing import Any
 
 from eb_alfred.catalog import KNIVES, TYPES, fits
-from eb_alfred.goals import PROPERTY_OF_KIND, candidates, evaluate, properties, usable
+from eb_alfred.goals import PROPERTY_OF_KIND, candidates, evaluate, look_alikes, properties, usable
 from eb_alfred.world import VERBS, World
 
 __all__ = ["expert_plan", "why_unreachable", "DEFAULT_LIMIT"]
@@ -388,6 +388,8 @@ def expert_plan(world: World, goal: dict[str, Any], limit: int = DEFAULT_LIMIT) 
     """
     if _done(goal, world):
         return []
+    if goal.get("untouched") and world.touched & set(look_alikes(world, goal)):
+        return None  # a look-alike the goal protects has been handled: no plan can undo that
     tree: dict[Step, Any] = {}
     for seq in _sequences(world, goal):
         node = tree
@@ -425,6 +427,9 @@ def why_unreachable(world: World, goal: dict[str, Any], limit: int = DEFAULT_LIM
     need = 2 if goal["kind"] == "pick_two_and_place" else 1
     if not all_x:
         return f"there is no {name} in this room"
+    spoiled = sorted(world.touched & set(look_alikes(world, goal)))
+    if spoiled:
+        return f"the task says to leave the look-alikes alone, and {', '.join(spoiled)} has been handled"
     if len(xs) < need:
         if not goal.get("sliced") and any(world.objects[x].is_sliced for x in all_x):
             left = len(xs)

@@ -24,6 +24,7 @@ def eb_register_envs() -> list[EnvSpec]:
             subsets=dict(SUBSETS),
             task_generator="eb_alfred.generate:generate",
             audit_probes="eb_alfred.audit:probes",
+            tasksets=("classic", "hard"),
             install_hint="pip install -e plugins/eb_alfred",
         )
     ]

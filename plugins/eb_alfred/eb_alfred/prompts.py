@@ -14,8 +14,8 @@ from pathlib import Path
 
 from eb_core import PromptParts
 
-__all__ = ["ROLE", "ACTION_RULES", "GUIDELINES", "prompt_parts", "load_examples", "load_example_records",
-           "EXAMPLES_PATH"]
+__all__ = ["ROLE", "ACTION_RULES", "GUIDELINES", "LEAVE_ALONE", "prompt_parts", "fit_example", "load_examples",
+           "load_example_records", "EXAMPLES_PATH"]
 
 EXAMPLES_PATH = Path(__file__).parent / "examples.json"
 
@@ -56,14 +56,49 @@ def load_example_records() -> dict[str, list[dict]]:
     return json.loads(EXAMPLES_PATH.read_text(encoding="utf-8"))
 
 
-def prompt_parts(subset: str) -> PromptParts:
+LEAVE_ALONE = ("When the task says to leave other things alone, any action on one of them -- picking it up, "
+               "opening, closing, switching or slicing it, or putting something in or on it -- breaks the task for "
+               "good, even if you undo it later. Walking to one with 'find' and looking at it is fine: after "
+               "'find a X_2' you face X_2, and it is what the centre of your view shows.")
+"""The guideline added when the goal asks to leave look-alikes alone (the hard set)."""
+
+
+def fit_example(text: str, ids: dict[str, int]) -> str:
+    """An example with the action ids of the current room's list (``ids``: action name -> id).
+
+    The examples were written in other rooms; an id there may name another action here (``find a Cloth_2`` in
+    one room is ``find a Cabinet_3`` in another). Ids are replaced by this room's; an example with an action this
+    room does not have (a numbered instance it lacks) shows action names only, without ids."""
+    head, sep, answer = text.partition("\nAnswer: ")
+    if not sep:
+        return text
+    doc = json.loads(answer)
+    plan = doc.get("executable_plan", [])
+    if all(step["action_name"] in ids for step in plan):
+        for step in plan:
+            step["action_id"] = ids[step["action_name"]]
+    else:
+        doc["executable_plan"] = [{"action_name": step["action_name"]} for step in plan]
+    return f"{head}{sep}{json.dumps(doc)}"
+
+
+def prompt_parts(subset: str, actions: list[str] | tuple[str, ...] | None = None,
+                 leave_alone: bool = False) -> PromptParts:
+    """The prompt parts for ``subset``; with the room's ``actions`` the examples carry this room's ids
+    (:func:`fit_example`); ``leave_alone`` adds the :data:`LEAVE_ALONE` guideline."""
     examples = load_examples()
     chosen = examples["long_horizon"] if subset == "long_horizon" else examples["general"]
+    if actions is not None:
+        ids = {name: i for i, name in enumerate(actions)}
+        chosen = tuple(fit_example(ex, ids) for ex in chosen)
     return PromptParts(
         role=ROLE,
         action_rules=ACTION_RULES,
-        guidelines=GUIDELINES,
+        guidelines=GUIDELINES + ((LEAVE_ALONE,) if leave_alone else ()),
         examples=chosen,
-        output_notes=("Take action ids from the current action list. The ids of plain names (find a Fridge) are the "
-                      "same in every room; numbered names (find a Cabinet_3) get room-specific ids."),
+        output_notes=("Take action ids from the current action list. The examples use this room's ids; an example "
+                      "that needs a numbered thing this room lacks shows action names only. Actions run in order; "
+                      "after a failed action the rest of the plan is dropped and you are asked again with the "
+                      "feedback. The episode ends after 30 actions, or as soon as 10 actions have failed (an "
+                      "answer that cannot be read counts as a failed action)."),
     )

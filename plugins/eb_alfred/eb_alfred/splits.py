@@ -3,22 +3,28 @@
 Task ``i`` of a split is fixed by ``(split, i)``: its subset is ``SUBSETS[i % 6]``, its task type and every
 random choice come from a stream named ``eb-alfred-split/<split>/<i>``, and its scene seeds are drawn from that
 stream in ``[2**40, 2**41)`` -- the test generator numbers its scenes ``1000 * (subset + 1) + 100000 * seed + k``,
-far below. The candidate is made by the test generator's own ``_make_one`` (same rooms, goals, instruction
-templates, oracle step ranges), but symbolically only: the render checks the test files get for
+far below. The candidate is made by the test generator's own draw (:func:`eb_alfred.draw.make_one`; same rooms,
+goals, instruction templates, oracle step ranges), but symbolically only: the render checks the test files get for
 ``spatial_awareness`` and ``visual_appearance`` (every referred thing visible in an image, :func:`image_problems`)
 and the long-horizon plan-length spread are skipped, so a train task may name a relation that is hard to see.
 A draw is refused (and drawn again) when its furniture layout or its full scene is one of a shipped task, or its
 instruction is a shipped instruction word for word, and it is kept only when the expert's plan, played on the
 symbolic world, reaches the goal.
+
+``difficulty=medium|hard`` (or ``taskset=hard`` in a run) draws from :func:`eb_alfred.hard.make_hard` instead, from
+the stream ``eb-alfred-split/<difficulty>/<split>/<i>``, kept apart from the classic and the hard test tasks: a
+curriculum from classic through medium to hard.
 """
 
 from __future__ import annotations
 
 import random
 from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 from eb_core.env import Task
+from eb_core.taskfile import SplitSource
 
 __all__ = ["SPLITS", "layout_key", "scene_key", "split_tasks", "test_keys", "write_split"]
 
@@ -42,8 +48,6 @@ def scene_key(scene: dict[str, Any]) -> tuple[Any, ...]:
 @lru_cache(maxsize=4)
 def test_keys(task_dir: str | None = None) -> tuple[frozenset[Any], frozenset[Any], frozenset[str], frozenset[int]]:
     """Layouts, scenes, instructions and scene seeds of the shipped (or ``task_dir``) test tasks."""
-    from pathlib import Path
-
     from eb_alfred.tasks import load_all
 
     recs = load_all(Path(task_dir) if task_dir else None)
@@ -69,15 +73,20 @@ def _solves(rec: dict[str, Any]) -> bool:
     return evaluate(rec["goal"], world)[0]
 
 
-def _one(split: str, index: int, keys: tuple[Any, ...]) -> Task:
-    from eb_alfred.generate import LONG_ROOMS, _make_one
+def _one(split: str, index: int, keys: tuple[Any, ...], difficulty: str = "classic") -> Task:
+    from eb_alfred.draw import LONG_ROOMS
     from eb_alfred.goals import GOAL_KINDS
+    from eb_alfred.hard import KINDS, maker
     from eb_alfred.tasks import SUBSETS, TaskRecord
 
+    draw = maker(difficulty)
     layouts, scenes, instructions, seeds = keys
     subset = SUBSETS[index % len(SUBSETS)]
-    kinds = [k for k in GOAL_KINDS if subset != "long_horizon" or k in LONG_ROOMS]
-    rng = random.Random(f"eb-alfred-split/{split}/{index}")
+    kinds = [k for k in GOAL_KINDS if (subset != "long_horizon" or k in LONG_ROOMS)
+             and (difficulty == "classic" or k in KINDS)]
+    stream = f"eb-alfred-split/{split}/{index}" if difficulty == "classic" else \
+        f"eb-alfred-split/{difficulty}/{split}/{index}"
+    rng = random.Random(stream)
     kind = kinds[rng.randrange(len(kinds))]
     for attempt in range(_TRIES):
         if attempt and attempt % 200 == 0:  # a type that keeps failing in this stream: try another
@@ -85,56 +94,66 @@ def _one(split: str, index: int, keys: tuple[Any, ...]) -> Task:
         seed = SEED_BASE + rng.randrange(SEED_BASE)
         if seed in seeds:
             continue
-        rec = _make_one(subset, kind, seed, rng, None)
+        rec = draw(subset, kind, seed, rng, None)
         if rec is None or rec["instruction"] in instructions:
             continue
         if layout_key(rec["scene"]) in layouts or scene_key(rec["scene"]) in scenes or not _solves(rec):
             continue
         rec = TaskRecord.model_validate({"id": f"{split}_{subset}_{index:06d}", "subset": subset, **rec})
-        return Task(id=rec.id, subset=subset, instruction=rec.instruction,
-                    metadata={"task_type": rec.task_type, "goal": rec.goal.plain(),
-                              "scene": rec.scene.model_dump(exclude_defaults=True), "scene_seed": rec.scene_seed,
-                              "oracle_steps": rec.oracle_steps, "notes": rec.notes, "template": rec.template,
-                              "split": split})
+        meta = {"task_type": rec.task_type, "goal": rec.goal.plain(),
+                "scene": rec.scene.model_dump(exclude_defaults=True), "scene_seed": rec.scene_seed,
+                "oracle_steps": rec.oracle_steps, "notes": rec.notes, "template": rec.template, "split": split}
+        if difficulty != "classic":
+            meta["difficulty"] = difficulty
+        return Task(id=rec.id, subset=subset, instruction=rec.instruction, metadata=meta)
     raise RuntimeError(f"alfred {split} task {index}: no valid draw in {_TRIES} tries (a generator bug)")
 
 
-_recent = lru_cache(maxsize=512)(_one)
-"""The last 512 tasks made in this process: drawing and checking a task again (a reset of the same seed, a group
-of rollouts from one task, ``options={"task_id": ...}``) is a dictionary look-up. Callers get deep copies."""
+SOURCE: SplitSource[Task] = SplitSource("alfred", _one, splits=SPLITS)
+"""The core's split source around :func:`_one`: the last 512 tasks made in this process are kept, so drawing and
+checking a task again (a reset of the same seed, a group of rollouts from one task, ``options={"task_id": ...}``)
+is a look-up. Callers get deep copies."""
 
 
-def split_tasks(split: str, start: int, count: int, task_dir: str | None = None, **_: Any) -> list[Task]:
-    """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``)."""
-    if split not in SPLITS:
-        raise ValueError(f"alfred: unknown split {split!r}; generated splits are {', '.join(SPLITS)} "
-                         f"('test' is the shipped tasks: load_tasks())")
-    if start < 0 or count < 0:
-        raise ValueError(f"alfred: split_tasks needs start >= 0 and count >= 0, got start={start}, count={count}")
-    keys = test_keys(task_dir)
-    return [_recent(split, i, keys).model_copy(deep=True) for i in range(start, start + count)]
+def split_tasks(split: str, start: int, count: int, task_dir: str | None = None, difficulty: str = "classic",
+                **_: Any) -> list[Task]:
+    """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``) at generator level
+    ``difficulty`` (classic, medium, hard: a curriculum). Classic splits stay apart from the classic test tasks;
+    the harder levels from the classic and the hard ones."""
+    from eb_alfred.draw import DIFFICULTIES
+
+    if difficulty not in DIFFICULTIES:
+        raise ValueError(f"alfred: unknown difficulty {difficulty!r}; allowed: {', '.join(DIFFICULTIES)}")
+    SOURCE.check(split, start, count)
+    keys = test_keys(task_dir) if difficulty == "classic" or task_dir else _all_test_keys()
+    return SOURCE.tasks(split, start, count, keys=keys, difficulty=difficulty)
 
 
-def write_split(out: str, split: str, n: int, start: int = 0) -> list[str]:
+@lru_cache(maxsize=1)
+def _all_test_keys() -> tuple[frozenset[Any], ...]:
+    """The keys of every shipped test set (classic and hard) together."""
+    from eb_alfred.tasks import TASKSETS, taskset_dir
+
+    parts = [test_keys(None)] + [test_keys(str(taskset_dir(t))) for t in TASKSETS[1:]
+                                 if (taskset_dir(t) / "base.json").is_file()]
+    return tuple(frozenset().union(*(p[i] for p in parts)) for i in range(4))
+
+
+def write_split(out: str, split: str, n: int, start: int = 0, difficulty: str = "classic") -> list[Path]:
     """Write tasks ``start .. start + n - 1`` of ``split`` as task files (one per subset) into the folder ``out``,
-    so that ``eb run env=alfred env.params.task_dir=<out>`` evaluates on them. Every subset gets a file (empty
+    so that ``eb run env=alfred env.params.task_file=<out>`` evaluates on them. Every subset gets a file (empty
     when ``n`` is small), since the loader reads all six. Returns the paths written."""
-    import json
-    from pathlib import Path
-
-    from eb_alfred.tasks import FORMAT, SUBSETS, VERSION
+    from eb_alfred.tasks import FILE_FORMAT, SUBSETS
 
     folder = Path(out)
-    folder.mkdir(parents=True, exist_ok=True)
-    tasks = split_tasks(split, start, n)
+    tasks = split_tasks(split, start, n, difficulty=difficulty)
     written = []
+    generator: dict[str, Any] = {"function": "eb_alfred.splits:write_split", "split": split, "start": start, "n": n}
+    if difficulty != "classic":
+        generator["difficulty"] = difficulty
     for subset in SUBSETS:
         mine = [{"id": t.id, "subset": t.subset, "instruction": t.instruction,
-                 **{k: v for k, v in t.metadata.items() if k != "split"}} for t in tasks if t.subset == subset]
-        doc = {"format": FORMAT, "version": VERSION, "subset": subset,
-               "generator": {"function": "eb_alfred.splits:write_split", "split": split, "start": start, "n": n},
-               "tasks": mine}
-        path = folder / f"{subset}.json"
-        path.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
-        written.append(str(path))
+                 **{k: v for k, v in t.metadata.items() if k not in ("split", "difficulty")}}
+                for t in tasks if t.subset == subset]
+        written.append(FILE_FORMAT.write(folder / f"{subset}.json", mine, generator=generator, subset=subset))
     return written

@@ -1,33 +1,38 @@
-"""Loading and validating the shipped task files (``eb_alfred/tasks/<subset>.json``).
+"""The task model and the shipped task sets (``eb_alfred/tasks/<subset>.json``, ``tasks/hard/<subset>.json``).
 
-Every file is checked against a pydantic schema and a few semantic rules (types exist, parents exist,
-goal references name things in the scene). A malformed file fails with ONE line naming the file, the task
-and the field, e.g. ``base.json: task base_07: field goal.receptacle.type: unknown type 'Fridgee'``.
+Files are read and written through the core's :class:`eb_core.taskfile.TaskFileFormat`: every task is checked
+against the pydantic schema below and a few semantic rules (types exist, parents exist, goal references name
+things in the scene). A malformed file fails with ONE line naming the file, the task and the field, e.g.
+``base.json: task 'base_07': field goal.receptacle.type: unknown type 'Fridgee'``.
 """
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from eb_core.taskfile import TaskFileError as _CoreTaskFileError
+from eb_core.taskfile import TaskFileFormat
 
 from eb_alfred.catalog import LAMPS, ROOMS, TYPES
 from eb_alfred.goals import GOAL_KINDS
 
-__all__ = ["SUBSETS", "TASK_DIR", "TaskFileError", "TaskRecord", "load_task_file", "load_all", "FORMAT", "VERSION"]
+__all__ = ["SUBSETS", "TASK_DIR", "TASKSETS", "TaskFileError", "TaskRecord", "load_task_file", "load_all", "FORMAT",
+           "VERSION", "FILE_FORMAT", "taskset_dir"]
 
 SUBSETS = ("base", "common_sense", "complex_instruction", "spatial_awareness", "visual_appearance", "long_horizon")
 TASK_DIR = Path(__file__).parent / "tasks"
 FORMAT = "eb-alfred-tasks"
 VERSION = 2
 """2: shape words drawn, referring phrases checked, objects and relations visible, template ids."""
+TASKSETS = ("classic", "hard")
+"""Shipped task sets: ``classic`` (the paper's protocol, ``tasks/``) and ``hard`` (``tasks/hard/``)."""
 
 
-class TaskFileError(ValueError):
-    """A task file is malformed; the message is one line naming file, task and field."""
-
+TaskFileError = _CoreTaskFileError
+"""The core's one task-file error (kept importable from here)."""
 
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid")
@@ -74,6 +79,8 @@ class Goal(_Strict):
     sliced: bool = False
     also: list[Literal["clean", "hot", "cold"]] = []
     """Extra preparation of the object (long_horizon): washed, heated, chilled; not both hot and cold."""
+    untouched: list[Literal["object", "receptacle", "movable"]] = []
+    """Hard set: roles whose look-alikes (other instances of the role's type) must never be handled."""
 
     @model_validator(mode="after")
     def _fields_for_kind(self) -> Goal:
@@ -87,6 +94,9 @@ class Goal(_Strict):
         for key in need:
             if getattr(self, key) is None:
                 raise ValueError(f"{key} is required for {self.kind}")
+        for role in self.untouched:
+            if getattr(self, role) is None:
+                raise ValueError(f"untouched names {role!r}, which this goal does not have")
         if self.lamp is not None:
             lamp_type = self.lamp.type or (self.lamp.instance or "").split("_")[0]
             if lamp_type not in LAMPS:
@@ -103,6 +113,8 @@ class Goal(_Strict):
             out["sliced"] = True
         if self.also:
             out["also"] = list(self.also)
+        if self.untouched:
+            out["untouched"] = list(self.untouched)
         return out
 
 
@@ -141,14 +153,6 @@ class TaskRecord(_Strict):
     """Id of the instruction template (``<subset>.<kind>[.sliced].<n>``), so audits can count templates."""
 
 
-class TaskFile(_Strict):
-    format: Literal["eb-alfred-tasks"]
-    version: Literal[2]
-    subset: Literal[SUBSETS]  # type: ignore[valid-type]
-    generator: dict[str, Any] = Field(default_factory=dict)
-    tasks: list[TaskRecord]
-
-
 def _semantic_problem(rec: TaskRecord) -> tuple[str, str] | None:
     """(field, reason) for the first rule the task breaks, or None."""
     names: dict[str, str] = {}
@@ -182,53 +186,26 @@ def _semantic_problem(rec: TaskRecord) -> tuple[str, str] | None:
     return None
 
 
+FILE_FORMAT: TaskFileFormat[TaskRecord] = TaskFileFormat(
+    "alfred", FORMAT, VERSION, TaskRecord, check=lambda rec: _semantic_problem(rec), subsets=SUBSETS)
+"""The core's envelope reader/writer for EB-ALFRED task files (one-line errors, mtime cache, atomic write)."""
+
+
+def taskset_dir(taskset: str = "classic") -> Path:
+    """The folder of a shipped task set: ``tasks/`` for classic, ``tasks/<name>/`` for the others."""
+    if taskset not in TASKSETS:
+        raise ValueError(f"alfred: unknown taskset {taskset!r}; shipped sets are {', '.join(TASKSETS)}. "
+                         f"Fix: taskset=classic or taskset=hard")
+    return TASK_DIR if taskset == "classic" else TASK_DIR / taskset
+
+
 def load_task_file(path: str | Path) -> list[TaskRecord]:
     """Read and validate one task file; raise :class:`TaskFileError` (one line) on the first problem."""
-    path = Path(path)
-    fname = path.name
-    try:
-        raw = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise TaskFileError(f"{path}: task file not found") from None
-    except json.JSONDecodeError as exc:
-        raise TaskFileError(f"{fname}: not valid JSON (line {exc.lineno}, column {exc.colno}): {exc.msg}") from None
-    if isinstance(raw, dict) and "version" in raw and raw["version"] != VERSION:
-        raise TaskFileError(f"{fname}: file version {raw['version']!r} but this eb-alfred reads version {VERSION}; "
-                            f"regenerate it with `eb tasks generate env=alfred`")
-    if isinstance(raw, dict) and isinstance(raw.get("tasks"), list):
-        for i, t in enumerate(raw["tasks"]):
-            tid = t.get("id", f"#{i}") if isinstance(t, dict) else f"#{i}"
-            try:
-                rec = TaskRecord.model_validate(t)
-            except ValidationError as exc:
-                err = exc.errors()[0]
-                loc = ".".join(str(p) for p in err["loc"])
-                raise TaskFileError(f"{fname}: task {tid}: field {loc}: {err['msg']}") from None
-            problem = _semantic_problem(rec)
-            if problem:
-                raise TaskFileError(f"{fname}: task {tid}: field {problem[0]}: {problem[1]}")
-    try:
-        tf = TaskFile.model_validate(raw)
-    except ValidationError as exc:
-        err = exc.errors()[0]
-        loc = ".".join(str(p) for p in err["loc"])
-        raise TaskFileError(f"{fname}: field {loc}: {err['msg']}") from None
-    for rec in tf.tasks:
-        if rec.subset != tf.subset:
-            raise TaskFileError(f"{fname}: task {rec.id}: field subset: {rec.subset!r} in a {tf.subset!r} file")
-    return tf.tasks
+    return list(FILE_FORMAT.read(path))
 
 
-def load_all(task_dir: str | Path | None = None) -> list[TaskRecord]:
-    """All tasks in subset order (base first), each file validated."""
-    root = Path(task_dir) if task_dir is not None else TASK_DIR
-    out: list[TaskRecord] = []
-    seen: set[str] = set()
-    for subset in SUBSETS:
-        recs = load_task_file(root / f"{subset}.json")
-        for r in recs:
-            if r.id in seen:
-                raise TaskFileError(f"{subset}.json: task {r.id}: field id: duplicate task id")
-            seen.add(r.id)
-        out += recs
-    return out
+def load_all(task_dir: str | Path | None = None, taskset: str = "classic") -> list[TaskRecord]:
+    """All tasks in subset order (base first), each file validated. ``task_dir`` (a folder of per-subset files)
+    overrides the shipped folder of ``taskset``."""
+    root = Path(task_dir) if task_dir is not None else taskset_dir(taskset)
+    return FILE_FORMAT.read_many(root / f"{subset}.json" for subset in SUBSETS)

@@ -12,12 +12,13 @@ Rules, as in AI2-THOR / ALFRED:
   means the first cabinet, ``find a Cabinet_2`` the second.
 * Nearest instance: an un-suffixed name in any other action (``pick up the Mug``, ``slice the Apple``,
   ``turn on the DeskLamp``, ``open the Drawer``) acts on the nearest reachable instance of that type, as
-  AI2-THOR's name lookup does in the original: the instance the agent faces, else one in plain view at its
-  place, else one held, else one hidden at its place (lowest number first). A suffixed name means exactly that
-  instance.
+  AI2-THOR's name lookup does in the original: the instance the agent faces, else one in or on what it faces
+  (the mug on the coffee machine it walked to), else one in plain view at its place, else one held, else one
+  hidden at its place (lowest number first). A suffixed name means exactly that instance.
 * Closed receptacles hide their contents and block picking them up.
 * ``put down`` puts the held object in/on the receptacle the agent faces (the found receptacle, or the
-  receptacle holding the found object). A sink or bathtub takes it into its basin.
+  receptacle holding the found object). A sink or bathtub takes it into its basin. A coffee machine holds one
+  cup or mug at a time.
 * Slicing needs a knife in hand. Heating: inside a microwave that is turned on (the microwave must be
   closed to run and stopped to open). Cooling: inside a fridge when it is closed. Cleaning: in a sink basin
   while its faucet runs. Examining: holding the object next to a lamp that is on.
@@ -70,6 +71,9 @@ _PATTERNS = [
     (re.compile(r"^turn off the (\w+)$"), "toggle_off"),
     (re.compile(r"^slice the (\w+)$"), "slice"),
 ]
+
+#: Receptacles that hold one thing at a time (a coffee machine has room for one cup under its spout).
+_ONE_AT_A_TIME = frozenset({"CoffeeMachine"})
 
 _PAST = {"pickup": "picked up", "open": "opened", "close": "closed", "toggle_on": "turned on",
          "toggle_off": "turned off", "slice": "sliced"}
@@ -155,6 +159,9 @@ class World:
     """Why the last action failed (see :data:`FAILURES`); None after a successful action."""
     last_target: str | None = field(default=None, compare=False)
     """The instance the last action acted on (after the nearest-instance rule), None for put down / drop."""
+    touched: set[str] = field(default_factory=set, compare=False)
+    """Instances a successful action has handled since the start: picked up (with what they carry), opened,
+    closed, switched, sliced, or put into / dropped. Goals that ask to leave look-alikes alone read it."""
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -170,7 +177,8 @@ class World:
 
     def copy(self) -> World:
         twin = World(room=self.room, objects={k: v.clone() for k, v in self.objects.items()}, held=self.held,
-                     place=self.place, facing=self.facing, target_recep=self.target_recep, history=list(self.history))
+                     place=self.place, facing=self.facing, target_recep=self.target_recep, history=list(self.history),
+                     touched=set(self.touched))
         twin._types = self._type_index()  # types never change, so copies share the index
         return twin
 
@@ -291,7 +299,8 @@ class World:
                 where = 2
             else:
                 where = 0
-            return (0 if n == self.facing else 1, where, instance_index(n))
+            faced = 0 if n == self.facing else 1 if self.facing in self.ancestors(n) else 2
+            return (faced, where, instance_index(n))
 
         return min(here, key=rank)
 
@@ -315,10 +324,24 @@ class World:
             verb_text = VERBS[verb].format("").replace(" the ", " ").strip()
             return False, f"Failed: the {target} cannot be {_PAST[verb]}; it does not support '{verb_text}'."
         handler = getattr(self, f"_do_{verb}")
+        held_before, recep_before = self.held, self.target_recep
         ok, feedback = handler(target) if target is not None else handler()
         if not ok and self.failure is None:
             self.failure = "precondition"
+        if ok and verb != "find":
+            self._touch(verb, target, held_before, recep_before)
         return ok, feedback
+
+    def _touch(self, verb: str, target: str | None, held_before: str | None, recep_before: str | None) -> None:
+        """Record what a successful action handled (see :attr:`touched`)."""
+        if verb == "pickup" and target is not None:
+            self.touched.update([target, *self.descendants(target)])
+        elif verb in ("put", "drop") and held_before is not None:
+            self.touched.update([held_before, *self.descendants(held_before)])
+            if verb == "put" and recep_before is not None:
+                self.touched.add(recep_before)
+        elif target is not None:
+            self.touched.add(target)
 
     # Every handler returns (ok, feedback). Check order: existence, hand, distance, visibility, state.
     def _not_near(self, name: str) -> tuple[bool, str]:
@@ -396,6 +419,11 @@ class World:
         if not fits(self.objects[held].type, rtype):
             self.failure = "affordance"
             return False, f"Failed: the {held} does not fit in or on the {recep}."
+        if rtype in _ONE_AT_A_TIME:
+            there = [c for c in self.children(recep) if c != held]
+            if there:
+                return False, (f"Failed: the {recep} already holds the {there[0]}; it takes one at a time. "
+                               f"Take the {there[0]} away first.")
         o = self.objects[held]
         was_dirty = o.is_dirty
         o.parent = recep

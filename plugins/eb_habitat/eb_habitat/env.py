@@ -40,8 +40,14 @@ class HabitatParams(BaseModel):
 
     render: bool = True
     """Draw first-person images with MuJoCo. False: text observations only (no MuJoCo import)."""
+    task_file: str | None = None
+    """A task file, or a folder of them, to load instead of the shipped ones (``eb tasks generate env=habitat
+    out=...``)."""
     task_dir: str | None = None
-    """Folder of task files to load instead of the shipped ones (``eb tasks generate env=habitat out=...``)."""
+    """The old spelling of ``task_file`` (a folder); still accepted."""
+
+    def tasks_path(self) -> str | None:
+        return self.task_file or self.task_dir
 
 
 def _params(params: dict[str, Any]) -> HabitatParams:
@@ -113,7 +119,7 @@ class HabitatEnv(Env):
     @classmethod
     def load_tasks(cls, **params: Any) -> list[Task]:
         p = _params(params)
-        return load_tasks(p.task_dir)
+        return load_tasks(p.tasks_path())
 
     # -- episode ---------------------------------------------------------------------------------
 
@@ -242,7 +248,7 @@ class HabitatEnv(Env):
         """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_habitat.splits`)."""
         from eb_habitat.splits import split_tasks
 
-        return split_tasks(split, start, count, task_dir=_params(params).task_dir)
+        return split_tasks(split, start, count, task_dir=_params(params).tasks_path())
 
     def close(self) -> None:
         self._closed = True

@@ -62,7 +62,9 @@ GUIDELINES = (
 
 OUTPUT_NOTES = (
     "Each plan item is an action id from the list together with its exact name. Actions run in order; after a "
-    "failed action the rest of the plan is dropped and you are asked again with the feedback."
+    "failed action the rest of the plan is dropped and you are asked again with the feedback. The episode ends "
+    "after 30 actions, or as soon as 10 actions have failed (an answer that cannot be read counts as a failed "
+    "action), so search with care."
 )
 
 

@@ -13,9 +13,11 @@ from __future__ import annotations
 
 import random
 from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 from eb_core.env import Task
+from eb_core.taskfile import SplitSource
 
 __all__ = ["SPLITS", "scene_key", "split_tasks", "test_keys", "write_split"]
 
@@ -56,44 +58,33 @@ def _one(split: str, index: int, scenes: frozenset[Any], instructions: frozenset
     raise RuntimeError(f"habitat {split} task {index}: no valid draw in 2000 tries (a generator bug)")
 
 
-_recent = lru_cache(maxsize=512)(_one)
-"""The last 512 tasks made in this process: drawing and checking a task again (a reset of the same seed, a group
-of rollouts from one task, ``options={"task_id": ...}``) is a dictionary look-up. Callers get deep copies."""
+SOURCE: SplitSource[Task] = SplitSource("habitat", _one, splits=SPLITS)
+"""The core's split source around :func:`_one`: the last 512 tasks made in this process are kept, so drawing and
+checking a task again (a reset of the same seed, a group of rollouts from one task, ``options={"task_id": ...}``)
+is a look-up. Callers get deep copies."""
 
 
 def split_tasks(split: str, start: int, count: int, task_dir: str | None = None, **_: Any) -> list[Task]:
     """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``)."""
-    if split not in SPLITS:
-        raise ValueError(f"habitat: unknown split {split!r}; generated splits are {', '.join(SPLITS)} "
-                         f"('test' is the shipped tasks: load_tasks())")
-    if start < 0 or count < 0:
-        raise ValueError(f"habitat: split_tasks needs start >= 0 and count >= 0, got start={start}, count={count}")
+    SOURCE.check(split, start, count)
     scenes, instructions = test_keys(task_dir)
-    return [_recent(split, i, scenes, instructions).model_copy(deep=True) for i in range(start, start + count)]
+    return SOURCE.tasks(split, start, count, scenes=scenes, instructions=instructions)
 
 
-def write_split(out: str, split: str, n: int, start: int = 0) -> list[str]:
+def write_split(out: str, split: str, n: int, start: int = 0) -> list[Path]:
     """Write tasks ``start .. start + n - 1`` of ``split`` as task files (one per subset) into the folder ``out``,
-    so that ``eb run env=habitat env.params.task_dir=<out>`` evaluates on them. Returns the paths written."""
-    import json
-    from pathlib import Path
-
+    so that ``eb run env=habitat env.params.task_file=<out>`` evaluates on them. Returns the paths written."""
     from eb_habitat.generate import GENERATOR_VERSION
-    from eb_habitat.tasks import FORMAT, SUBSETS, VERSION
+    from eb_habitat.tasks import FILE_FORMAT, SUBSETS
 
     folder = Path(out)
-    folder.mkdir(parents=True, exist_ok=True)
     tasks = split_tasks(split, start, n)
     written = []
     for subset in SUBSETS:
         mine = [t.model_dump() for t in tasks if t.subset == subset]
         if not mine:
             continue
-        doc = {"format": FORMAT, "version": VERSION, "subset": subset,
-               "generator": {"name": "eb_habitat.splits", "version": GENERATOR_VERSION, "seed": 0,
-                             "split": split, "start": start, "n": n},
-               "tasks": mine}
-        path = folder / f"{subset}.json"
-        path.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
-        written.append(str(path))
+        generator = {"name": "eb_habitat.splits", "version": GENERATOR_VERSION, "seed": 0, "split": split,
+                     "start": start, "n": n}
+        written.append(FILE_FORMAT.write(folder / f"{subset}.json", mine, generator=generator, subset=subset))
     return written

@@ -12,23 +12,25 @@ A task file (``eb_habitat/tasks/<subset>.json``) looks like::
                              "subgoals": [["(holding ?apple)"], ["(on ?apple sofa)"]],
                              "oracle_steps": 4}}]}
 
-Any problem raises :class:`TaskFileError` with ONE line naming the file, the task and the field.
+Files are read and written through the core's :class:`eb_core.taskfile.TaskFileFormat` (:data:`FILE_FORMAT`): any
+problem raises :class:`TaskFileError` with ONE line naming the file, the task and the field.
 """
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
-from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field
 
 from eb_core.env import Task
+from eb_core.taskfile import TaskFileError as _CoreTaskFileError
+from eb_core.taskfile import TaskFileFormat
 from eb_habitat.catalog import N_APARTMENTS, object_type, receptacle
 from eb_habitat.goals import GoalTracker, Predicate, PredicateError, parse_predicate
 from eb_habitat.world import World
 
 __all__ = [
+    "FILE_FORMAT",
     "FORMAT",
     "SUBSETS",
     "TASK_DIR",
@@ -48,8 +50,8 @@ SUBSETS = ("base", "common_sense", "complex_instruction", "spatial_relationship"
 TASK_DIR = Path(__file__).parent / "tasks"
 
 
-class TaskFileError(ValueError):
-    """A task file is malformed; the message is one line: file, task, field, reason."""
+TaskFileError = _CoreTaskFileError
+"""The core's one task-file error (kept importable from here)."""
 
 
 class ObjectSpec(BaseModel):
@@ -111,136 +113,83 @@ class _TaskEntry(BaseModel):
     metadata: TaskSpec
 
 
-class _TaskFile(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-    format: Literal["eb-habitat-tasks"]
-    version: Literal[2]
-    subset: str
-    generator: dict[str, Any] = Field(default_factory=dict)
-    tasks: list[_TaskEntry] = Field(min_length=1)
-
-
-def _fail(path: Path, task: str, field: str, reason: str) -> TaskFileError:
-    return TaskFileError(f"{path}: task {task}: field '{field}': {reason}")
-
-
-def _semantic_check(path: Path, entry: _TaskEntry, file_subset: str) -> None:
-    tid, spec = entry.id, entry.metadata
-
-    def fail(field: str, reason: str) -> TaskFileError:
-        return _fail(path, tid, field, reason)
-
-    if entry.subset != file_subset:
-        raise fail("subset", f"{entry.subset!r} differs from the file's subset {file_subset!r}")
+def _semantic_problem(entry: _TaskEntry) -> tuple[str, str] | None:
+    """(field, reason) for the first rule a schema-valid task breaks, or None."""
+    spec = entry.metadata
     names: set[str] = set()
     slots: set[tuple[str, int]] = set()
     for i, o in enumerate(spec.objects):
         f = f"metadata.objects[{i}]"
         if o.name in names:
-            raise fail(f + ".name", f"duplicate object name {o.name!r}")
+            return f + ".name", f"duplicate object name {o.name!r}"
         names.add(o.name)
         try:
             t = object_type(o.type)
         except KeyError as exc:
-            raise fail(f + ".type", exc.args[0]) from None
+            return f + ".type", exc.args[0]
         if not o.name.startswith(o.type + "_") or not o.name[len(o.type) + 1:].isdigit():
-            raise fail(f + ".name", f"{o.name!r} must be the type key and a number, e.g. '{o.type}_1'")
+            return f + ".name", f"{o.name!r} must be the type key and a number, e.g. '{o.type}_1'"
         if o.color not in t.colors:
-            raise fail(f + ".color", f"{o.color!r} is not a colour of {t.name} (have {', '.join(t.colors)})")
+            return f + ".color", f"{o.color!r} is not a colour of {t.name} (have {', '.join(t.colors)})"
         try:
             r = receptacle(o.at)
         except KeyError as exc:
-            raise fail(f + ".at", exc.args[0]) from None
+            return f + ".at", exc.args[0]
         if o.slot >= r.capacity:
-            raise fail(f + ".slot", f"slot {o.slot} but the {r.name} has {r.capacity} slot(s)")
+            return f + ".slot", f"slot {o.slot} but the {r.name} has {r.capacity} slot(s)"
         if (o.at, o.slot) in slots:
-            raise fail(f + ".slot", f"slot {o.slot} of the {r.name} is taken twice")
+            return f + ".slot", f"slot {o.slot} of the {r.name} is taken twice"
         slots.add((o.at, o.slot))
     for i, key in enumerate(spec.open):
         try:
             r = receptacle(key)
         except KeyError as exc:
-            raise fail(f"metadata.open[{i}]", exc.args[0]) from None
+            return f"metadata.open[{i}]", exc.args[0]
         if not r.articulated:
-            raise fail(f"metadata.open[{i}]", f"the {r.name} cannot be opened")
+            return f"metadata.open[{i}]", f"the {r.name} cannot be opened"
     inst = spec.instances()
     for i, g in enumerate(spec.goal):
         try:
             parse_predicate(g, inst)
         except PredicateError as exc:
-            raise fail(f"metadata.goal[{i}]", str(exc)) from None
+            return f"metadata.goal[{i}]", str(exc)
     for i, group in enumerate(spec.subgoals):
         if not group:
-            raise fail(f"metadata.subgoals[{i}]", "a subgoal set must hold at least one predicate")
+            return f"metadata.subgoals[{i}]", "a subgoal set must hold at least one predicate"
         for j, g in enumerate(group):
             try:
                 parse_predicate(g, inst)
             except PredicateError as exc:
-                raise fail(f"metadata.subgoals[{i}][{j}]", str(exc)) from None
+                return f"metadata.subgoals[{i}][{j}]", str(exc)
     if spec.tracker().success(spec.world()):
-        raise fail("metadata.goal", "the goal already holds in the initial scene")
+        return "metadata.goal", "the goal already holds in the initial scene"
+    return None
+
+
+FILE_FORMAT: TaskFileFormat[_TaskEntry] = TaskFileFormat(
+    "habitat", FORMAT, VERSION, _TaskEntry, check=lambda entry: _semantic_problem(entry), subsets=SUBSETS)
+"""The core's envelope reader/writer for EB-Habitat task files (one-line errors, mtime cache, atomic write)."""
+
+
+def _task(entry: _TaskEntry) -> Task:
+    return Task(id=entry.id, subset=entry.subset, instruction=entry.instruction, metadata=entry.metadata.model_dump())
 
 
 def load_task_file(path: str | Path) -> list[Task]:
     """Read and validate one task file. Raises :class:`TaskFileError` (one line) on any problem."""
-    path = Path(path)
-    try:
-        raw = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise TaskFileError(f"{path}: cannot read the task file: {exc.strerror or exc}") from None
-    except json.JSONDecodeError as exc:
-        raise TaskFileError(f"{path}: not valid JSON: {exc.msg} at line {exc.lineno} column {exc.colno}") from None
-    if isinstance(raw, dict) and raw.get("format") == FORMAT and raw.get("version") not in (None, VERSION):
-        raise TaskFileError(f"{path}: task file version {raw.get('version')!r} is not supported; this eb-habitat "
-                            f"reads version {VERSION}. Regenerate it with `eb tasks generate env=habitat`.")
-    try:
-        data = _TaskFile.model_validate(raw)
-    except ValidationError as exc:
-        err = exc.errors()[0]
-        loc = list(err["loc"])
-        task = "-"
-        if len(loc) >= 2 and loc[0] == "tasks" and isinstance(loc[1], int):
-            try:
-                task = str(raw["tasks"][loc[1]].get("id", f"#{loc[1]}"))
-            except (AttributeError, IndexError, KeyError, TypeError):
-                task = f"#{loc[1]}"
-            loc = loc[2:]
-        field = "".join(f"[{p}]" if isinstance(p, int) else (f".{p}" if i else str(p)) for i, p in enumerate(loc))
-        msg = err["msg"]
-        if err["type"] == "extra_forbidden":
-            msg = "unknown field (check its spelling)"
-        raise _fail(path, task, field or "(file)", f"{msg} (got {str(err.get('input'))[:60]!r})"
-                    if err["type"] != "missing" else msg) from None
-    if data.subset not in SUBSETS:
-        raise _fail(path, "-", "subset", f"unknown subset {data.subset!r}; known: {', '.join(SUBSETS)}")
-    seen: set[str] = set()
-    tasks: list[Task] = []
-    for entry in data.tasks:
-        if entry.id in seen:
-            raise _fail(path, entry.id, "id", "duplicate task id")
-        seen.add(entry.id)
-        _semantic_check(path, entry, data.subset)
-        tasks.append(Task(id=entry.id, subset=entry.subset, instruction=entry.instruction,
-                          metadata=entry.metadata.model_dump()))
-    return tasks
+    return [_task(e) for e in FILE_FORMAT.read(path)]
 
 
 def load_tasks(task_dir: str | Path | None = None) -> list[Task]:
-    """All tasks of every ``*.json`` file in ``task_dir`` (default: the shipped ones), subsets in paper order."""
+    """All tasks of every ``*.json`` file in ``task_dir`` (a folder, or one file; default: the shipped ones),
+    subsets in paper order."""
     folder = Path(task_dir) if task_dir is not None else TASK_DIR
+    if folder.is_file():
+        return load_task_file(folder)
     files = sorted(folder.glob("*.json"), key=lambda p: (SUBSETS.index(p.stem) if p.stem in SUBSETS else 99, p.name))
     if not files:
         raise TaskFileError(f"{folder}: no task files (*.json); create them with `eb tasks generate env=habitat`")
-    tasks: list[Task] = []
-    ids: dict[str, Path] = {}
-    for f in files:
-        for t in load_task_file(f):
-            if t.id in ids:
-                raise TaskFileError(f"{f}: task {t.id}: field 'id': also defined in {ids[t.id]}")
-            ids[t.id] = f
-            tasks.append(t)
-    return tasks
+    return [_task(e) for e in FILE_FORMAT.read_many(files)]
 
 
 def spec_of(task: Task) -> TaskSpec:

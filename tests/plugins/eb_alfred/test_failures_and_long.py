@@ -149,12 +149,19 @@ def _shipped() -> list[dict]:
     return [t for s in SUBSETS for t in json.loads((TASK_DIR / f"{s}.json").read_text())["tasks"]]
 
 
+#: Tasks whose expert got shorter when "pick up the X" began to prefer the X inside or on what the agent faces
+#: (issue 25): the classic files stay byte-identical, so their stored count is one more than the expert's now.
+#: visual_appearance_18: after opening the microwave the plate inside it is taken without finding it again.
+_SHORTER_SINCE_FACED_RULE = {"visual_appearance_18": (14, 13)}
+
+
 def test_stored_oracle_steps_equal_the_current_expert() -> None:
     wrong = []
     for t in _shipped():
         plan = expert_plan(World.from_scene(t["scene"]), t["goal"])
-        if plan is None or len(plan) != t["oracle_steps"]:
-            wrong.append((t["id"], t["oracle_steps"], None if plan is None else len(plan)))
+        got = (t["oracle_steps"], None if plan is None else len(plan))
+        if got[0] != got[1] and _SHORTER_SINCE_FACED_RULE.get(t["id"]) != got:
+            wrong.append((t["id"], *got))
     assert not wrong, wrong
 
 

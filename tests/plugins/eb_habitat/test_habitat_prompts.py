@@ -58,3 +58,17 @@ def test_prompt_parts_follow_the_original_structure() -> None:
     for topic in ("empty plan", "not in view", "conditions", "do not repeat", "same kind", "feedback"):
         assert topic in text, topic
     assert len(parts.examples) == 10
+
+
+def test_prompt_states_the_budgets_and_that_a_failure_drops_the_rest_of_the_plan() -> None:
+    """Issue 25: the episode ends at the 10th failed action, and the prompt must say so (and the 30 steps)."""
+    import yaml
+    from pathlib import Path
+
+    from eb_habitat.prompts import prompt_parts
+
+    conf = yaml.safe_load((Path(__import__("eb_habitat").__file__).parent / "conf/env/habitat.yaml").read_text())
+    notes = prompt_parts("base").output_notes
+    assert f"after {conf['max_steps']} actions" in notes
+    assert f"{conf['max_invalid_actions']} actions have failed" in notes
+    assert "rest of the plan is dropped" in notes

@@ -1,0 +1,396 @@
+"""The hard set's draw (``taskset=hard``, ``eb tasks generate env=alfred difficulty=hard``).
+
+Same world, actions, feedback, limits and success checks as classic; what changes is the scene and the words:
+
+* crowds of look-alikes: the object is one of ``n_obj`` instances of its type (two of them for pick-two), told
+  apart only by colour or shape (shape where the type has shapes, in visual_appearance) or, in
+  spatial_awareness, only by which piece of furniture it stands on or in ("the mug that is in the cabinet just
+  to the left of the fridge"), every other instance a clone of it;
+* the destination is one of ``n_rec`` same-type pieces of furniture (cabinets, drawers, shelves, counters...),
+  singled out by colour or by its place along the walls;
+* instance numbers are shuffled, so ``Mug_3`` or ``Cabinet`` says nothing about where a thing stands;
+* the instruction asks to leave the look-alikes alone, and the goal checks it (``goal.untouched``: no other mug,
+  no other cabinet may be picked up, opened, closed, switched or filled at any time). A wrong guess cannot be
+  taken back, so a player who cannot see has one guess among ``n_obj x n_rec`` (about 1 in 24);
+* bigger, fuller rooms and longer plans (up to 26 steps); even an exhaustive search -- one ``find`` for every
+  candidate object and destination, then the plan -- fits the 30-step budget (:func:`search_bound`).
+
+Relations that the text feedback would give away are not used: "the cabinet that holds the book" (``find a
+Book`` says which cabinet), and the object's own place when look-alikes share it. Feedback rules are classic:
+``find``/``open`` still name where things are and what is inside, which is no help when every candidate is a
+mug at some cabinet.
+"""
+
+from __future__ import annotations
+
+import random
+from typing import Any
+
+from eb_alfred.actions import scene_actions
+from eb_alfred.audit import candidate_phrases, phrase_problems, use_phrase
+from eb_alfred.catalog import TYPES, fits
+from eb_alfred.draw import (KIND_ROOMS, LONG_ROOMS, MAX_ACTIONS, MIN_ACTIONS, _PLACE_TARGETS, _add_preparation,
+                            _prepare, _shut_away, image_problems, make_one, propose_goal)
+from eb_alfred.goals import PROPERTY_OF_KIND, evaluate
+from eb_alfred.instructions import (_CONTEXT, _ASIDE, _CLOSE, _NEED, _fill, _pick, _ref_words, base_instruction,
+                                    noun, plural, prep, receptacle_relations)
+from eb_alfred.oracle import expert_plan
+from eb_alfred.scenes import _renumber, make_scene
+from eb_alfred.world import World
+
+__all__ = ["LEVELS", "KINDS", "MAX_STEPS", "STEP_RANGE", "make_hard", "maker", "search_bound"]
+
+MAX_STEPS = 30
+"""The benchmark's step budget (``conf/env/alfred.yaml``)."""
+
+LEVELS: dict[str, dict[str, Any]] = {
+    "medium": {"n_obj": 3, "n_rec": 2, "n_host": 3, "untouched": ("object",)},
+    "hard": {"n_obj": 6, "n_rec": 4, "n_host": 5, "untouched": ("object", "receptacle")},
+}
+"""Per level: instances of the object's type, of the destination's type, of the furniture type holding the
+spatial look-alikes (one each), and the roles whose look-alikes the goal protects."""
+
+#: Task types of the hard set: every type with a destination (examine-in-light has one lamp per room, so only
+#: the object could be ambiguous, and one guess in six is too easy).
+KINDS = ("pick_and_place", "stack_and_place", "pick_two_and_place", "clean_and_place", "heat_and_place",
+         "cool_and_place")
+#: Oracle-step range per subset (inclusive); the budget is 30.
+STEP_RANGE = {"base": (4, 18), "common_sense": (4, 18), "complex_instruction": (4, 18),
+              "spatial_awareness": (4, 22), "visual_appearance": (4, 22), "long_horizon": (16, 26)}
+#: Furniture that can be a destination or hold the object in spatial tasks.
+_HOSTS = ("Cabinet", "Drawer", "Shelf", "SideTable", "CounterTop", "Dresser", "TowelHolder")
+_LEAVE = ("Leave the other {xs} and {rs} alone.", "Do not touch any of the other {xs} or {rs}.",
+          "The other {xs} and {rs} must stay exactly as they are.",
+          "Only that one: keep your hands off the other {xs} and {rs}.")
+_LEAVE_OBJ = ("Leave the other {xs} alone.", "Do not touch any of the other {xs}.",
+              "The other {xs} must stay exactly as they are.")
+
+
+def maker(difficulty: str) -> Any:
+    """The draw function for a generator level: ``make_one`` for classic, :func:`make_hard` otherwise."""
+    if difficulty == "classic":
+        return make_one
+    if difficulty not in LEVELS:
+        raise ValueError(f"alfred: unknown difficulty {difficulty!r}; allowed: classic, {', '.join(LEVELS)}")
+
+    def draw(subset: str, kind: str, seed: int, rng: random.Random, views_for: Any = None) -> dict[str, Any] | None:
+        return make_hard(subset, kind, seed, rng, views_for, level=difficulty)
+    return draw
+
+
+def _shuffle_names(objects: list[dict[str, Any]], rng: random.Random) -> None:
+    """Give the instances of each type their numbers in random order (``Cabinet`` is no longer the leftmost)."""
+    by_type: dict[str, list[dict[str, Any]]] = {}
+    for o in objects:
+        by_type.setdefault(o["type"], []).append(o)
+    rename: dict[str, str] = {}
+    for t, group in by_type.items():
+        names = [o["name"] for o in group]
+        shuffled = list(names)
+        rng.shuffle(shuffled)
+        rename.update(zip(names, shuffled))
+    for o in objects:
+        o["name"] = rename[o["name"]]
+        if "parent" in o:
+            o["parent"] = rename[o["parent"]]
+
+
+def _standing(scene: dict[str, Any], t: str) -> list[dict[str, Any]]:
+    return [o for o in scene["objects"] if o["type"] == t and "parent" not in o]
+
+
+def _choose_destination(rng: random.Random, scene: dict[str, Any], goal: dict[str, Any], n_rec: int,
+                        by_colour: bool) -> str | None:
+    carried = goal["movable"]["type"] if "movable" in goal else goal["object"]["type"]
+    kind = goal["kind"]
+    options = [t for t in _HOSTS if t in _PLACE_TARGETS and fits(carried, t) and len(_standing(scene, t)) >= n_rec
+               and not (by_colour and len(TYPES[t].colors) < 2)
+               and not (kind == "cool_and_place" and t == "Fridge")]
+    return rng.choice(options) if options else None
+
+
+def _add_look_alikes(rng: random.Random, scene: dict[str, Any], xt: str, n_obj: int, avoid: set[str],
+                     hosts: list[str] | None) -> list[dict[str, Any]] | None:
+    """Make ``n_obj`` instances of ``xt`` (clones of one of them), each on/in a fitting receptacle outside
+    ``avoid`` (the destination's type); with ``hosts``, one per host instance (spatial). Returns the instances."""
+    objs = scene["objects"]
+    mine = [o for o in objs if o["type"] == xt]
+    if not mine:
+        return None
+    model = {k: v for k, v in mine[0].items() if k not in ("name", "parent", "slot", "is_dirty")}
+    for o in mine:  # existing ones leave the destination's type and closed spots the plan cannot reach cheaply
+        parent = next((p for p in objs if p["name"] == o.get("parent")), None)
+        if parent is None or parent["type"] in avoid or (hosts is not None and parent["name"] not in hosts):
+            o["parent"] = "?"
+    if hosts is not None:
+        free = list(hosts)
+        rng.shuffle(free)
+        placed = [o for o in mine if o["parent"] != "?"]
+        used = {o["parent"] for o in placed}
+        free = [h for h in free if h not in used]
+        for o in mine:
+            if o["parent"] == "?":
+                if not free:
+                    return None
+                o["parent"] = free.pop()
+        while len(mine) < n_obj and free:
+            twin = dict(model, name=f"{xt}_{90 + len(mine)}", parent=free.pop())
+            objs.append(twin)
+            mine.append(twin)
+        if len(mine) < n_obj or len({o["parent"] for o in mine}) < len(mine):
+            return None
+        return mine
+    # one instance per place (piece of furniture): after "find a Mug_3" the view shows that mug alone, so which
+    # name goes with which look is never in doubt
+    def top(o: dict[str, Any]) -> str:
+        while "parent" in o and o["parent"] != "?":
+            o = next(p for p in objs if p["name"] == o["parent"])
+        return o["name"]
+
+    receps = [o for o in objs if TYPES[o["type"]].receptacle and fits(xt, o["type"]) and o["type"] not in avoid
+              and o["type"] not in ("Sink", "Bathtub", "Microwave", "Fridge", "Toaster", "CoffeeMachine",
+                                    "GarbageCan", "Safe", "Box")
+              and not TYPES[o["type"]].pickupable and top(o) not in avoid_places(objs, avoid)]
+    by_place: dict[str, list[dict[str, Any]]] = {}
+    for r in receps:
+        by_place.setdefault(top(r), []).append(r)
+    places = sorted(by_place)
+    rng.shuffle(places)
+    if len(places) < n_obj:
+        return None
+    while len(mine) < n_obj:
+        twin = dict(model, name=f"{xt}_{90 + len(mine)}", parent="?")
+        objs.append(twin)
+        mine.append(twin)
+    for o, place in zip(mine, places):
+        o["parent"] = rng.choice(by_place[place])["name"]
+    for o in mine[n_obj:]:
+        if any(c.get("parent") == o["name"] for c in objs):
+            return None
+        objs.remove(o)
+    mine = mine[:n_obj]
+    for o in mine:
+        o.pop("is_dirty", None)
+        o.pop("slot", None)
+    return mine
+
+
+def avoid_places(objs: list[dict[str, Any]], avoid: set[str]) -> set[str]:
+    """Names of the standing furniture of the types in ``avoid`` (the destination's look-alikes)."""
+    return {o["name"] for o in objs if "parent" not in o and o["type"] in avoid}
+
+
+def _single_out_by_looks(rng: random.Random, mine: list[dict[str, Any]], xt: str, n_targets: int,
+                         prefer_shape: bool) -> tuple[str, str, list[dict[str, Any]]] | None:
+    """Give ``n_targets`` of ``mine`` one look (colour or shape) none of the others has; the others differ
+    only in that. Returns (attribute, value, targets)."""
+    info = TYPES[xt]
+    attrs = [a for a, vals in (("shape", info.shapes), ("color", info.colors)) if len(vals) >= 2]
+    if not attrs:
+        return None
+    attr = "shape" if prefer_shape and "shape" in attrs else ("color" if "color" in attrs else attrs[0])
+    values = list(info.shapes if attr == "shape" else info.colors)
+    value = rng.choice(values)
+    others = [v for v in values if v != value]
+    base_color = rng.choice(info.colors) if info.colors else None
+    base_shape = rng.choice(info.shapes) if info.shapes else None
+    order = list(mine)
+    rng.shuffle(order)
+    targets = order[:n_targets]
+    for o in order:
+        if base_color:
+            o["color"] = base_color
+        if base_shape:
+            o["shape"] = base_shape
+        o[attr] = value if o in targets else rng.choice(others)
+    return attr, value, targets
+
+
+def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: Any = None,
+              level: str = "hard") -> dict[str, Any] | None:
+    """One hard candidate task (or None); ``views_for(world)`` renders it for the image checks (all subsets)."""
+    cfg = LEVELS[level]
+    if kind not in KINDS:
+        return None
+    long = subset == "long_horizon"
+    spatial = subset == "spatial_awareness"
+    rooms = LONG_ROOMS.get(kind) if long else KIND_ROOMS[kind]
+    if not rooms:
+        return None
+    room = rng.choice(rooms)
+    scene = make_scene(seed, room, size=(0.3 + 0.5 * rng.random()) if long else (0.6 + 0.4 * rng.random()))
+    world = World.from_scene(scene)
+    sliced = long and room == "kitchen" and rng.random() < 0.5
+    goal = propose_goal(rng, kind, world, sliced=sliced)
+    if goal is None:
+        return None
+    xt = goal["object"]["type"]
+    pick_two = kind == "pick_two_and_place"
+    n_targets = 2 if pick_two else 1
+    # the destination: one of n_rec same-type pieces of furniture
+    rt = _choose_destination(rng, scene, goal, cfg["n_rec"], by_colour=not spatial)
+    if rt is None:
+        return None
+    goal["receptacle"] = {"type": rt}
+    if long and (kind not in PROPERTY_OF_KIND or rng.random() < 0.5):
+        goal = _add_preparation(rng, world, goal)
+        if goal is None:
+            return None
+    # the object's look-alikes
+    hosts = None
+    host_type = None
+    if spatial and not pick_two:
+        host_types = [t for t in _HOSTS if t != rt and fits(xt, t) and len(_standing(scene, t)) >= cfg["n_host"]]
+        if not host_types:
+            return None
+        host_type = rng.choice(host_types)
+        hosts = [o["name"] for o in _standing(scene, host_type)]
+    n_obj = cfg["n_obj"] if hosts is None else min(cfg["n_obj"], len(hosts))
+    mine = _add_look_alikes(rng, scene, xt, n_obj, {rt, *( [goal["movable"]["type"]] if "movable" in goal else [])},
+                            hosts)
+    if mine is None:
+        return None
+    if spatial and not pick_two:
+        info = TYPES[xt]
+        look = {"color": rng.choice(info.colors)} if info.colors else {}
+        if info.shapes:
+            look["shape"] = rng.choice(info.shapes)
+        for o in mine:
+            o.update(look)
+        targets = [rng.choice(mine)]
+        attr = value = None
+    else:
+        got = _single_out_by_looks(rng, mine, xt, n_targets, prefer_shape=subset == "visual_appearance")
+        if got is None:
+            return None
+        attr, value, targets = got
+    # the destination's look-alikes: one colour for the chosen one, the other for the rest (not in spatial)
+    dests = _standing(scene, rt)
+    dest = rng.choice(dests)
+    if not spatial:
+        cols = list(TYPES[rt].colors)
+        rng.shuffle(cols)
+        for d in dests:
+            d["color"] = cols[0] if d is dest else cols[1]
+    for t in targets:
+        t["_target"] = True
+    dest["_dest"] = True
+    _renumber(scene["objects"])
+    _shuffle_names(scene["objects"], rng)
+    world = World.from_scene({"room": scene["room"], "objects": [{k: v for k, v in o.items() if not k.startswith("_")}
+                                                                 for o in scene["objects"]]})
+    target_names = [o["name"] for o in scene["objects"] if o.get("_target")]
+    dest_name = next(o["name"] for o in scene["objects"] if o.get("_dest"))
+    if not MIN_ACTIONS <= len(scene_actions(world)) <= MAX_ACTIONS:
+        return None
+    if pick_two:
+        goal["object"] = {"type": xt, attr: value}
+    else:
+        goal["object"] = {"instance": target_names[0]}
+    goal["receptacle"] = {"instance": dest_name}
+    goal["untouched"] = list(cfg["untouched"])
+    _prepare(world, goal)
+    if long and rng.random() < 0.85:
+        shut_goal = dict(goal, object={"type": xt}, receptacle={"type": rt})
+        if not _shut_away(rng, world, shut_goal):
+            return None
+        places = [world.place_of(n) for n in world.of_type(xt)]
+        if len(set(places)) < len(places):  # still one per place (see _add_look_alikes)
+            return None
+    if evaluate(goal, world)[1] > 0:
+        return None
+    lo, hi = STEP_RANGE[subset]
+    plan = expert_plan(world, goal, limit=hi)
+    if plan is None or not lo <= len(plan) <= hi:
+        return None
+    if search_bound(world, goal, len(plan)) > MAX_STEPS:
+        return None
+    words = _words(rng, subset, goal, world, xt, rt, attr, value, host_type)
+    if words is None:
+        return None
+    template, text = _instruction(rng, subset, goal, world, words, xt, rt, level)
+    if phrase_problems(text, goal, world):
+        return None
+    rec = {"instruction": text, "task_type": kind, "goal": goal, "scene": world.to_scene(), "scene_seed": seed,
+           "oracle_steps": len(plan), "notes": words["notes"], "template": template}
+    if views_for is not None:
+        # common_sense names the look by itself ("the red handled cup..."): check it as "the red mug"
+        seen = dict(rec, instruction=f"{text} ({value} {noun(xt)})") if subset == "common_sense" and value else rec
+        if image_problems(seen, views_for(world)):
+            return None
+    return rec
+
+
+def search_bound(world: World, goal: dict[str, Any], plan_length: int) -> int:
+    """Actions a sighted player needs at worst: one ``find`` for every instance of the object's type and for
+    every piece of furniture of the destination's type (to see each one), then the expert's plan without its two
+    finds of the object and the destination. Kept within the step budget, so even an exhaustive search fits."""
+    xt = world.objects[goal["object"]["instance"]].type if "instance" in goal["object"] else goal["object"]["type"]
+    rt = world.objects[goal["receptacle"]["instance"]].type
+    n_r = sum(1 for n in world.of_type(rt) if world.objects[n].parent is None)
+    return len(world.of_type(xt)) + n_r + plan_length - 2
+
+
+def _words(rng: random.Random, subset: str, goal: dict[str, Any], world: World, xt: str, rt: str,
+           attr: str | None, value: str | None, host_type: str | None) -> dict[str, str] | None:
+    """Referring phrases for the object (``obj`` or ``objs``) and the destination (``recep``), and notes."""
+    dest = goal["receptacle"]["instance"]
+    out: dict[str, str] = {}
+    if subset == "spatial_awareness":
+        x = goal["object"].get("instance")
+        if x is not None:
+            parent = world.objects[x].parent
+            rels = [p for p, _ in receptacle_relations(world, parent) if "holds" not in p]
+            if not rels:
+                return None
+            out["obj"] = f"the {noun(xt)} that is {'in' if prep(host_type or '') == 'in' else 'on'} {rng.choice(rels)}"
+        else:
+            out["objs"] = f"{value} {plural(xt)}"
+        rels = [p for p, _ in receptacle_relations(world, dest) if "holds" not in p]
+        if not rels:
+            return None
+        out["recep"] = rng.choice(rels)
+    elif subset == "common_sense":
+        use = rng.choice(TYPES[xt].uses)
+        if "instance" in goal["object"]:
+            out["obj"] = use_phrase(use, value or "")
+        else:
+            out["objs"] = f"{value} {plural(xt)}"
+        out["recep"] = use_phrase(rng.choice(TYPES[rt].uses), world.objects[dest].color or "")
+    else:
+        out["obj" if "instance" in goal["object"] else "objs"] = (
+            f"the {value} {noun(xt)}" if "instance" in goal["object"] else f"{value} {plural(xt)}")
+        out["recep"] = f"the {world.objects[dest].color} {noun(rt)}"
+    if "instance" in goal["object"] and subset not in ("spatial_awareness", "common_sense"):
+        if not any(p.lower() == out["obj"].lower() for p, _ in candidate_phrases(world, goal, "object")):
+            return None
+    out["notes"] = f"object {goal['object']}: {out.get('obj') or out.get('objs')}; receptacle {dest}: {out['recep']}"
+    return out
+
+
+def _instruction(rng: random.Random, subset: str, goal: dict[str, Any], world: World, words: dict[str, str],
+                 xt: str, rt: str, level: str) -> tuple[str, str]:
+    over = {k: v for k, v in words.items() if k in ("obj", "objs", "recep")}
+    if subset == "complex_instruction":
+        tid, need = _pick(rng, "complex_instruction", goal["kind"], _NEED)
+        need = _fill(need, _ref_words(goal, world, **over))
+        involved = {xt, rt} | ({goal["movable"]["type"]} if "movable" in goal else set())
+        others = sorted({o.type for o in world.objects.values() if TYPES[o.type].pickupable} - involved)
+        context = rng.sample(_CONTEXT, 2 + rng.randrange(2))
+        if others:
+            context.insert(rng.randrange(1, len(context) + 1), rng.choice(_ASIDE).format(d=noun(rng.choice(others))))
+        at = rng.randrange(1, len(context) + 1)
+        parts = context[:at] + [need] + context[at:]
+        text = " ".join(parts)
+        tid = "hard." + tid
+    else:
+        tid, text = base_instruction(rng, goal, world, subset=subset, **over)
+        tid = "hard." + tid
+    if LEVELS[level]["untouched"] == ("object",):
+        k = rng.randrange(len(_LEAVE_OBJ))
+        leave = _LEAVE_OBJ[k].format(xs=plural(xt))
+    else:
+        k = rng.randrange(len(_LEAVE))
+        leave = _LEAVE[k].format(xs=plural(xt), rs=plural(rt))
+    tail = rng.choice(_CLOSE) if subset == "complex_instruction" else ""
+    return f"{tid}.leave{k}", " ".join(p for p in (text, leave, tail) if p)

@@ -1,0 +1,248 @@
+"""EB-ALFRED's hard task set, the classic fixes of issue 25 and the task-file port of issue 27."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import random
+import re
+from collections import Counter
+from pathlib import Path
+
+import pytest
+
+from eb_core.taskfile import task_set_digest
+
+from eb_alfred.blind import guess_episode, random_episode, sweep_episode
+from eb_alfred.env import AlfredEnv
+from eb_alfred.goals import evaluate, look_alikes
+from eb_alfred.hard import search_bound
+from eb_alfred.oracle import expert_plan, why_unreachable
+from eb_alfred.prompts import LEAVE_ALONE
+from eb_alfred.tasks import SUBSETS, TASK_DIR, TaskFileError, load_all, load_task_file
+from eb_alfred.world import World
+
+CLASSIC_SHA256 = {
+    "base": "b189a3b11eef7214bcf1de198fb3dcb30c02a2bd2ef57b2c8485775c05804e01",
+    "common_sense": "f7158d1088ebb00a38aec6841e260a57f0b2aba475411f2e6d65cbd7060f143a",
+    "complex_instruction": "21aae87e8d5eaf1a04cef1eb79972ef786be84d3177d970856e53d454a902797",
+    "spatial_awareness": "00017986578589051baa442d176eb8ec1c3e4ef63b5c36d6ac85a2d89622c9f1",
+    "visual_appearance": "cc4f663c564a45a8d0dc89f7e78b531d08d37c7d0dc77ecc71ffc150112ef29e",
+    "long_horizon": "e7e0bc01df42affbb39b3753b4d4700b94c5fafedfe54fd235c53b970e95358a",
+}
+CLASSIC_DIGEST = "5e2c7c66fe0204a0c42c99888ed7900add1b5e991d8d7117c4ae705b1c16eaf5"
+
+
+def _hard() -> list:
+    return AlfredEnv.load_tasks(taskset="hard", render=False)
+
+
+# ------------------------------------------------------------------------------------------ classic stays put
+def test_classic_task_files_are_byte_identical_and_load_to_the_same_digest() -> None:
+    for subset, sha in CLASSIC_SHA256.items():
+        assert hashlib.sha256((TASK_DIR / f"{subset}.json").read_bytes()).hexdigest() == sha, subset
+    assert task_set_digest(load_all()) == CLASSIC_DIGEST
+    assert [t.id for t in AlfredEnv.load_tasks(render=False)] == [r.id for r in load_all()]
+
+
+# ------------------------------------------------------------------------------------------ the hard set
+def test_hard_set_has_the_classic_subsets_and_protects_look_alikes() -> None:
+    tasks = _hard()
+    assert Counter(t.subset for t in tasks) == {s: 50 for s in SUBSETS}
+    assert len({t.instruction for t in tasks}) >= 0.95 * len(tasks)
+    for t in tasks:
+        goal = t.metadata["goal"]
+        assert goal["untouched"] == ["object", "receptacle"], t.id
+        assert re.search(r"\bother\b", t.instruction), t.id  # the instruction says to leave the others alone
+        w = World.from_scene(t.metadata["scene"])
+        assert len(look_alikes(w, goal)) >= 3 + 3, t.id  # >= 4 of the object's type and >= 4 destinations
+        assert evaluate(goal, w)[1] == 0.0, t.id
+        assert t.metadata["oracle_steps"] <= 26
+        # even a search that finds every candidate object and destination once fits the 30-step budget
+        assert search_bound(w, goal, t.metadata["oracle_steps"]) <= 30, t.id
+        kind = w.objects[goal["object"]["instance"]].type if "instance" in goal["object"] else goal["object"]["type"]
+        places = [w.place_of(n) for n in w.of_type(kind)]
+        assert len(set(places)) == len(places), t.id  # one look-alike per place: a find shows which is which
+
+
+def test_every_hard_instruction_singles_out_what_its_goal_singles_out() -> None:
+    """The audit's referring_phrase probe on the whole set (common_sense names a look and a use: "the red
+    handled cup for hot coffee")."""
+    from eb_alfred.audit import phrase_problems, world_of
+
+    assert [t.id for t in _hard() if phrase_problems(t.instruction, t.metadata["goal"], world_of(t))] == []
+
+
+def test_unknown_taskset_is_one_line() -> None:
+    with pytest.raises(ValueError) as err:
+        AlfredEnv.load_tasks(taskset="expert")
+    assert "\n" not in str(err.value) and "classic" in str(err.value) and "hard" in str(err.value)
+
+
+@pytest.mark.parametrize("subset", SUBSETS)
+def test_hard_oracle_open_and_closed_loop_on_a_sample(subset: str) -> None:
+    env = AlfredEnv(render=False)
+    for task in [t for t in _hard() if t.subset == subset][::17]:
+        env.reset(task, 0)
+        plan = env.expert_plan()
+        assert plan is not None and len(plan) == task.metadata["oracle_steps"], task.id
+        for a in plan:
+            res = env.step(a)
+            assert res.action_success, (task.id, res.feedback)
+        assert res.task_success, task.id
+        env.reset(task, 0)  # closed loop: one expert action, then ask again
+        for _ in range(30):
+            res = env.step(env.expert_plan()[0])
+            if res.done:
+                break
+        assert res.task_success, task.id
+
+
+def test_hard_blind_players_stay_under_5_percent_per_subset() -> None:
+    by: dict[str, list[bool]] = {s: [] for s in SUBSETS}
+    rnd = []
+    for t in _hard():
+        scene, goal = t.metadata["scene"], t.metadata["goal"]
+        rng = random.Random(t.id)
+        by[t.subset] += [guess_episode(scene, goal, rng), sweep_episode(scene, goal, rng)]
+        if t.subset in ("base", "long_horizon"):
+            rnd.append(random_episode(scene, goal, rng))
+    for subset, wins in by.items():
+        assert sum(wins) / len(wins) <= 0.05, (subset, sum(wins))
+    assert sum(rnd) == 0
+
+
+def test_handling_a_look_alike_loses_the_task_for_good() -> None:
+    task = next(t for t in _hard() if t.metadata["task_type"] == "pick_and_place")
+    env = AlfredEnv(render=False)
+    env.reset(task, 0)
+    goal = task.metadata["goal"]
+    wrong = next(n for n in look_alikes(env.world, goal) if env.world.objects[n].type ==
+                 env.world.objects[goal["object"]["instance"]].type)
+    names = env.action_space().actions
+    for action in ([f"find a {env.world.closed_container(wrong)}", f"open the {env.world.closed_container(wrong)}"]
+                   if env.world.closed_container(wrong) else []) + [f"find a {wrong}"]:
+        assert env.step(names.index(action)).action_success
+    kind = env.world.objects[wrong].type
+    assert env.world.resolve("pickup", kind) == wrong
+    assert env.step(names.index(f"pick up the {kind}")).action_success
+    assert env.step(names.index("put down the object in hand")).action_success  # put back where it was
+    assert env.expert_plan() is None
+    assert "leave the look-alikes alone" in env.expert_reason and wrong in env.expert_reason
+    assert why_unreachable(env.world, goal).startswith("the task says to leave")
+
+
+def test_hard_prompt_states_the_leave_alone_rule_and_classic_does_not() -> None:
+    env = AlfredEnv(render=False)
+    env.reset(_hard()[0], 0)
+    assert LEAVE_ALONE in env.prompt_parts().guidelines
+    env.reset(AlfredEnv.load_tasks(render=False)[0], 0)
+    assert LEAVE_ALONE not in env.prompt_parts().guidelines
+
+
+def test_hard_generator_level_and_splits_are_deterministic_and_solvable() -> None:
+    from eb_alfred.generate import make_tasks
+
+    a = make_tasks("base", seed=7, n=2, render_checks=False, difficulty="hard")
+    assert a == make_tasks("base", seed=7, n=2, render_checks=False, difficulty="hard")
+    assert all(t["goal"]["untouched"] for t in a)
+    medium = make_tasks("visual_appearance", seed=7, n=1, render_checks=False, difficulty="medium")
+    assert medium[0]["goal"]["untouched"] == ["object"]
+    tasks = AlfredEnv.split_tasks("train", 0, 6, taskset="hard")
+    assert [t.subset for t in tasks] == list(SUBSETS)
+    hard_keys = {t.instruction for t in _hard()}
+    for t in tasks:
+        assert t.metadata["goal"]["untouched"] and t.instruction not in hard_keys
+        plan = expert_plan(World.from_scene(t.metadata["scene"]), t.metadata["goal"])
+        assert plan is not None and len(plan) <= 26
+    with pytest.raises(ValueError, match="unknown difficulty 'insane'"):
+        AlfredEnv.split_tasks("train", 0, 1, difficulty="insane")
+
+
+# ------------------------------------------------------------------------------------------ task files
+def test_task_file_param_takes_a_file_or_a_folder_and_task_dir_still_works(tmp_path: Path) -> None:
+    from eb_alfred.splits import write_split
+
+    paths = write_split(str(tmp_path / "split"), "val", 6)
+    assert all(isinstance(p, Path) and p.is_file() for p in paths) and len(paths) == 6
+    folder = AlfredEnv.load_tasks(task_file=str(tmp_path / "split"))
+    assert len(folder) == 6 and folder == AlfredEnv.load_tasks(task_dir=str(tmp_path / "split"))
+    one = AlfredEnv.load_tasks(task_file=str(paths[0]))
+    assert [t.id for t in one] == [folder[0].id]
+
+
+def test_task_file_errors_are_the_core_class(tmp_path: Path) -> None:
+    from eb_core.taskfile import TaskFileError as Core
+
+    assert TaskFileError is Core
+    data = json.loads((TASK_DIR / "hard" / "base.json").read_text())
+    data["tasks"][2]["goal"]["untouched"] = ["lamp"]
+    path = tmp_path / "base.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(TaskFileError) as err:
+        load_task_file(path)
+    msg = str(err.value)
+    assert "\n" not in msg and "base.json" in msg and "base_02" in msg and "goal.untouched" in msg
+
+
+# ------------------------------------------------------------------------------------------ classic fixes
+def _scene(*objs: dict) -> World:
+    return World.from_scene({"room": "kitchen", "objects": [
+        {"name": "CounterTop", "type": "CounterTop", "slot": 0},
+        {"name": "Fridge", "type": "Fridge", "slot": 1},
+        {"name": "Microwave", "type": "Microwave", "parent": "CounterTop"},
+        {"name": "CoffeeMachine", "type": "CoffeeMachine", "parent": "CounterTop"}, *objs]})
+
+
+def test_pick_up_takes_the_one_in_or_on_what_you_face() -> None:
+    w = _scene({"name": "Mug", "type": "Mug", "parent": "Microwave", "color": "black"},
+               {"name": "Mug_2", "type": "Mug", "parent": "CoffeeMachine", "color": "white"})
+    assert w.step("find a Microwave")[0] and w.step("open the Microwave")[0]
+    assert w.step("find a CoffeeMachine")[0]
+    ok, text = w.step("pick up the Mug")
+    assert ok and w.held == "Mug_2" and "Mug_2" in text  # the mug on the coffee machine, not the lower number
+    w2 = _scene({"name": "Mug", "type": "Mug", "parent": "CounterTop"},
+                {"name": "Mug_2", "type": "Mug", "parent": "Microwave"})
+    w2.step("find a Microwave")
+    w2.step("open the Microwave")
+    assert w2.step("pick up the Mug")[0] and w2.held == "Mug_2"  # facing the open microwave: the mug inside it
+
+
+def test_the_coffee_machine_holds_one_cup_at_a_time() -> None:
+    w = _scene({"name": "Mug", "type": "Mug", "parent": "CoffeeMachine"},
+               {"name": "Mug_2", "type": "Mug", "parent": "CounterTop"})
+    assert w.step("find a Mug_2")[0] and w.step("pick up the Mug")[0] and w.held == "Mug_2"
+    assert w.step("find a CoffeeMachine")[0]
+    ok, text = w.step("put down the object in hand")
+    assert not ok and w.failure == "precondition" and "already holds the Mug" in text and w.held == "Mug_2"
+    assert w.step("drop the object in hand")[0]
+    assert w.step("pick up the Mug")[0] and w.held == "Mug"
+    assert w.step("put down the object in hand")[0]  # the same mug back: fine
+
+
+def test_examples_use_the_ids_of_the_current_room() -> None:
+    env = AlfredEnv(render=False)
+    named_only = 0
+    for task in AlfredEnv.load_tasks(render=False)[::10] + _hard()[::25]:
+        env.reset(task, 0)
+        actions = env.action_space().actions
+        for ex in env.prompt_parts().examples:
+            plan = json.loads(ex.split("\nAnswer: ", 1)[1])["executable_plan"]
+            if all("action_id" in step for step in plan):
+                assert all(actions[step["action_id"]] == step["action_name"] for step in plan), task.id
+            else:
+                assert not any("action_id" in step for step in plan)
+                assert any(step["action_name"] not in actions for step in plan)
+                named_only += 1
+    assert named_only > 0  # some examples name an instance (Cloth_2) that some rooms lack
+
+
+def test_prompt_states_the_budgets_and_that_a_failure_drops_the_rest_of_the_plan() -> None:
+    import yaml
+
+    conf = yaml.safe_load((TASK_DIR.parent / "conf/env/alfred.yaml").read_text())
+    env = AlfredEnv(render=False)
+    env.reset(AlfredEnv.load_tasks(render=False)[0], 0)
+    notes = env.prompt_parts().output_notes
+    assert f"after {conf['max_steps']} actions" in notes and f"{conf['max_invalid_actions']} actions have failed" in notes
+    assert "rest of the plan is dropped" in notes
