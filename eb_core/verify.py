@@ -254,6 +254,41 @@ def _verify_episode(env: Env, planner: Planner, cfg: RunConfig, task: Task, rec:
 # -- the run ----------------------------------------------------------------------------------------------
 
 
+def _check_summary(run: RunLog, registry: Registry, selected: Sequence[Task], repeats: int,
+                   out: VerifyResult) -> None:
+    """``summary.json``'s metric blocks against those recomputed from ``episodes.jsonl`` (which the replay checks)."""
+    from eb_core.metrics import compute_summary
+
+    if run.summary is None:
+        out.warnings.append("no summary.json (the run was stopped before its end): only the episodes are checked")
+        return
+    wanted = {(t.id, r) for t in selected for r in range(repeats)}
+    records = [r for r in run.episodes if r.key in wanted]
+    metric_fns = {name: spec.load() for name, spec in registry.metrics.items()}
+    body = json.loads(json.dumps(compute_summary(records, metric_fns, list(dict.fromkeys(t.subset for t in selected))),
+                                 default=str))
+    blocks = [("overall", run.summary.get("overall"), body["overall"])]
+    blocks += [(f"subset {k}", (run.summary.get("subsets") or {}).get(k), v) for k, v in body["subsets"].items()]
+    for name, recorded, recomputed in blocks:
+        if not isinstance(recorded, dict):
+            out.mismatches.append(f"summary.json: no {name} block")
+            continue
+        differ = [k for k in recomputed if k in recorded and not _close(recorded[k], recomputed[k])]
+        if differ:
+            k = differ[0]
+            out.mismatches.append(f"summary.json: {name} {k} recorded {recorded[k]!r}, episodes.jsonl gives "
+                                  f"{recomputed[k]!r}" + (f" (and {len(differ) - 1} more)" if len(differ) > 1 else ""))
+
+
+def _close(a: Any, b: Any) -> bool:
+    """Equal, with floats compared to 1e-9 at any depth (a summary's numbers went through JSON)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(_close(a[k], b[k]) for k in a)
+    if isinstance(a, list) and isinstance(b, list):
+        return len(a) == len(b) and all(_close(x, y) for x, y in zip(a, b))
+    return _same(a, b)
+
+
 def _episodes(run: RunLog, selected: Sequence[Task], repeats: int, out: VerifyResult) -> list[EpisodeRecord]:
     """The measured episodes to replay; missing, duplicated and unexpected episodes are mismatches."""
     wanted = [(t.id, r) for r in range(repeats) for t in selected]
@@ -314,6 +349,7 @@ def verify_run(run_dir: str | Path, *, render: bool = False, plugins: Iterable[A
             out.episodes += 1
     finally:
         env.close()
+    _check_summary(run, registry, selected, cfg.runner.repeats, out)
     return out
 
 

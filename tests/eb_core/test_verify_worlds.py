@@ -114,8 +114,10 @@ def test_a_flipped_success_is_caught(random_run, tmp_path):
 
     _edit_lines(run / "episodes.jsonl", flip)
     task = json.loads((run / "episodes.jsonl").read_text().splitlines()[0])["task_id"]
-    assert _mismatches(run) == [f"MISMATCH {task}: success recorded {not _orig(random_run, 0)['success']!r}, "
-                                f"replay {_orig(random_run, 0)['success']!r}"]
+    lines = _mismatches(run)
+    assert lines[0] == (f"MISMATCH {task}: success recorded {not _orig(random_run, 0)['success']!r}, "
+                        f"replay {_orig(random_run, 0)['success']!r}")
+    assert lines[1].startswith("MISMATCH summary.json: overall success_rate recorded ")
 
 
 def _orig(run_dir: Path, i: int) -> dict:
@@ -163,7 +165,9 @@ def test_a_removed_last_step_is_caught(random_run, tmp_path):
 def test_a_missing_episode_is_caught(random_run, tmp_path):
     run = _copy(random_run, tmp_path)
     _edit_lines(run / "episodes.jsonl", lambda lines: lines[1:])
-    assert _mismatches(run) == [f"MISMATCH {_orig(random_run, 0)['task_id']}: missing from episodes.jsonl"]
+    lines = _mismatches(run)
+    assert lines[0] == f"MISMATCH {_orig(random_run, 0)['task_id']}: missing from episodes.jsonl"
+    assert lines[1].startswith("MISMATCH summary.json: overall episodes recorded 2.0, episodes.jsonl gives 1.0")
 
 
 def test_another_task_set_is_caught(tmp_path, installed):
