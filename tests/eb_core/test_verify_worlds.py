@@ -117,7 +117,7 @@ def test_a_flipped_success_is_caught(random_run, tmp_path):
     lines = _mismatches(run)
     assert lines[0] == (f"MISMATCH {task}: success recorded {not _orig(random_run, 0)['success']!r}, "
                         f"replay {_orig(random_run, 0)['success']!r}")
-    assert lines[1].startswith("MISMATCH summary.json: overall success_rate recorded ")
+    assert lines[1].startswith("MISMATCH summary.json: overall ")  # the summary no longer adds up
 
 
 def _orig(run_dir: Path, i: int) -> dict:
