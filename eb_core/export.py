@@ -57,7 +57,7 @@ def _rows(run: dict[str, Any], images: str, out: Path, only_success: bool):
         for step, lab in zip(steps, labels):
             parsed = step.parsed
             actions = [a.model_dump(mode="json", exclude_unset=True) for a in step.actions]
-            imgs = []
+            imgs: list[dict[str, Any]] = []
             for name in _step_images(step):
                 src = root / "episodes" / ep_name / name
                 if not src.exists():
@@ -264,7 +264,8 @@ def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt:
         raise ValueError("--label expert is for --format chat; the parquet rows carry the expert labels in "
                          "actions_json")
     out = Path(out)
-    existing = [p for p in (out / "README.md", out / "chat.jsonl") if p.exists()] + sorted((out / "data").glob("*.parquet"))
+    existing = [p for p in (out / "README.md", out / "chat.jsonl") if p.exists()]
+    existing += sorted((out / "data").glob("*.parquet"))
     if existing and not overwrite:
         raise FileExistsError(f"{existing[0]} exists (an earlier export); choose another --out or pass --overwrite")
     for old in existing:  # --overwrite: nothing of the earlier export may be left to be read as this one

@@ -288,7 +288,7 @@ class RunDirLocked(RuntimeError):
     """Another process holds the run directory's lock; the message names the directory and its pid."""
 
 
-_HELD: "weakref.WeakSet[RunLock]" = weakref.WeakSet()
+_HELD: weakref.WeakSet[RunLock] = weakref.WeakSet()
 _FORKS_WATCHED = False
 
 
@@ -319,7 +319,7 @@ class RunLock:
         self.path = Path(run_dir) / self.name
         self.fd: int | None = None
 
-    def acquire(self) -> "RunLock":
+    def acquire(self) -> RunLock:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
         try:
@@ -355,7 +355,7 @@ class RunLock:
             os.close(self.fd)
             self.fd = None
 
-    def __enter__(self) -> "RunLock":
+    def __enter__(self) -> RunLock:
         return self.acquire()
 
     def __exit__(self, *exc: object) -> None:

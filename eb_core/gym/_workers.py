@@ -117,7 +117,7 @@ def _process_main(conn: Any, payload: bytes) -> None:
     try:
         env_fns, environ, path = pickle.loads(payload)
         _apply_context(environ, None, path)
-        import cloudpickle  # noqa: F401  (the factories were pickled with it)
+        import cloudpickle
 
         group = EnvGroup(cloudpickle.loads(env_fns))
         conn.send(("ready", group.describe()))

@@ -5,10 +5,10 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import pytest
-
 import fixture_plugin
+import pytest
 from eb_core_testutil import make_config
+
 from eb_core.runner import run
 from eb_core.verify import cmd_verify, verify_run
 

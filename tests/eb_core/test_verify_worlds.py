@@ -15,7 +15,6 @@ from pathlib import Path
 
 import pytest
 
-
 WORLDS = ("navigation", "alfred", "habitat", "manipulation")
 
 
