@@ -387,6 +387,9 @@ class RunManifest(BaseModel):
     """SHA-256 of the whole installed task set (:func:`eb_core.taskfile.task_set_digest`)."""
     selected_digest: str
     """Likewise of the selected tasks, in run order."""
+    task_ids: list[str] = Field(default_factory=list)
+    """The ids of the selected tasks in run order: the run's own selection, which ``eb verify`` replays even if
+    later code would select differently from the same config."""
     config_digest: str
     """SHA-256 of the resolved config (``config.yaml``) as canonical JSON."""
     versions: dict[str, str] = Field(default_factory=dict)

@@ -76,7 +76,7 @@ def _check_manifest(run: RunLog, comps: Components, all_tasks: Sequence[Task], s
                               f"({m.n_tasks} tasks, digest {m.task_set_digest[:12]}; installed: {len(all_tasks)} "
                               f"tasks, digest {digest[:12]})")
     elif m.selected_digest != task_set_digest(selected):
-        out.mismatches.append("manifest: the selected tasks differ from those config.yaml selects")
+        out.mismatches.append("manifest: the run's tasks differ from the installed tasks of the same ids")
     now = {**{f"plugin:{k}": v for k, v in plugin_versions(registry.pm).items()}, **library_versions()}
     for key in sorted(set(m.versions) | set(now)):
         if key in m.versions and m.versions.get(key) != now.get(key):
@@ -308,6 +308,23 @@ def _episodes(run: RunLog, selected: Sequence[Task], repeats: int, out: VerifyRe
     return [by_key[k] for k in wanted if k in by_key and by_key[k].status == "ok"]
 
 
+def _selection(run: RunLog, all_tasks: Sequence[Task], cfg: RunConfig, out: VerifyResult) -> list[Task]:
+    """The run's tasks: those its manifest lists (looked up in the installed set), else what its config selects."""
+    by_config = select_tasks(all_tasks, cfg)
+    if run.manifest is None or not run.manifest.task_ids:
+        return by_config
+    by_id = {t.id: t for t in all_tasks}
+    missing = [i for i in run.manifest.task_ids if i not in by_id]
+    if missing:
+        out.mismatches.append(f"manifest: {len(missing)} task(s) of the run are not in the installed task set "
+                              f"({', '.join(missing[:3])})")
+    selected = [by_id[i] for i in run.manifest.task_ids if i in by_id]
+    if [t.id for t in by_config] != run.manifest.task_ids:
+        out.warnings.append("config.yaml now selects other tasks than the run did (changed selection rules?); the "
+                            "run's own tasks are verified")
+    return selected
+
+
 def _replay_env(comps: Components, render: bool) -> Env:
     """The run's env for replay: with ``render: false`` where the world takes that parameter (every world here
     does; one that rejects it renders)."""
@@ -328,7 +345,7 @@ def verify_run(run_dir: str | Path, *, render: bool = False, plugins: Iterable[A
     registry = registry or Registry(get_plugin_manager(plugins=list(plugins)))
     comps = Components(cfg, registry)
     all_tasks = comps.load_tasks()
-    selected = select_tasks(all_tasks, cfg)
+    selected = _selection(run, all_tasks, cfg, out)
     _check_manifest(run, comps, all_tasks, selected, registry, out)
     records = _episodes(run, selected, cfg.runner.repeats, out)
     tasks = {t.id: t for t in selected}

@@ -111,3 +111,25 @@ def test_an_edited_summary_is_a_mismatch(run_dir):
     path.write_text(json.dumps(summary))
     assert check(run_dir).mismatches == [
         "summary.json: overall success_rate recorded 0.5, episodes.jsonl gives 1.0"]
+
+
+def test_the_runs_own_selection_is_verified(run_dir):
+    """The manifest names the run's tasks: a config that would now select others still verifies those."""
+    import yaml
+
+    from eb_core.manifest import config_digest
+    from eb_core.records import read_manifest
+
+    manifest = read_manifest(run_dir)
+    recorded = (run_dir / "episodes.jsonl").read_text().splitlines()
+    assert manifest.task_ids == [json.loads(x)["task_id"] for x in recorded]
+    path = run_dir / "config.yaml"
+    conf = yaml.safe_load(path.read_text())
+    conf["limit"] = 2  # what a changed selection rule would do to this config
+    path.write_text(yaml.safe_dump(conf, sort_keys=False))
+    manifest.config_digest = config_digest(conf)
+    (run_dir / "manifest.json").write_text(manifest.model_dump_json())
+    res = check(run_dir)
+    assert res.ok and res.episodes == 4
+    assert res.warnings == ["config.yaml now selects other tasks than the run did (changed selection rules?); the "
+                            "run's own tasks are verified"]
