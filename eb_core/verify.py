@@ -267,16 +267,18 @@ def _check_summary(run: RunLog, registry: Registry, selected: Sequence[Task], re
     metric_fns = {name: spec.load() for name, spec in registry.metrics.items()}
     body = json.loads(json.dumps(compute_summary(records, metric_fns, list(dict.fromkeys(t.subset for t in selected))),
                                  default=str))
+    # a run made before the manifest may predate today's metric code: its summary differences are warnings
+    report = out.mismatches if run.manifest is not None else out.warnings
     blocks = [("overall", run.summary.get("overall"), body["overall"])]
     blocks += [(f"subset {k}", (run.summary.get("subsets") or {}).get(k), v) for k, v in body["subsets"].items()]
     for name, recorded, recomputed in blocks:
         if not isinstance(recorded, dict):
-            out.mismatches.append(f"summary.json: no {name} block")
+            report.append(f"summary.json: no {name} block")
             continue
         differ = [k for k in recomputed if k in recorded and not _close(recorded[k], recomputed[k])]
         if differ:
             k = differ[0]
-            out.mismatches.append(f"summary.json: {name} {k} recorded {recorded[k]!r}, episodes.jsonl gives "
+            report.append(f"summary.json: {name} {k} recorded {recorded[k]!r}, episodes.jsonl gives "
                                   f"{recomputed[k]!r}" + (f" (and {len(differ) - 1} more)" if len(differ) > 1 else ""))
 
 
