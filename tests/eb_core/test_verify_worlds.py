@@ -190,3 +190,16 @@ def _task_file() -> Path:
     import eb_navigation
 
     return Path(eb_navigation.__file__).parent / "tasks" / "navigation_v3.json"
+
+
+def test_a_run_made_before_the_manifest_verifies_with_a_warning(tmp_path, installed):
+    """A real model's Navigation run recorded before format version 1 (copied: the original stays untouched)."""
+    src = Path("/work/shared/real-play/navigation")
+    if "navigation" not in installed or not src.is_dir():
+        pytest.skip("needs eb-navigation and the recorded real-play run")
+    run = tmp_path / "old"
+    shutil.copytree(src, run, ignore=shutil.ignore_patterns("run.lock"))
+    res = verify(run)
+    assert res.returncode == 0, res.stdout + res.stderr
+    assert "episode(s) replayed, verified" in res.stdout
+    assert "has no manifest.json (made before format version 1)" in res.stderr
