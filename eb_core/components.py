@@ -51,8 +51,8 @@ class Components:
     def __init__(self, cfg: RunConfig, registry: Registry) -> None:
         self.cfg = cfg
         self.registry = registry
-        self.env_spec = registry.get("env", cfg.env.name)
-        self.env_cls: type[Env] = self.env_spec.load()
+        self.env_spec: Any = registry.get("env", cfg.env.name)  # an EnvSpec
+        self.env_cls: Any = self.env_spec.load()  # a subclass of Env, built with resolution, multi_view, params
         self.backend_spec = registry.get("model backend", cfg.model.backend)
         self.backend_cls: type[ModelBackend] = self.backend_spec.load()
         self.planner_cls = registry.get("planner", cfg.planner.name).load()

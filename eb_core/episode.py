@@ -29,8 +29,16 @@ from typing import Any
 from eb_core.config import EnvConfig
 from eb_core.env import Env, Observation, StepResult, Task
 from eb_core.events import EpisodeStartEvent, StepEndEvent
-from eb_core.model import (EpisodeContext, ImagePart, ModelBackend, ModelBudgetExceeded, ModelFatalError,
-                           ModelRequest, ModelResponse, Usage)
+from eb_core.model import (
+    EpisodeContext,
+    ImagePart,
+    ModelBackend,
+    ModelBudgetExceeded,
+    ModelFatalError,
+    ModelRequest,
+    ModelResponse,
+    Usage,
+)
 from eb_core.planner import Planner, encode_png
 from eb_core.records import ActionRecord, EpisodeRecord, StepRecord
 

@@ -57,7 +57,7 @@ def _rows(run: dict[str, Any], images: str, out: Path, only_success: bool):
         for step, lab in zip(steps, labels):
             parsed = step.parsed
             actions = [a.model_dump(mode="json", exclude_unset=True) for a in step.actions]
-            imgs = []
+            imgs: list[dict[str, Any]] = []
             for name in _step_images(step):
                 src = root / "episodes" / ep_name / name
                 if not src.exists():
@@ -264,7 +264,8 @@ def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt:
         raise ValueError("--label expert is for --format chat; the parquet rows carry the expert labels in "
                          "actions_json")
     out = Path(out)
-    existing = [p for p in (out / "README.md", out / "chat.jsonl") if p.exists()] + sorted((out / "data").glob("*.parquet"))
+    existing = [p for p in (out / "README.md", out / "chat.jsonl") if p.exists()]
+    existing += sorted((out / "data").glob("*.parquet"))
     if existing and not overwrite:
         raise FileExistsError(f"{existing[0]} exists (an earlier export); choose another --out or pass --overwrite")
     for old in existing:  # --overwrite: nothing of the earlier export may be left to be read as this one
@@ -302,50 +303,58 @@ def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt:
     return {"rows": n, "files": files}
 
 
-def cmd_export(args: list[str]) -> int:
-    """``eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] [--label model|expert]
-    [--only-success] [--overwrite]``."""
-    from eb_core.cli import CliError
+def _format_asked(args: list[str]) -> str | None:
+    """The value of ``--format`` among ``args`` (``--format X`` or ``--format=X``), if any."""
+    for i, a in enumerate(args):
+        if a.startswith("--format="):
+            return a.split("=", 1)[1]
+        if a == "--format" and i + 1 < len(args):
+            return args[i + 1]
+    return None
 
-    if "matrix" in [a.split("=", 1)[1] if a.startswith("--format=") else a for a in args] and any(
-            a.startswith("--format") for a in args):
-        from eb_core.matrix import cmd_matrix  # several runs -> one task x run table
 
-        return cmd_matrix(args)
-    if "video" in [a.split("=", 1)[1] if a.startswith("--format=") else a for a in args] and any(
-            a.startswith("--format") for a in args):
-        from eb_core.video import cmd_video  # replayed with rendering, captioned
-
-        return cmd_video(args)
-    usage = ("usage: eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] "
-             "[--label model|expert] [--only-success] [--overwrite]")
-    run_dir, out, images, fmt, only_success, label = None, None, "paths", "parquet", False, "model"
-    overwrite = False
+def _export_args(args: list[str], usage: str, error: type[Exception]) -> dict[str, Any]:
+    """``eb export``'s arguments by option name (``run_dir`` for the positional one); ``error`` for bad input."""
+    opts: dict[str, Any] = {"run_dir": None, "--out": None, "--images": "paths", "--format": "parquet",
+                            "--label": "model", "--only-success": False, "--overwrite": False}
     it = iter(args)
     for a in it:
         key, eq, val = a.partition("=")
         if key in ("--out", "--images", "--format", "--label"):
             value = val if eq else next(it, "")
             if not value:
-                raise CliError(f"{key} needs a value; {usage}")
-            if key == "--out":
-                out = value
-            elif key == "--images":
-                images = value
-            elif key == "--label":
-                label = value
-            else:
-                fmt = value
-        elif a == "--only-success":
-            only_success = True
-        elif a == "--overwrite":
-            overwrite = True
+                raise error(f"{key} needs a value; {usage}")
+            opts[key] = value
+        elif a in ("--only-success", "--overwrite"):
+            opts[a] = True
         elif a.startswith("-"):
-            raise CliError(f"unknown option {a!r} for export; {usage}")
-        elif run_dir is None:
-            run_dir = a
+            raise error(f"unknown option {a!r} for export; {usage}")
+        elif opts["run_dir"] is None:
+            opts["run_dir"] = a
         else:
-            raise CliError(f"export takes one run directory (got {run_dir!r} and {a!r}); {usage}")
+            raise error(f"export takes one run directory (got {opts['run_dir']!r} and {a!r}); {usage}")
+    return opts
+
+
+def cmd_export(args: list[str]) -> int:
+    """``eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] [--label model|expert]
+    [--only-success] [--overwrite]``."""
+    from eb_core.cli import CliError
+
+    fmt_asked = _format_asked(args)
+    if fmt_asked == "matrix":
+        from eb_core.matrix import cmd_matrix  # several runs -> one task x run table
+
+        return cmd_matrix(args)
+    if fmt_asked == "video":
+        from eb_core.video import cmd_video  # replayed with rendering, captioned
+
+        return cmd_video(args)
+    usage = ("usage: eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] "
+             "[--label model|expert] [--only-success] [--overwrite]")
+    opts = _export_args(args, usage, CliError)
+    run_dir, out, images, fmt = opts["run_dir"], opts["--out"], opts["--images"], opts["--format"]
+    only_success, label, overwrite = opts["--only-success"], opts["--label"], opts["--overwrite"]
     if run_dir is None or out is None:
         raise CliError(usage)
     if images not in IMAGE_MODES:

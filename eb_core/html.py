@@ -547,9 +547,9 @@ def write_compare(run_dirs: Sequence[str | Path], out: str | Path) -> Path:
         for n in range(n_steps):
             cols = []
             for i in range(len(runs)):
-                s = steps[i][key][n] if n < len(steps[i][key]) else None
-                lab = labels[i]["steps"][n] if labels[i] and s is not None and n < len(labels[i]["steps"]) else None
-                cols.append(_compare_step(s, lab, f"../img/{i}/{page_name}/"))
+                step = steps[i][key][n] if n < len(steps[i][key]) else None
+                lab = labels[i]["steps"][n] if labels[i] and step is not None and n < len(labels[i]["steps"]) else None
+                cols.append(_compare_step(step, lab, f"../img/{i}/{page_name}/"))
             body.append(f"<h2>Planner step {n + 1}</h2><div class=cmp style='grid-template-columns:"
                         f"repeat({len(runs)},1fr)'>{''.join(cols)}</div>")
         atomic_write_text(out / "tasks" / f"{page_name}.html", _page(f"{task_id} — {title}", "\n".join(body)))

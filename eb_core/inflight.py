@@ -20,6 +20,7 @@ import time
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 from eb_core.components import label_record
@@ -138,9 +139,9 @@ class InflightLoop:
                 ep.future = None
                 exc = fut.exception()
                 if exc is not None:
-                    self._advance(ep, lambda ep=ep, exc=exc: ep.driver.fail(exc))
+                    self._advance(ep, partial(ep.driver.fail, exc))
                 else:
-                    self._advance(ep, lambda ep=ep, res=fut.result(): ep.driver.submit(res))
+                    self._advance(ep, partial(ep.driver.submit, fut.result()))
                 moved += 1
             elif self.timeout_s is not None and time.monotonic() - ep.started > self.timeout_s:
                 self._time_out(ep)

@@ -54,7 +54,7 @@ def write_manifest(files: RunFiles, cfg: RunConfig, cfg_dict: dict[str, Any], al
     manifest = RunManifest(
         format_version=FORMAT_VERSION, created=created, env=cfg.env.name, model=cfg.model.name,
         taskset=cfg.taskset, split=cfg.split, n_tasks=len(all_tasks), task_set_digest=task_set_digest(all_tasks),
-        selected_digest=task_set_digest(selected),
+        selected_digest=task_set_digest(selected), task_ids=[t.id for t in selected],
         config_digest=config_digest(json.loads(json.dumps(cfg_dict, default=str))),
         versions={**{f"plugin:{k}": v for k, v in plugins.items()}, **library_versions()})
     files.write_json("manifest.json", manifest.model_dump())

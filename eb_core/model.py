@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import base64
 from abc import ABC, abstractmethod
-from typing import TYPE_CHECKING, Any, Literal, Union
+from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
@@ -66,7 +66,7 @@ class ImagePart(BaseModel):
         return "data:image/png;base64," + base64.b64encode(self.png).decode("ascii")
 
 
-ContentPart = Union[TextPart, ImagePart]
+ContentPart = TextPart | ImagePart
 
 
 class Message(BaseModel):
@@ -99,7 +99,7 @@ class Usage(BaseModel):
     latency_s: float = 0.0
     calls: int = 0
 
-    def __add__(self, other: "Usage") -> "Usage":
+    def __add__(self, other: Usage) -> Usage:
         return Usage(
             prompt_tokens=self.prompt_tokens + other.prompt_tokens,
             completion_tokens=self.completion_tokens + other.completion_tokens,
@@ -125,7 +125,7 @@ class EpisodeContext:
     ``repeat`` (which of the task's ``runner.repeats`` plays this is; 0 for the first).
     """
 
-    def __init__(self, env: "Env", task: "Task", seed: int, run_dir: str | None = None, repeat: int = 0) -> None:
+    def __init__(self, env: Env, task: Task, seed: int, run_dir: str | None = None, repeat: int = 0) -> None:
         self.env = env
         self.task = task
         self.seed = seed
@@ -133,7 +133,7 @@ class EpisodeContext:
         self.repeat = repeat
 
     @property
-    def action_space(self) -> "ActionSpace":
+    def action_space(self) -> ActionSpace:
         return self.env.action_space()
 
 
@@ -148,7 +148,7 @@ class ModelBackend(ABC):
     #: Whether the backend honours :attr:`ModelRequest.response_schema`.
     supports_json_schema: bool = False
 
-    def preflight(self) -> "Usage | None":
+    def preflight(self) -> Usage | None:
         """One cheap call before the first episode; raise :class:`ModelFatalError` on a bad key or model.
 
         Return the call's :class:`Usage` when it made one (the runner logs it in ``preflight.jsonl`` and
@@ -156,7 +156,7 @@ class ModelBackend(ABC):
         """
         return None
 
-    def info(self) -> "dict[str, Any] | None":
+    def info(self) -> dict[str, Any] | None:
         """Optional: what the backend settled on at preflight (e.g. its structured-output mode and why); the
         runner writes it to ``model_info.json`` and the summary. None (the default) when there is nothing to say."""
         return None

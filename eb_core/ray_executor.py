@@ -72,9 +72,9 @@ class _EnvActor:
         for p in reversed(sys_path):  # plugin modules the driver imported by name (tests, benchmarks)
             if p not in sys.path:
                 sys.path.insert(0, p)
+        from eb_core.components import Components, build_registry, episode_seed
         from eb_core.episode import BudgetGuard
         from eb_core.inflight import InflightLoop
-        from eb_core.components import Components, build_registry, episode_seed
 
         cfg = RunConfig.model_validate(cfg_dict)
         registry = build_registry(plugin_modules)
@@ -204,19 +204,19 @@ def limited(limiter: Any) -> Any:
     return wrap
 
 
-EnvActor = None if ray is None else ray.remote(num_cpus=1, max_restarts=0, max_task_retries=0)(_EnvActor)
+EnvActor: Any = None if ray is None else ray.remote(num_cpus=1, max_restarts=0, max_task_retries=0)(_EnvActor)
 
 
 class _Slot:
     """One env actor seen from the driver: the jobs it holds (with their start times) and its pending call."""
 
-    def __init__(self, pool: "_RayPool", slots: int) -> None:
+    def __init__(self, pool: _RayPool, slots: int) -> None:
         self.slots = slots
         self.actor = EnvActor.remote(pool.cfg_dict, pool.plugin_modules, slots, pool.sys_path, pool.limiter)
         self.jobs: dict[str, tuple[Any, float]] = {}
         self.call: Any = None
 
-    def ask(self, pool: "_RayPool") -> None:
+    def ask(self, pool: _RayPool) -> None:
         from eb_core.workers import job_key
 
         new = []

@@ -288,7 +288,7 @@ class RunDirLocked(RuntimeError):
     """Another process holds the run directory's lock; the message names the directory and its pid."""
 
 
-_HELD: "weakref.WeakSet[RunLock]" = weakref.WeakSet()
+_HELD: weakref.WeakSet[RunLock] = weakref.WeakSet()
 _FORKS_WATCHED = False
 
 
@@ -319,7 +319,7 @@ class RunLock:
         self.path = Path(run_dir) / self.name
         self.fd: int | None = None
 
-    def acquire(self) -> "RunLock":
+    def acquire(self) -> RunLock:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
         try:
@@ -355,7 +355,7 @@ class RunLock:
             os.close(self.fd)
             self.fd = None
 
-    def __enter__(self) -> "RunLock":
+    def __enter__(self) -> RunLock:
         return self.acquire()
 
     def __exit__(self, *exc: object) -> None:
@@ -387,6 +387,9 @@ class RunManifest(BaseModel):
     """SHA-256 of the whole installed task set (:func:`eb_core.taskfile.task_set_digest`)."""
     selected_digest: str
     """Likewise of the selected tasks, in run order."""
+    task_ids: list[str] = Field(default_factory=list)
+    """The ids of the selected tasks in run order: the run's own selection, which ``eb verify`` replays even if
+    later code would select differently from the same config."""
     config_digest: str
     """SHA-256 of the resolved config (``config.yaml``) as canonical JSON."""
     versions: dict[str, str] = Field(default_factory=dict)

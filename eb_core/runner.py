@@ -14,7 +14,7 @@ import os
 import sys
 import time
 from collections.abc import Iterable
-from typing import Any
+from typing import Any, cast
 
 from eb_core.components import Components, RunError, episode_seed, label_record, select_tasks
 from eb_core.config import ConfigError, RunConfig
@@ -198,6 +198,7 @@ def _summarize(cfg: RunConfig, files: RunFiles, registry: Registry, selected: li
     subsets = list(dict.fromkeys(t.subset for t in selected))
     pre = _preflight_usage(files)
     body = compute_summary(records, metric_fns, subsets)
+    overall = cast(dict[str, Any], body["overall"])
     return {
         "env": cfg.env.name,
         "model": cfg.model.name,
@@ -212,7 +213,7 @@ def _summarize(cfg: RunConfig, files: RunFiles, registry: Registry, selected: li
         **body,
         "preflight": pre,
         "model_info": _model_info(files),
-        "total_cost_usd": round(float(body["overall"].get("cost_usd", 0.0)) + pre["cost_usd"], 6),
+        "total_cost_usd": round(float(overall.get("cost_usd", 0.0)) + pre["cost_usd"], 6),
         "plugins": plugin_versions(registry.pm),
     }
 
@@ -286,9 +287,10 @@ def _run_inline(cfg: RunConfig, comps: Components, files: RunFiles, pending: lis
     backend = comps.make_backend()
     try:
         for task, repeat in pending:
-            driver = EpisodeDriver(
-                env=env, task=task, seed=episode_seed(cfg.seed, task.id, repeat), planner=comps.make_planner(backend),
-                backend=backend, env_config=cfg.env, options=comps.episode_options(files, task, repeat, budget=budget, hook=hook))
+            options = comps.episode_options(files, task, repeat, budget=budget, hook=hook)
+            driver = EpisodeDriver(env=env, task=task, seed=episode_seed(cfg.seed, task.id, repeat),
+                                   planner=comps.make_planner(backend), backend=backend, env_config=cfg.env,
+                                   options=options)
             try:
                 rec = play(driver, backend)
             except ModelFatalError as exc:

@@ -76,7 +76,7 @@ def _check_manifest(run: RunLog, comps: Components, all_tasks: Sequence[Task], s
                               f"({m.n_tasks} tasks, digest {m.task_set_digest[:12]}; installed: {len(all_tasks)} "
                               f"tasks, digest {digest[:12]})")
     elif m.selected_digest != task_set_digest(selected):
-        out.mismatches.append("manifest: the selected tasks differ from those config.yaml selects")
+        out.mismatches.append("manifest: the run's tasks differ from the installed tasks of the same ids")
     now = {**{f"plugin:{k}": v for k, v in plugin_versions(registry.pm).items()}, **library_versions()}
     for key in sorted(set(m.versions) | set(now)):
         if key in m.versions and m.versions.get(key) != now.get(key):
@@ -254,6 +254,43 @@ def _verify_episode(env: Env, planner: Planner, cfg: RunConfig, task: Task, rec:
 # -- the run ----------------------------------------------------------------------------------------------
 
 
+def _check_summary(run: RunLog, registry: Registry, selected: Sequence[Task], repeats: int,
+                   out: VerifyResult) -> None:
+    """``summary.json``'s metric blocks against those recomputed from ``episodes.jsonl`` (which the replay checks)."""
+    from eb_core.metrics import compute_summary
+
+    if run.summary is None:
+        out.warnings.append("no summary.json (the run was stopped before its end): only the episodes are checked")
+        return
+    wanted = {(t.id, r) for t in selected for r in range(repeats)}
+    records = [r for r in run.episodes if r.key in wanted]
+    metric_fns = {name: spec.load() for name, spec in registry.metrics.items()}
+    body = json.loads(json.dumps(compute_summary(records, metric_fns, list(dict.fromkeys(t.subset for t in selected))),
+                                 default=str))
+    # a run made before the manifest may predate today's metric code: its summary differences are warnings
+    report = out.mismatches if run.manifest is not None else out.warnings
+    blocks = [("overall", run.summary.get("overall"), body["overall"])]
+    blocks += [(f"subset {k}", (run.summary.get("subsets") or {}).get(k), v) for k, v in body["subsets"].items()]
+    for name, recorded, recomputed in blocks:
+        if not isinstance(recorded, dict):
+            report.append(f"summary.json: no {name} block")
+            continue
+        differ = [k for k in recomputed if k in recorded and not _close(recorded[k], recomputed[k])]
+        if differ:
+            k = differ[0]
+            report.append(f"summary.json: {name} {k} recorded {recorded[k]!r}, episodes.jsonl gives "
+                                  f"{recomputed[k]!r}" + (f" (and {len(differ) - 1} more)" if len(differ) > 1 else ""))
+
+
+def _close(a: Any, b: Any) -> bool:
+    """Equal, with floats compared to 1e-9 at any depth (a summary's numbers went through JSON)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(_close(a[k], b[k]) for k in a)
+    if isinstance(a, list) and isinstance(b, list):
+        return len(a) == len(b) and all(_close(x, y) for x, y in zip(a, b))
+    return _same(a, b)
+
+
 def _episodes(run: RunLog, selected: Sequence[Task], repeats: int, out: VerifyResult) -> list[EpisodeRecord]:
     """The measured episodes to replay; missing, duplicated and unexpected episodes are mismatches."""
     wanted = [(t.id, r) for r in range(repeats) for t in selected]
@@ -271,6 +308,23 @@ def _episodes(run: RunLog, selected: Sequence[Task], repeats: int, out: VerifyRe
     for key in extra:
         out.mismatches.append(f"{_name(key)}: in episodes.jsonl but not among the tasks the config selects")
     return [by_key[k] for k in wanted if k in by_key and by_key[k].status == "ok"]
+
+
+def _selection(run: RunLog, all_tasks: Sequence[Task], cfg: RunConfig, out: VerifyResult) -> list[Task]:
+    """The run's tasks: those its manifest lists (looked up in the installed set), else what its config selects."""
+    by_config = select_tasks(all_tasks, cfg)
+    if run.manifest is None or not run.manifest.task_ids:
+        return by_config
+    by_id = {t.id: t for t in all_tasks}
+    missing = [i for i in run.manifest.task_ids if i not in by_id]
+    if missing:
+        out.mismatches.append(f"manifest: {len(missing)} task(s) of the run are not in the installed task set "
+                              f"({', '.join(missing[:3])})")
+    selected = [by_id[i] for i in run.manifest.task_ids if i in by_id]
+    if [t.id for t in by_config] != run.manifest.task_ids:
+        out.warnings.append("config.yaml now selects other tasks than the run did (changed selection rules?); the "
+                            "run's own tasks are verified")
+    return selected
 
 
 def _replay_env(comps: Components, render: bool) -> Env:
@@ -293,7 +347,7 @@ def verify_run(run_dir: str | Path, *, render: bool = False, plugins: Iterable[A
     registry = registry or Registry(get_plugin_manager(plugins=list(plugins)))
     comps = Components(cfg, registry)
     all_tasks = comps.load_tasks()
-    selected = select_tasks(all_tasks, cfg)
+    selected = _selection(run, all_tasks, cfg, out)
     _check_manifest(run, comps, all_tasks, selected, registry, out)
     records = _episodes(run, selected, cfg.runner.repeats, out)
     tasks = {t.id: t for t in selected}
@@ -314,6 +368,7 @@ def verify_run(run_dir: str | Path, *, render: bool = False, plugins: Iterable[A
             out.episodes += 1
     finally:
         env.close()
+    _check_summary(run, registry, selected, cfg.runner.repeats, out)
     return out
 
 

@@ -122,7 +122,7 @@ def _take_jobs(conn: Any, loop: Any) -> bool:
 class _Worker:
     """One worker process seen from the supervisor: its pipe and the jobs it holds, with their start times."""
 
-    def __init__(self, pool: "_Pool", slots: int) -> None:
+    def __init__(self, pool: _Pool, slots: int) -> None:
         self.slots = slots
         self.conn, child = pool.ctx.Pipe(duplex=True)
         self.proc = pool.ctx.Process(target=worker_main, daemon=True,
@@ -157,7 +157,7 @@ class _Pool:
                  progress: Any, hook: Any, plugin_modules: list[str]) -> None:
         self.cfg, self.cfg_dict, self.files = cfg, cfg_dict, files
         self.progress, self.hook, self.plugin_modules = progress, hook, plugin_modules
-        self.ctx = mp.get_context(cfg.runner.start_method)
+        self.ctx: Any = mp.get_context(cfg.runner.start_method)
         self.shared_cost = self.ctx.Value("d", 0.0)
         self.queue: list[Job] = list(pending)
         self.timeout = cfg.runner.episode_timeout_s

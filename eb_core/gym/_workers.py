@@ -38,6 +38,7 @@ class EnvGroup:
 
     def describe(self) -> dict[str, Any]:
         env = self.envs[0]
+        assert env is not None  # just built
         return {"observation_space": env.observation_space, "action_space": env.action_space,
                 "metadata": dict(getattr(env, "metadata", {}) or {}), "render_mode": env.render_mode,
                 "pid": os.getpid(), "spec": env.spec}
@@ -117,7 +118,7 @@ def _process_main(conn: Any, payload: bytes) -> None:
     try:
         env_fns, environ, path = pickle.loads(payload)
         _apply_context(environ, None, path)
-        import cloudpickle  # noqa: F401  (the factories were pickled with it)
+        import cloudpickle
 
         group = EnvGroup(cloudpickle.loads(env_fns))
         conn.send(("ready", group.describe()))
@@ -148,7 +149,7 @@ class _ProcessWorker:
     def __init__(self, payload: bytes, context: str | None, start_timeout_s: float | None) -> None:
         import multiprocessing as mp
 
-        ctx = mp.get_context(context)
+        ctx: Any = mp.get_context(context)
         self.conn, child = ctx.Pipe()
         self.proc = ctx.Process(target=_process_main, args=(child, payload), daemon=True, name="eb-gym-worker")
         self.proc.start()

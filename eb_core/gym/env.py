@@ -35,7 +35,8 @@ IMAGE_PLACEHOLDER = "<image>"
 #: Characters of the Text spaces: printable ASCII plus the Latin-1 letters and typographic punctuation the
 #: worlds' prompts use. Any other character in a prompt is replaced by ``?`` (``info["replaced_chars"]`` counts).
 CHARSET = frozenset(string.printable + "".join(chr(c) for c in range(0xA0, 0x180))
-                    + "".join(chr(c) for c in (*range(0x2010, 0x2028), *range(0x2030, 0x2040))) + "\u2190\u2191\u2192\u2193\u2212\u00d7")
+                    + "".join(chr(c) for c in (*range(0x2010, 0x2028), *range(0x2030, 0x2040)))
+                    + "\u2190\u2191\u2192\u2193\u2212\u00d7")
 MAX_TEXT = 200_000
 
 _END_TERMINATED = {"success", "done", "empty_plan"}

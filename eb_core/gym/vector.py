@@ -100,7 +100,8 @@ class EBVectorEnv(VectorEnv):
 
         _refuse_in_bootstrapping_worker()
 
-        self.closed, self._ray_started, self.workers = False, False, []
+        self.workers: list[Any] = []  # one handle per worker (a process or a Ray actor); None while being replaced
+        self.closed, self._ray_started = False, False
         n = len(env_fns)
         if n < 1:
             raise ValueError("num_envs must be >= 1, got 0")
@@ -129,7 +130,7 @@ class EBVectorEnv(VectorEnv):
                 multiprocessing.get_context("forkserver").set_forkserver_preload(["eb_core.gym"])
         self.payloads = [pickle.dumps((cloudpickle.dumps([env_fns[i] for i in s]), environ, list(sys.path)))
                          for s in self.slices]
-        self.workers: list[Any] = [None] * w
+        self.workers = [None] * w
         self.restarts = 0
         try:
             for k in range(w):  # all workers build their environments at once
@@ -309,8 +310,8 @@ class EBVectorEnv(VectorEnv):
 
     def _batch(self) -> Any:
         obs = [o if o is not None else self.single_observation_space.sample() for o in self._last_obs]
-        return concatenate(self.single_observation_space, obs,
-                           create_empty_array(self.single_observation_space, self.num_envs))
+        out: Any = create_empty_array(self.single_observation_space, self.num_envs)
+        return concatenate(self.single_observation_space, obs, out)
 
     def call(self, name: str, *args: Any, **kwargs: Any) -> tuple[Any, ...]:
         """Call ``name`` on every environment (or read the attribute); one result each."""

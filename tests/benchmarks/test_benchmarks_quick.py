@@ -79,3 +79,8 @@ def test_real_model_quick():
 def test_serve_throughput_quick():
     out = quick("serve_throughput.py")
     assert "in-process" in out and "over HTTP" in out and "ratio (HTTP / in-process):" in out
+
+
+def test_verify_quick():
+    out = quick("verify.py")
+    assert "verify s" in out and "10 episode(s) replayed, verified" in out

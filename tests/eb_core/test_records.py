@@ -6,14 +6,13 @@ import json
 import shutil
 from pathlib import Path
 
-import pytest
-
 import fixture_plugin
+import pytest
 from eb_core_testutil import make_config
+
 from eb_core.episode import EpisodeDriver, EpisodeOptions, run_episode
 from eb_core.planner import VLMPlanner
-from eb_core.records import (FORMAT_VERSION, RunManifest, StepRecord, iter_steps, read_manifest, read_run,
-                             read_steps)
+from eb_core.records import FORMAT_VERSION, RunManifest, StepRecord, iter_steps, read_manifest, read_run, read_steps
 from eb_core.runner import run
 
 REAL_PLAY = Path("/work/shared/real-play/navigation")

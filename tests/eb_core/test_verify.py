@@ -5,10 +5,10 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import pytest
-
 import fixture_plugin
+import pytest
 from eb_core_testutil import make_config
+
 from eb_core.runner import run
 from eb_core.verify import cmd_verify, verify_run
 
@@ -53,8 +53,12 @@ def _edit_record(run_dir: Path, i: int, **changes) -> str:
 def test_edited_counts_are_mismatches(run_dir):
     steps = json.loads((run_dir / "episodes.jsonl").read_text().splitlines()[1])["env_steps"]
     task = _edit_record(run_dir, 1, env_steps=steps + 1, end_reason="max_steps")
-    assert check(run_dir).mismatches == [f"{task}: end_reason recorded 'max_steps', replay 'success'",
-                                         f"{task}: env_steps recorded {steps + 1}, replay {steps}"]
+    lines = check(run_dir).mismatches
+    assert [ln for ln in lines if not ln.startswith("summary.json")] == [
+        f"{task}: end_reason recorded 'max_steps', replay 'success'",
+        f"{task}: env_steps recorded {steps + 1}, replay {steps}"]
+    # the summary was computed from the true records
+    assert lines[2].startswith("summary.json: overall avg_env_steps recorded ")
 
 
 def test_a_changed_seed_is_a_mismatch(run_dir):
@@ -67,7 +71,8 @@ def test_a_duplicated_episode_is_a_mismatch(run_dir):
     path = run_dir / "episodes.jsonl"
     first = path.read_text().splitlines()[0]
     path.write_text(path.read_text() + first + "\n")
-    assert check(run_dir).mismatches == [f"{json.loads(first)['task_id']}: recorded twice in episodes.jsonl"]
+    lines = check(run_dir).mismatches
+    assert f"{json.loads(first)['task_id']}: recorded twice in episodes.jsonl" in lines
 
 
 def test_a_broken_step_line_is_a_mismatch_naming_file_and_line(run_dir):
@@ -91,7 +96,40 @@ def test_the_command_prints_one_line_per_mismatch_and_exits_1(run_dir, capsys, m
     task = _edit_record(run_dir, 2, success=False)
     assert cmd_verify([str(run_dir)]) == 1
     out = capsys.readouterr().out.splitlines()
-    assert out == [f"MISMATCH {task}: success recorded False, replay True",
-                   f"{run_dir}: 4 episode(s) replayed, FAILED (1 mismatch(es))"]
+    assert out[0] == f"MISMATCH {task}: success recorded False, replay True"
+    assert out[1].startswith("MISMATCH summary.json: overall success_rate recorded 1.0, episodes.jsonl gives 0.75")
+    assert out[2].startswith("MISMATCH summary.json: subset near success_rate recorded 1.0")
+    assert out[3:] == [f"{run_dir}: 4 episode(s) replayed, FAILED (3 mismatch(es))"]
     assert cmd_verify(["--bogus"]) == 2
     assert "unknown option '--bogus'" in capsys.readouterr().err
+
+
+def test_an_edited_summary_is_a_mismatch(run_dir):
+    path = run_dir / "summary.json"
+    summary = json.loads(path.read_text())
+    summary["overall"]["success_rate"] = 0.5
+    path.write_text(json.dumps(summary))
+    assert check(run_dir).mismatches == [
+        "summary.json: overall success_rate recorded 0.5, episodes.jsonl gives 1.0"]
+
+
+def test_the_runs_own_selection_is_verified(run_dir):
+    """The manifest names the run's tasks: a config that would now select others still verifies those."""
+    import yaml
+
+    from eb_core.manifest import config_digest
+    from eb_core.records import read_manifest
+
+    manifest = read_manifest(run_dir)
+    recorded = (run_dir / "episodes.jsonl").read_text().splitlines()
+    assert manifest.task_ids == [json.loads(x)["task_id"] for x in recorded]
+    path = run_dir / "config.yaml"
+    conf = yaml.safe_load(path.read_text())
+    conf["limit"] = 2  # what a changed selection rule would do to this config
+    path.write_text(yaml.safe_dump(conf, sort_keys=False))
+    manifest.config_digest = config_digest(conf)
+    (run_dir / "manifest.json").write_text(manifest.model_dump_json())
+    res = check(run_dir)
+    assert res.ok and res.episodes == 4
+    assert res.warnings == ["config.yaml now selects other tasks than the run did (changed selection rules?); the "
+                            "run's own tasks are verified"]

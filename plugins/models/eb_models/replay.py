@@ -2,8 +2,9 @@
 
 For each episode it reads the recorded episode of the same task and repeat
 (``<run_dir>/episodes/<task_id>/steps.jsonl``, ``<task_id>_repeat<k>/`` for repeat k > 0 of
-``runner.repeats``) and returns the lines' ``raw_output`` in ``planner_step`` order. With the same env, planner settings and seed, the replayed run
-comes out identical to the recorded one, without calling a model (re-scoring, debugging, demos). Asking
+``runner.repeats``) through the run reader (:func:`eb_core.records.read_steps`) and returns the steps'
+``raw_output`` in ``planner_step`` order. With the same env, planner settings and seed, the replayed run comes out
+identical to the recorded one, without calling a model (re-scoring, debugging, demos). Asking
 for more answers than were recorded means the runs diverged: that is an error, never a made-up answer.
 """
 
