@@ -7,12 +7,10 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
+from eb_core.exceptions import ConfigError
+
 __all__ = ["AblationConfig", "EnvConfig", "ModelConfig", "PlannerConfig", "RunConfig", "RunnerConfig", "ConfigError",
            "validate_config"]
-
-
-class ConfigError(ValueError):
-    """The config is invalid; the message is one line naming the key and what is allowed."""
 
 
 class _Strict(BaseModel):

@@ -311,7 +311,7 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None, pl
     """``eb report``: runs side by side (models x subsets, like the paper's tables), ablation deltas and the
     automatic error breakdown, in ``fmt``; ``plot`` also draws them to an image; ``errors`` relabels every
     episode from its step files and adds the per-subset error tables."""
-    from eb_core.cli import CliError
+    from eb_core.exceptions import CliError
 
     runs = []
     for d in dirs:
@@ -396,7 +396,7 @@ def plot_runs(runs: list[dict[str, Any]], path: str | Path) -> Path:
     """Draw the runs to ``path`` (.png or .svg): success per subset as grouped bars with the 95 % intervals as
     error bars, and, when the runs are labelled, the share of episodes with each error category.
     matplotlib is imported here only (Agg backend, no display)."""
-    from eb_core.cli import CliError
+    from eb_core.exceptions import CliError
 
     path = Path(path)
     if path.suffix.lower() not in (".png", ".svg"):
@@ -518,7 +518,7 @@ def paired_rows(run_a: dict[str, Any], run_b: dict[str, Any]) -> list[dict[str, 
 
 def render_paired(dirs: list[str], fmt: str = "rich", out: str | None = None) -> str:
     """``eb report A B --paired``: is the difference between two runs on the same tasks real?"""
-    from eb_core.cli import CliError
+    from eb_core.exceptions import CliError
 
     if len(dirs) != 2:
         raise CliError(f"--paired compares exactly two run directories (got {len(dirs)}): eb report A B --paired")
