@@ -89,9 +89,22 @@ def print_summary(summary: dict[str, Any], run_dir: str) -> None:
     # A plain line that scripts (and CI logs) can grep.
     ci = o.get("success_rate_ci") or {}
     ci_text = (f", 95% CI [{_pct(ci['ci_low'])}, {_pct(ci['ci_high'])}]" if ci.get("ci_low") is not None else "")
-    total = summary.get("n_episodes", summary["n_selected"])
-    print(f"success rate: {_pct(o.get('success_rate'))}% ({summary['n_finished']}/{total} episodes){ci_text} "
+    print(f"success rate: {_pct(o.get('success_rate'))}% ({_count_text(summary)}){ci_text} "
           f"-> {run_dir}/summary.json", flush=True)
+
+
+def _count_text(summary: dict[str, Any]) -> str:
+    """``7 of 10 episodes succeeded`` (+ how many did not finish, + a partial mark) for the summary line."""
+    o = summary["overall"]
+    total = int(summary.get("n_episodes", summary["n_selected"]))
+    finished = int(summary["n_finished"])
+    succeeded = round(float(o.get("success_rate") or 0.0) * finished)
+    text = f"{succeeded} of {finished} episodes succeeded"
+    if finished < total:
+        text += f"; {total - finished} of {total} not finished"
+    if summary.get("partial"):
+        text += f"; partial: {summary['n_selected']} of {summary.get('n_tasks_total', '?')} tasks"
+    return text
 
 
 def _run_config(root: Path) -> dict[str, Any]:
@@ -175,6 +188,42 @@ def load_run(run_dir: str | Path, relabel_errors: bool = False) -> dict[str, Any
     return {"dir": str(root), "env": name("env"), "model": name("model"), "ablation": name("ablation"),
             "repeats": repeats, "complete": bool(meta.get("complete", False)), "has_summary": bool(meta),
             "records": records, "config": conf, "meta": meta, **summary}
+
+
+def _has_results(root: Path) -> bool:
+    path = root / "episodes.jsonl"
+    return path.exists() and path.stat().st_size > 0
+
+
+def runs_with_results(dirs: list[str]) -> list[str]:
+    """The run directories of ``dirs`` that hold finished episodes. Folders with none (a run that failed or was
+    stopped before its first episode) are skipped with one note on stderr, so a glob such as
+    ``runs/*/*/*/default`` keeps working; a path that does not exist, or no run with results at all, is an error."""
+    from eb_core.exceptions import CliError
+
+    kept, skipped = [], []
+    for d in dirs:
+        root = Path(d)
+        if not root.is_dir():
+            raise CliError(f"{d} is not a run directory (no episodes.jsonl)")
+        (kept if _has_results(root) else skipped).append(d)
+    if not kept:
+        raise CliError(f"{dirs[0]} is not a run directory (no episodes.jsonl)" if len(dirs) == 1 else
+                       f"none of the {len(dirs)} folders holds a finished episode (no episodes.jsonl); run "
+                       f"`eb run ...` first")
+    if skipped:
+        more = f" and {len(skipped) - 3} more" if len(skipped) > 3 else ""
+        print(f"eb report: note: skipped {len(skipped)} folder(s) with no finished episodes: "
+              f"{', '.join(skipped[:3])}{more}", file=sys.stderr)
+    return kept
+
+
+def _partial_mark(r: dict[str, Any]) -> str:
+    """`` (partial: 20 of 300 tasks)`` for a run whose selection (subset=, limit=, tasks=) is not the whole set."""
+    meta = r.get("meta") or {}
+    if not meta.get("partial"):
+        return ""
+    return f" (partial: {meta.get('n_selected', '?')} of {meta.get('n_tasks_total', '?')} tasks)"
 
 
 def _subset_names(runs: list[dict[str, Any]]) -> list[str]:
@@ -313,12 +362,7 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None, pl
     episode from its step files and adds the per-subset error tables."""
     from eb_core.exceptions import CliError
 
-    runs = []
-    for d in dirs:
-        try:
-            runs.append(load_run(d, relabel_errors=errors))
-        except FileNotFoundError as exc:
-            raise CliError(str(exc)) from None
+    runs = [load_run(d, relabel_errors=errors) for d in runs_with_results(dirs)]
     by_env: dict[str, list[dict[str, Any]]] = {}
     for r in runs:
         by_env.setdefault(r["env"], []).append(r)
@@ -342,7 +386,7 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None, pl
                     row.append(_pct(o["avg_subset_success_rate"]))
                 row += [_with_ci(o, key), *[_with_ci(r["subsets"][s], key) if s in r["subsets"] else "-"
                                             for s in subsets],
-                        str(r["repeats"]), _sd(o, key), f"{o['episodes']:.0f}"]
+                        str(r["repeats"]), _sd(o, key), f"{o['episodes']:.0f}" + _partial_mark(r)]
                 rows.append(row)
             tables.append((f"{title} — {env}", header, rows))
         tables += _ablation_tables(env, env_runs)
@@ -355,7 +399,7 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None, pl
                     header += [f"{short}:{s}", f"{short}:{s}:ci_low", f"{short}:{s}:ci_high"]
                 header.append(f"{short}:repeat_sd")
             header += [f"errors:{k}" for k in CATEGORIES] + [f"errors:{k}:episode_rate" for k in CATEGORIES]
-            header.append("perception_score")
+            header += ["perception_score", "partial", "tasks_total"]
             if not rows_out or rows_out[0] != header:
                 rows_out.append(header)
             for r in env_runs:
@@ -376,13 +420,17 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None, pl
                 row += [f"{100 * cats[k]['episode_rate']:.1f}" if k in cats else "" for k in CATEGORIES]
                 ps = ea.get("perception_score")
                 row.append("" if ps is None else f"{ps:.3f}")
+                row += [str(bool(r["meta"].get("partial"))).lower(), str(r["meta"].get("n_tasks_total", ""))]
                 rows_out.append(row)
     if fmt == "csv":
         buf = io.StringIO()
         csv.writer(buf, lineterminator="\n").writerows(rows_out)
         text = buf.getvalue()
     else:
-        note = ("Intervals: 95 %, over tasks (Wilson for a success rate with one repeat, else a cluster "
+        partial = [r for r in runs if r["meta"].get("partial")]
+        note = (("Partial runs (marked in the episodes column) cover less than their world's task set (subset=, "
+                 "limit=, tasks=): their averages are not the benchmark's. " if partial else "")
+                + "Intervals: 95 %, over tasks (Wilson for a success rate with one repeat, else a cluster "
                 "bootstrap keeping each task's repeats together); see docs/statistics.md. Error labels are "
                 "computed from the run's records; see docs/error_analysis.md.")
         text = _render_tables(tables, fmt, out, note)
@@ -487,18 +535,12 @@ def paired_rows(run_a: dict[str, Any], run_b: dict[str, Any]) -> list[dict[str, 
     from eb_core.stats import outcome_matrix, paired_comparison
 
     recs_a, recs_b = run_a["records"], run_b["records"]
-    ids_a = list(dict.fromkeys(r.task_id for r in recs_a))
-    ids_b = list(dict.fromkeys(r.task_id for r in recs_b))
-    only_a = [t for t in ids_a if t not in set(ids_b)]
-    only_b = [t for t in ids_b if t not in set(ids_a)]
-    if only_a or only_b:
-        parts = []
-        if only_a:
-            parts.append(f"only in A ({len(only_a)}): {', '.join(only_a[:4])}" + (", ..." if len(only_a) > 4 else ""))
-        if only_b:
-            parts.append(f"only in B ({len(only_b)}): {', '.join(only_b[:4])}" + (", ..." if len(only_b) > 4 else ""))
-        raise ValueError(f"cannot pair {run_a['dir']} with {run_b['dir']}: their task sets differ "
-                         f"({'; '.join(parts)}); pair runs of the same tasks (same env, subset=, limit=, tasks=)")
+    ids_b_set = {r.task_id for r in recs_b}
+    ids_a = [t for t in dict.fromkeys(r.task_id for r in recs_a) if t in ids_b_set]  # the shared tasks
+    if not ids_a:
+        raise ValueError(f"cannot pair {run_a['dir']} with {run_b['dir']}: they share no task (A has "
+                         f"{len({r.task_id for r in recs_a})}, B {len(ids_b_set)}); pair runs of the same env "
+                         f"and overlapping selections (subset=, limit=, tasks=)")
     subset_of = {r.task_id: r.subset for r in recs_a}
     subsets = list(dict.fromkeys(subset_of[t] for t in ids_a))
     out = []
@@ -516,20 +558,31 @@ def paired_rows(run_a: dict[str, Any], run_b: dict[str, Any]) -> list[dict[str, 
     return out
 
 
+def overlap_note(run_a: dict[str, Any], run_b: dict[str, Any]) -> str:
+    """One sentence when the two runs' task sets differ: how many tasks are compared and how many are left out."""
+    ids_a = {r.task_id for r in run_a["records"]}
+    ids_b = {r.task_id for r in run_b["records"]}
+    if ids_a == ids_b:
+        return ""
+    return (f"Compared on the {len(ids_a & ids_b)} tasks both runs played ({len(ids_a - ids_b)} only in A, "
+            f"{len(ids_b - ids_a)} only in B, left out).")
+
+
 def render_paired(dirs: list[str], fmt: str = "rich", out: str | None = None) -> str:
     """``eb report A B --paired``: is the difference between two runs on the same tasks real?"""
     from eb_core.exceptions import CliError
 
     if len(dirs) != 2:
         raise CliError(f"--paired compares exactly two run directories (got {len(dirs)}): eb report A B --paired")
-    try:
-        run_a, run_b = load_run(dirs[0]), load_run(dirs[1])
-    except FileNotFoundError as exc:
-        raise CliError(str(exc)) from None
+    for d in dirs:
+        if not _has_results(Path(d)):
+            raise CliError(f"{d} is not a run directory with results (no finished episode in episodes.jsonl)")
+    run_a, run_b = load_run(dirs[0]), load_run(dirs[1])
     try:
         rows = paired_rows(run_a, run_b)
     except ValueError as exc:
         raise CliError(str(exc)) from None
+    shared = overlap_note(run_a, run_b)
     header = ["subset", "metric", "tasks", "A %", "B %", "B - A [95% CI]", "test", "p", "verdict"]
     table: list[list[str]] = []
     for r in rows:
@@ -547,8 +600,10 @@ def render_paired(dirs: list[str], fmt: str = "rich", out: str | None = None) ->
     title = (f"Paired comparison on {run_a['env']}: A = {run_a['model']} / {run_a['ablation']} "
              f"({run_a['repeats']} repeat(s)), B = {run_b['model']} / {run_b['ablation']} ({run_b['repeats']} "
              f"repeat(s))")
-    note = ("p < 0.05 is marked significant. Test: McNemar's exact test on per-task outcomes when both runs have "
-            "one repeat, else a paired bootstrap over tasks; the interval is always a paired bootstrap over tasks.")
+    note = ((shared + " " if shared else "")
+            + "p < 0.05 is marked significant. One method per row, so the interval holds 0 exactly when the row is "
+            "not significant: mcnemar-exact (binary success, one repeat each) is McNemar's exact test with its "
+            "exact interval; paired-bootstrap (subgoal rates, or repeats) is a paired bootstrap over tasks for both.")
     if fmt == "csv":
         buf = io.StringIO()
         w = csv.writer(buf, lineterminator="\n")

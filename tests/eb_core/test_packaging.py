@@ -78,7 +78,7 @@ def test_installed_third_party_plugin_runs(plugin_venv, tmp_path):
                         "runner.quiet=true", f"hydra.run.dir={tmp_path}/run"],
                        capture_output=True, text=True, env=_clean_env(), cwd=tmp_path, timeout=300)
     assert r.returncode == 0, r.stderr
-    assert "success rate: 100.0% (12/12 episodes)" in r.stdout
+    assert "success rate: 100.0% (12 of 12 episodes succeeded)" in r.stdout
     assert "eb-example-plugin 0.1.0" in (tmp_path / "run" / "plugins.json").read_text()
 
 
