@@ -162,13 +162,26 @@ def _holds_no_results(run_dir: Path) -> bool:
     return all(p.name in _BOOKKEEPING for p in run_dir.iterdir())
 
 
-def _discard_empty(run_dir: Path) -> None:
-    """A run that failed before its first episode leaves no folder behind (the README's globs stay true)."""
+def _first_missing(path: Path) -> Path | None:
+    """The highest directory of ``path`` (itself included) that does not exist yet."""
+    missing = None
+    for p in [path, *path.parents]:
+        if p.exists():
+            break
+        missing = p
+    return missing
+
+
+def _discard_empty(run_dir: Path, created: Path) -> None:
+    """A run that failed before its first episode leaves no folder behind (the README's globs stay true):
+    ``run_dir`` and the empty parents this call created, up to ``created``."""
     with contextlib.suppress(OSError):
         if run_dir.is_dir() and _holds_no_results(run_dir):
             shutil.rmtree(run_dir)
-            for parent in list(run_dir.parents)[:3]:  # the env/model/ablation levels it created, if now empty
-                parent.rmdir()
+            for parent in run_dir.parents:
+                if parent != created and created not in parent.parents:
+                    break
+                parent.rmdir()  # only if empty
 
 
 def _one_line(exc: BaseException) -> str:
@@ -201,20 +214,40 @@ def _translate(job: ComposedRun, exc: BaseException) -> BaseException:
     return exc
 
 
+def _check_ray_reachable(job: ComposedRun) -> None:
+    """Under ``runner.executor=ray`` with a cluster address: a cluster that does not answer is one line at once
+    (Ray itself waits minutes, then fails with a connection error)."""
+    import importlib.util
+    import socket
+
+    if job.config.runner.executor != "ray" or importlib.util.find_spec("ray") is None:
+        return  # the runner says how to install Ray
+    address = job.config.runner.ray_address or os.environ.get("RAY_ADDRESS") or ""
+    hostport = address.removeprefix("ray://").rsplit("/", 1)[0]
+    host, sep, port = hostport.rpartition(":")
+    if not sep or not port.isdigit() or address in ("auto", "local"):
+        return  # "auto", or no address: a local Ray (Ray's own error names what is missing)
+    try:
+        socket.create_connection((host or "127.0.0.1", int(port)), timeout=5).close()
+    except OSError as exc:
+        raise _ray_error(job, exc) from None
+
+
 def run_job(job: ComposedRun) -> dict[str, Any]:
     """Run (or resume) one composed job in its directory; a failure before the first finished episode leaves
     no folder behind when this call created it."""
     from eb_core.runner import run
 
-    created = not job.run_dir.exists()
+    _check_ray_reachable(job)
+    created = _first_missing(job.run_dir.absolute())
     _check_run_dir_writable(job.run_dir)
     try:
         _save_hydra_files(job)
         with _logging(job.run_dir):
             return run(job.config, str(job.run_dir), cfg_dict=job.cfg_dict)
     except BaseException as exc:
-        if created:
-            _discard_empty(job.run_dir)
+        if created is not None:
+            _discard_empty(job.run_dir.absolute(), created)
         translated = _translate(job, exc)
         if translated is exc:
             raise
