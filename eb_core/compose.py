@@ -90,11 +90,12 @@ def list_options(group: str) -> dict[str, dict[str, Any]]:
 
     out: dict[str, dict[str, Any]] = {}
     with hydra_context():
-        repo = GlobalHydra.instance().config_loader().repository
+        loader: Any = GlobalHydra.instance().config_loader()  # the repository is on the implementation
+        repo = loader.repository
         for name in group_options(group):
             try:
                 result = repo.load_config(config_path=f"{group}/{name}")
-                node = OmegaConf.to_container(result.config, resolve=False) if result is not None else {}
+                node: Any = OmegaConf.to_container(result.config, resolve=False) if result is not None else {}
             except Exception:  # a broken option is listed, not hidden
                 node = {}
             out[name] = node if isinstance(node, dict) else {}

@@ -93,7 +93,7 @@ class PlannerConfig(_Strict):
     answer tags, and an answer without them is an output error."""
 
     @model_validator(mode="after")
-    def _one_observation_mode(self) -> "PlannerConfig":
+    def _one_observation_mode(self) -> PlannerConfig:
         if self.language_only and self.text_state:
             raise ValueError("language_only (blind) and text_state (scene text) exclude each other; set one of them")
         return self
@@ -166,7 +166,7 @@ class RunConfig(_Strict):
     instructions."""
 
 
-def _loc(err: dict[str, Any]) -> str:
+def _loc(err: Any) -> str:
     return ".".join(str(p) for p in err["loc"])
 
 

@@ -165,7 +165,7 @@ def load_run(run_dir: str | Path, relabel_errors: bool = False) -> dict[str, Any
     and ``complete`` is False. Episodes without error labels (runs older than the labeller) are labelled from
     their step files; ``relabel_errors`` relabels all of them.
     """
-    from eb_core.metrics import compute_summary, errors, steps, subgoal_success, success_rate, usage
+    from eb_core.metrics import Metric, compute_summary, errors, steps, subgoal_success, success_rate, usage
 
     root = Path(run_dir)
     records = relabel(load_records(root), root, force=relabel_errors)
@@ -174,8 +174,8 @@ def load_run(run_dir: str | Path, relabel_errors: bool = False) -> dict[str, Any
         meta = json.loads((root / "summary.json").read_text())
     conf = _run_config(root)
     aliases = ((conf.get("env") or {}).get("subset_aliases") or {})
-    fns = {"success_rate": success_rate, "subgoal_success": subgoal_success, "steps": steps, "errors": errors,
-           "usage": usage}
+    fns: dict[str, Metric] = {"success_rate": success_rate, "subgoal_success": subgoal_success, "steps": steps,
+                              "errors": errors, "usage": usage}
     subsets = list(dict.fromkeys(aliases.get(s, s) for s in meta.get("subsets", {})))
     subsets += [s for s in dict.fromkeys(r.subset for r in records) if s not in subsets]  # in the run's order
     summary = compute_summary(records, fns, subsets)
@@ -201,7 +201,8 @@ def runs_with_results(dirs: list[str]) -> list[str]:
     ``runs/*/*/*/default`` keeps working; a path that does not exist, or no run with results at all, is an error."""
     from eb_core.exceptions import CliError
 
-    kept, skipped = [], []
+    kept: list[str] = []
+    skipped: list[str] = []
     for d in dirs:
         root = Path(d)
         if not root.is_dir():
@@ -360,7 +361,6 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None, pl
     """``eb report``: runs side by side (models x subsets, like the paper's tables), ablation deltas and the
     automatic error breakdown, in ``fmt``; ``plot`` also draws them to an image; ``errors`` relabels every
     episode from its step files and adds the per-subset error tables."""
-    from eb_core.exceptions import CliError
 
     runs = [load_run(d, relabel_errors=errors) for d in runs_with_results(dirs)]
     by_env: dict[str, list[dict[str, Any]]] = {}
@@ -393,7 +393,7 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None, pl
         tables += _error_tables(env, env_runs, detailed=errors)
         if fmt == "csv":
             header = ["env", "model", "ablation", "avg", "repeats", "episodes", "complete"]
-            for key, short in (("success_rate", "success"), ("subgoal_success", "subgoal"),
+            for _key, short in (("success_rate", "success"), ("subgoal_success", "subgoal"),
                                ("subgoal_success_paper", "subgoal_paper")):
                 for s in ["all", *subsets]:
                     header += [f"{short}:{s}", f"{short}:{s}:ci_low", f"{short}:{s}:ci_high"]
@@ -465,7 +465,8 @@ def plot_runs(runs: list[dict[str, Any]], path: str | Path) -> Path:
     ncols = 2 if used else 1
     fig, axes = plt.subplots(1, ncols, figsize=(6.5 * ncols + 0.5, 5.0), squeeze=False,
                              gridspec_kw={"width_ratios": [1.3, 1][:ncols]})
-    colours = plt.get_cmap("tab10").colors
+    cmap: Any = plt.get_cmap("tab10")  # a ListedColormap: its .colors are the ten tab10 colours
+    colours = cmap.colors
     names = [f"{r['model']} / {r['ablation']}" + ("" if len({x['env'] for x in runs}) == 1 else f" ({r['env']})")
              for r in runs]
     ax = axes[0][0]

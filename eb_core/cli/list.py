@@ -53,8 +53,8 @@ def cmd_list(args: list[str]) -> int:
         tt = Table(title=title)
         for col in ("name", "plugin", "description"):
             tt.add_column(col)
-        for name, spec in specs.items():
-            tt.add_row(name, spec.plugin, spec.description)
+        for name, component in specs.items():
+            tt.add_row(name, component.plugin, component.description)
         console.print(tt)
     a = Table(title="Ablations (ablation=NAME)")
     a.add_column("name")

@@ -90,7 +90,7 @@ def cmd_tasks(args: list[str]) -> int:
     if not env_name:
         raise CliError("tasks generate needs env=NAME (`eb list` shows the envs)")
     try:
-        spec = Registry.create().get("env", str(env_name))
+        spec = Registry.create().env(str(env_name))
     except PluginError as exc:
         raise CliError(str(exc)) from None
     if not spec.task_generator:

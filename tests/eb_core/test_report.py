@@ -12,7 +12,6 @@ import pytest
 
 import fixture_plugin
 from eb_core_testutil import make_config
-from eb_core.cli import CliError
 from eb_core.report import load_run, paired_rows, render_paired, render_report
 from eb_core.runner import run
 
