@@ -305,7 +305,7 @@ def export_run(run_dir: str | Path, out: str | Path, images: str = "paths", fmt:
 def cmd_export(args: list[str]) -> int:
     """``eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] [--label model|expert]
     [--only-success] [--overwrite]``."""
-    from eb_core.cli import CliError
+    from eb_core.exceptions import CliError
 
     if "matrix" in [a.split("=", 1)[1] if a.startswith("--format=") else a for a in args] and any(
             a.startswith("--format") for a in args):
