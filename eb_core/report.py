@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-__all__ = ["FORMATS", "load_run", "print_summary", "relabel", "render_paired", "render_report"]
+__all__ = ["FORMATS", "load_run", "print_summary", "relabel", "render_report", "runs_with_results"]
 
 
 def _pct(x: float | None) -> str:
@@ -368,60 +368,16 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None, pl
         by_env.setdefault(r["env"], []).append(r)
     rows_out: list[list[str]] = []
     tables: list[Table] = []
-    from eb_core.errors import CATEGORIES
-
     for env, env_runs in by_env.items():
         subsets = _subset_names(env_runs)
-        for title, key in (("Success rate (%)", "success_rate"), ("Subgoal success (%)", "subgoal_success"),
-                           ("Subgoal success, the original's rule (%)", "subgoal_success_paper")):
-            header = ["env", "model", "ablation"]
-            if key == "success_rate":
-                header.append("avg")
-            header += ["all [95% CI]", *subsets, "repeats", "sd between repeats", "episodes"]
-            rows = []
-            for r in env_runs:
-                o = r["overall"]
-                row = [env, r["model"], r["ablation"] + ("" if r["complete"] else " (incomplete)")]
-                if key == "success_rate":
-                    row.append(_pct(o["avg_subset_success_rate"]))
-                row += [_with_ci(o, key), *[_with_ci(r["subsets"][s], key) if s in r["subsets"] else "-"
-                                            for s in subsets],
-                        str(r["repeats"]), _sd(o, key), f"{o['episodes']:.0f}" + _partial_mark(r)]
-                rows.append(row)
-            tables.append((f"{title} — {env}", header, rows))
+        tables += _rate_tables(env, env_runs, subsets)
         tables += _ablation_tables(env, env_runs)
         tables += _error_tables(env, env_runs, detailed=errors)
         if fmt == "csv":
-            header = ["env", "model", "ablation", "avg", "repeats", "episodes", "complete"]
-            for _key, short in (("success_rate", "success"), ("subgoal_success", "subgoal"),
-                               ("subgoal_success_paper", "subgoal_paper")):
-                for s in ["all", *subsets]:
-                    header += [f"{short}:{s}", f"{short}:{s}:ci_low", f"{short}:{s}:ci_high"]
-                header.append(f"{short}:repeat_sd")
-            header += [f"errors:{k}" for k in CATEGORIES] + [f"errors:{k}:episode_rate" for k in CATEGORIES]
-            header += ["perception_score", "partial", "tasks_total"]
+            header = _csv_header(subsets)
             if not rows_out or rows_out[0] != header:
                 rows_out.append(header)
-            for r in env_runs:
-                o = r["overall"]
-                row = [env, r["model"], r["ablation"], _pct(o["avg_subset_success_rate"]), str(r["repeats"]),
-                       f"{o['episodes']:.0f}", str(r["complete"]).lower()]
-                for key in ("success_rate", "subgoal_success", "subgoal_success_paper"):
-                    for s in ["all", *subsets]:
-                        block = o if s == "all" else r["subsets"].get(s)
-                        ci = (block or {}).get(f"{key}_ci") or {}
-                        row += [_pct(block.get(key)) if block else "", _pct(ci.get("ci_low")),
-                                _pct(ci.get("ci_high"))]
-                    sd = (o.get(f"{key}_ci") or {}).get("repeat_sd")
-                    row.append("" if sd is None else f"{100 * sd:.2f}")
-                ea = o.get("error_analysis") or {}
-                cats = ea.get("categories") or {}
-                row += [f"{cats[k]['count']:.0f}" if k in cats else "" for k in CATEGORIES]
-                row += [f"{100 * cats[k]['episode_rate']:.1f}" if k in cats else "" for k in CATEGORIES]
-                ps = ea.get("perception_score")
-                row.append("" if ps is None else f"{ps:.3f}")
-                row += [str(bool(r["meta"].get("partial"))).lower(), str(r["meta"].get("n_tasks_total", ""))]
-                rows_out.append(row)
+            rows_out += [_csv_row(env, r, subsets) for r in env_runs]
     if fmt == "csv":
         buf = io.StringIO()
         csv.writer(buf, lineterminator="\n").writerows(rows_out)
@@ -436,87 +392,70 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None, pl
         text = _render_tables(tables, fmt, out, note)
     _emit(text, out)
     if plot:
+        from eb_core.plot import plot_runs
+
         plot_runs(runs, plot)
     return text
 
 
-def plot_runs(runs: list[dict[str, Any]], path: str | Path) -> Path:
-    """Draw the runs to ``path`` (.png or .svg): success per subset as grouped bars with the 95 % intervals as
-    error bars, and, when the runs are labelled, the share of episodes with each error category.
-    matplotlib is imported here only (Agg backend, no display)."""
-    from eb_core.exceptions import CliError
+_RATES = (("Success rate (%)", "success_rate", "success"), ("Subgoal success (%)", "subgoal_success", "subgoal"),
+          ("Subgoal success, the original's rule (%)", "subgoal_success_paper", "subgoal_paper"))
 
-    path = Path(path)
-    if path.suffix.lower() not in (".png", ".svg"):
-        raise CliError(f"--plot {path}: the file must end in .png or .svg (e.g. --plot report.png)")
-    try:
-        import matplotlib
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        raise CliError("--plot needs matplotlib: pip install 'embodiedbench[report]' "
-                       "(or pip install -r requirements.txt)") from None
+def _rate_tables(env: str, env_runs: list[dict[str, Any]], subsets: list[str]) -> list[Table]:
+    """The paper's tables: one per rate, a row per run, a column per subset, each with its interval."""
+    tables: list[Table] = []
+    for title, key, _short in _RATES:
+        header = ["env", "model", "ablation"]
+        if key == "success_rate":
+            header.append("avg")
+        header += ["all [95% CI]", *subsets, "repeats", "sd between repeats", "episodes"]
+        rows = []
+        for r in env_runs:
+            o = r["overall"]
+            row = [env, r["model"], r["ablation"] + ("" if r["complete"] else " (incomplete)")]
+            if key == "success_rate":
+                row.append(_pct(o["avg_subset_success_rate"]))
+            row += [_with_ci(o, key), *[_with_ci(r["subsets"][s], key) if s in r["subsets"] else "-"
+                                        for s in subsets],
+                    str(r["repeats"]), _sd(o, key), f"{o['episodes']:.0f}" + _partial_mark(r)]
+            rows.append(row)
+        tables.append((f"{title} — {env}", header, rows))
+    return tables
+
+
+def _csv_header(subsets: list[str]) -> list[str]:
     from eb_core.errors import CATEGORIES
 
-    subsets = [*_subset_names(runs), "all"]
-    labelled = [r for r in runs if r["overall"].get("error_analysis")]
-    used = [k for k in CATEGORIES if any(r["overall"]["error_analysis"]["categories"][k]["count"] for r in labelled)]
-    ncols = 2 if used else 1
-    fig, axes = plt.subplots(1, ncols, figsize=(6.5 * ncols + 0.5, 5.0), squeeze=False,
-                             gridspec_kw={"width_ratios": [1.3, 1][:ncols]})
-    cmap: Any = plt.get_cmap("tab10")  # a ListedColormap: its .colors are the ten tab10 colours
-    colours = cmap.colors
-    names = [f"{r['model']} / {r['ablation']}" + ("" if len({x['env'] for x in runs}) == 1 else f" ({r['env']})")
-             for r in runs]
-    ax = axes[0][0]
-    width = 0.8 / max(1, len(runs))
-    for i, (r, name) in enumerate(zip(runs, names)):
-        xs, ys, lo, hi = [], [], [], []
-        for j, s in enumerate(subsets):
-            block = r["overall"] if s == "all" else r["subsets"].get(s)
-            if not block or not block.get("episodes"):
-                continue
-            value = 100 * float(block["success_rate"])
-            ci = block.get("success_rate_ci") or {}
-            xs.append(j - 0.4 + width * (i + 0.5))
-            ys.append(value)
-            lo.append(value - 100 * ci["ci_low"] if ci.get("ci_low") is not None else 0.0)
-            hi.append(100 * ci["ci_high"] - value if ci.get("ci_high") is not None else 0.0)
-        ax.bar(xs, ys, width=width * 0.92, color=colours[i % len(colours)], label=name,
-               yerr=[lo, hi], capsize=3, error_kw={"elinewidth": 1, "ecolor": "#333333"})
-        for x, y in zip(xs, ys):
-            ax.text(x, y + 1, f"{y:.0f}", ha="center", va="bottom", fontsize=7, color="#222222")
-    ax.set_xticks(range(len(subsets)))
-    ax.set_xticklabels(subsets, rotation=25 if len(subsets) > 4 else 0, ha="right" if len(subsets) > 4 else "center",
-                       fontsize=9)
-    ax.set_ylim(0, 110)
-    ax.set_ylabel("success rate (%)")
-    envs = ", ".join(dict.fromkeys(r["env"] for r in runs))
-    ax.set_title(f"Success per subset — {envs} (bars: 95% CI over tasks)", fontsize=10)
-    ax.grid(axis="y", alpha=0.3)
-    handles, legend_labels = ax.get_legend_handles_labels()
-    fig.legend(handles, legend_labels, fontsize=9, loc="lower center", ncol=min(4, len(runs)), frameon=False)
-    if used:
-        ax2 = axes[0][1]
-        h = 0.8 / max(1, len(labelled))
-        for i, r in enumerate(labelled):
-            cats = r["overall"]["error_analysis"]["categories"]
-            ys = [k - 0.4 + h * (i + 0.5) for k in range(len(used))]
-            ax2.barh(ys, [100 * cats[c]["episode_rate"] for c in used], height=h * 0.92,
-                     color=colours[runs.index(r) % len(colours)], label=names[runs.index(r)])
-        ax2.set_yticks(range(len(used)))
-        ax2.set_yticklabels([f"{CATEGORIES[c].title}\n({CATEGORIES[c].group})" for c in used], fontsize=8)
-        ax2.invert_yaxis()
-        ax2.set_xlim(0, 100)
-        ax2.set_xlabel("episodes with the error (%)")
-        ax2.set_title("Automatic error analysis (all subsets)", fontsize=10)
-        ax2.grid(axis="x", alpha=0.3)
-    fig.tight_layout(rect=(0, 0.07, 1, 1))
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    header = ["env", "model", "ablation", "avg", "repeats", "episodes", "complete"]
+    for _title, _key, short in _RATES:
+        for s in ["all", *subsets]:
+            header += [f"{short}:{s}", f"{short}:{s}:ci_low", f"{short}:{s}:ci_high"]
+        header.append(f"{short}:repeat_sd")
+    header += [f"errors:{k}" for k in CATEGORIES] + [f"errors:{k}:episode_rate" for k in CATEGORIES]
+    return [*header, "perception_score", "partial", "tasks_total"]
+
+
+def _csv_row(env: str, r: dict[str, Any], subsets: list[str]) -> list[str]:
+    from eb_core.errors import CATEGORIES
+
+    o = r["overall"]
+    row = [env, r["model"], r["ablation"], _pct(o["avg_subset_success_rate"]), str(r["repeats"]),
+           f"{o['episodes']:.0f}", str(r["complete"]).lower()]
+    for _title, key, _short in _RATES:
+        for s in ["all", *subsets]:
+            block = o if s == "all" else r["subsets"].get(s)
+            ci = (block or {}).get(f"{key}_ci") or {}
+            row += [_pct(block.get(key)) if block else "", _pct(ci.get("ci_low")), _pct(ci.get("ci_high"))]
+        sd = (o.get(f"{key}_ci") or {}).get("repeat_sd")
+        row.append("" if sd is None else f"{100 * sd:.2f}")
+    ea = o.get("error_analysis") or {}
+    cats = ea.get("categories") or {}
+    row += [f"{cats[k]['count']:.0f}" if k in cats else "" for k in CATEGORIES]
+    row += [f"{100 * cats[k]['episode_rate']:.1f}" if k in cats else "" for k in CATEGORIES]
+    ps = ea.get("perception_score")
+    row.append("" if ps is None else f"{ps:.3f}")
+    return [*row, str(bool(r["meta"].get("partial"))).lower(), str(r["meta"].get("n_tasks_total", ""))]
 
 
 def _emit(text: str, out: str | None) -> None:
@@ -524,111 +463,3 @@ def _emit(text: str, out: str | None) -> None:
         Path(out).write_text(text, encoding="utf-8")
     else:
         sys.stdout.write(text)
-
-
-# -- paired comparison -----------------------------------------------------------------------------
-
-
-def paired_rows(run_a: dict[str, Any], run_b: dict[str, Any]) -> list[dict[str, Any]]:
-    """Per subset and overall: success and subgoal rates of A and B, the difference B - A with its 95 %
-    interval and the paired test. Raises ``ValueError`` (one line) when the task sets differ."""
-    from eb_core.metrics import INTERVAL_METRICS, outcomes
-    from eb_core.stats import outcome_matrix, paired_comparison
-
-    recs_a, recs_b = run_a["records"], run_b["records"]
-    ids_b_set = {r.task_id for r in recs_b}
-    ids_a = [t for t in dict.fromkeys(r.task_id for r in recs_a) if t in ids_b_set]  # the shared tasks
-    if not ids_a:
-        raise ValueError(f"cannot pair {run_a['dir']} with {run_b['dir']}: they share no task (A has "
-                         f"{len({r.task_id for r in recs_a})}, B {len(ids_b_set)}); pair runs of the same env "
-                         f"and overlapping selections (subset=, limit=, tasks=)")
-    subset_of = {r.task_id: r.subset for r in recs_a}
-    subsets = list(dict.fromkeys(subset_of[t] for t in ids_a))
-    out = []
-    for group in [*subsets, "all"]:
-        ids = [t for t in ids_a if group == "all" or subset_of[t] == group]
-        for metric in ("success_rate", "subgoal_success"):
-            score, binary = INTERVAL_METRICS[metric]
-            oa = outcomes([r for r in recs_a if r.task_id in set(ids)], score)
-            ob = outcomes([r for r in recs_b if r.task_id in set(ids)], score)
-            common = [t for t in ids if t in oa and t in ob]  # measured in both
-            _, ma = outcome_matrix({t: oa[t] for t in common})
-            _, mb = outcome_matrix({t: ob[t] for t in common})
-            res = paired_comparison(ma, mb, binary=binary)
-            out.append({"subset": group, "metric": metric, **res})
-    return out
-
-
-def overlap_note(run_a: dict[str, Any], run_b: dict[str, Any]) -> str:
-    """One sentence when the two runs' task sets differ: how many tasks are compared and how many are left out."""
-    ids_a = {r.task_id for r in run_a["records"]}
-    ids_b = {r.task_id for r in run_b["records"]}
-    if ids_a == ids_b:
-        return ""
-    return (f"Compared on the {len(ids_a & ids_b)} tasks both runs played ({len(ids_a - ids_b)} only in A, "
-            f"{len(ids_b - ids_a)} only in B, left out).")
-
-
-def render_paired(dirs: list[str], fmt: str = "rich", out: str | None = None) -> str:
-    """``eb report A B --paired``: is the difference between two runs on the same tasks real?"""
-    from eb_core.exceptions import CliError
-
-    if len(dirs) != 2:
-        raise CliError(f"--paired compares exactly two run directories (got {len(dirs)}): eb report A B --paired")
-    for d in dirs:
-        if not _has_results(Path(d)):
-            raise CliError(f"{d} is not a run directory with results (no finished episode in episodes.jsonl)")
-    run_a, run_b = load_run(dirs[0]), load_run(dirs[1])
-    try:
-        rows = paired_rows(run_a, run_b)
-    except ValueError as exc:
-        raise CliError(str(exc)) from None
-    shared = overlap_note(run_a, run_b)
-    header = ["subset", "metric", "tasks", "A %", "B %", "B - A [95% CI]", "test", "p", "verdict"]
-    table: list[list[str]] = []
-    for r in rows:
-        if r["diff"] is None:
-            table.append([r["subset"], r["metric"], "0", "-", "-", "-", "-", "-", "no measured tasks"])
-            continue
-        diff = f"{100 * r['diff']:+.1f} [{100 * r['ci_low']:+.1f}, {100 * r['ci_high']:+.1f}]"
-        verdict = "significant" if r["significant"] else "n.s. (not significant)"
-        from eb_core.stats import BOOTSTRAP_SAMPLES
-
-        p = r["p_value"]
-        p_text = f"<{1 / BOOTSTRAP_SAMPLES:.4f}" if r["test"] == "paired-bootstrap" and p == 0 else f"{p:.3g}"
-        table.append([r["subset"], r["metric"], str(r["tasks"]), _pct(r["a"]), _pct(r["b"]), diff, r["test"],
-                      p_text, verdict])
-    title = (f"Paired comparison on {run_a['env']}: A = {run_a['model']} / {run_a['ablation']} "
-             f"({run_a['repeats']} repeat(s)), B = {run_b['model']} / {run_b['ablation']} ({run_b['repeats']} "
-             f"repeat(s))")
-    note = ((shared + " " if shared else "")
-            + "p < 0.05 is marked significant. One method per row, so the interval holds 0 exactly when the row is "
-            "not significant: mcnemar-exact (binary success, one repeat each) is McNemar's exact test with its "
-            "exact interval; paired-bootstrap (subgoal rates, or repeats) is a paired bootstrap over tasks for both.")
-    if fmt == "csv":
-        buf = io.StringIO()
-        w = csv.writer(buf, lineterminator="\n")
-        w.writerow(["subset", "metric", "tasks", "a", "b", "diff", "ci_low", "ci_high", "test", "p_value",
-                    "significant"])
-        for r in rows:
-            w.writerow([r["subset"], r["metric"], r["tasks"], r["a"], r["b"], r["diff"], r["ci_low"], r["ci_high"],
-                        r["test"], r["p_value"], r["significant"]])
-        text = buf.getvalue()
-    elif fmt == "markdown":
-        md = [f"**{title}**", "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-        md += ["| " + " | ".join(row) + " |" for row in table]
-        text = "\n".join(md) + "\n\n" + note + "\n"
-    else:
-        from rich.console import Console
-        from rich.table import Table
-
-        t = Table(title=title)
-        for col in header:
-            t.add_column(col, justify="left" if col in ("subset", "metric", "test", "verdict") else "right")
-        for row in table:
-            t.add_row(*row)
-        buf = io.StringIO()
-        Console(file=buf, width=200, force_terminal=out is None and sys.stdout.isatty()).print(t)
-        text = buf.getvalue().rstrip("\n") + "\n" + note + "\n"
-    _emit(text, out)
-    return text

@@ -29,7 +29,8 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def cmd_report(args: list[str]) -> int:
-    from eb_core.report import render_paired, render_report
+    from eb_core.paired import render_paired
+    from eb_core.report import render_report
 
     ns = _parser().parse_args(args)
     if ns.format not in FORMATS:

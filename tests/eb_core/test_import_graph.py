@@ -12,7 +12,8 @@ import eb_core
 
 ROOT = Path(eb_core.__file__).parent
 #: No cycle may pass through these modules (the config path, the CLI and the commands it drives).
-OWNED = ("eb_core.cli", "eb_core.compose", "eb_core.exceptions", "eb_core.report", "eb_core.prompt_view",
+OWNED = ("eb_core.cli", "eb_core.compose", "eb_core.exceptions", "eb_core.report", "eb_core.paired", "eb_core.plot",
+         "eb_core.prompt_view",
          "eb_core.html")
 
 

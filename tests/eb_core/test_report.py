@@ -12,7 +12,8 @@ import pytest
 
 import fixture_plugin
 from eb_core_testutil import make_config
-from eb_core.report import load_run, paired_rows, render_paired, render_report
+from eb_core.paired import paired_rows, render_paired
+from eb_core.report import load_run, render_report
 from eb_core.runner import run
 
 FIXTURE_DIR = Path(fixture_plugin.__file__).parent
