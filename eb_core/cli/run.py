@@ -63,6 +63,8 @@ def cmd_run(args: list[str]) -> int:
         summary = run_job(jobs[0])
         _print_summary(summary, str(jobs[0].run_dir))
         return 0
+    if any(o.lstrip("+").startswith(("hydra/launcher=", "hydra/sweeper=")) for o in overrides):
+        return _launcher_sweep(overrides)
     return _sweep(jobs)
 
 
@@ -263,41 +265,82 @@ def _print_summary(summary: dict[str, Any], run_dir: str) -> None:
 # -- sweeps ----------------------------------------------------------------------------------------------------
 
 
+#: One finished sweep job: its config, run directory, summary (None if it failed) and error line.
+JobResult = tuple[Any, str, "dict[str, Any] | None", "str | None"]
+
+
+def _one_sweep_job(job: ComposedRun, label: str) -> JobResult:
+    """Run one job of a sweep; its failure is one line on stderr and is returned, never raised."""
+    print(f"eb run -m {label} -> {job.run_dir}", file=sys.stderr, flush=True)
+    try:
+        summary = run_job(job)
+    except UserError as exc:
+        print(f"eb: error: {label}: {exc}", file=sys.stderr, flush=True)
+        return job.config, str(job.run_dir), None, str(exc)
+    _print_summary(summary, str(job.run_dir))
+    return job.config, str(job.run_dir), summary, None
+
+
 def _sweep(jobs: list[ComposedRun]) -> int:
     """Every job in turn; a job's failure is one line and the sweep goes on. Exit 1 if any job failed."""
-    results: list[tuple[ComposedRun, dict[str, Any] | None, str | None]] = []
-    for i, job in enumerate(jobs):
-        label = f"[job {i + 1}/{len(jobs)}] {' '.join(job.overrides)}"
-        print(f"eb run -m {label} -> {job.run_dir}", file=sys.stderr, flush=True)
-        try:
-            summary = run_job(job)
-        except UserError as exc:
-            print(f"eb: error: {label}: {exc}", file=sys.stderr, flush=True)
-            results.append((job, None, str(exc)))
-            continue
-        _print_summary(summary, str(job.run_dir))
-        results.append((job, summary, None))
+    results = [_one_sweep_job(job, f"[job {i + 1}/{len(jobs)}] {' '.join(job.overrides)}")
+               for i, job in enumerate(jobs)]
+    return _finish_sweep(results)
+
+
+def _finish_sweep(results: list[JobResult]) -> int:
     _print_sweep_table(results)
-    failed = sum(1 for _j, _s, err in results if err)
+    failed = sum(1 for *_rest, err in results if err)
     if failed:
-        print(f"eb: error: {failed} of {len(jobs)} sweep jobs failed (their lines above say why); the others "
+        print(f"eb: error: {failed} of {len(results)} sweep jobs failed (their lines above say why); the others "
               f"finished. Fix it and re-run the same command: finished jobs resume at once", file=sys.stderr)
         return 1
     return 0
 
 
-def _print_sweep_table(results: list[tuple[ComposedRun, dict[str, Any] | None, str | None]]) -> None:
+def _launched_job(cfg: Any) -> JobResult:
+    """A sweep job started by a Hydra launcher (``hydra/launcher=...``): composed by our one path from the
+    job's overrides, in the directory the launcher chose."""
+    import dataclasses
+
+    from hydra.core.hydra_config import HydraConfig
+
+    hc = HydraConfig.get()
+    job = compose_run(list(hc.overrides.task), multirun=True)
+    job = dataclasses.replace(job, run_dir=Path(hc.runtime.output_dir))
+    return _one_sweep_job(job, f"[job {hc.job.num + 1}] {' '.join(job.overrides)}")
+
+
+def _launcher_sweep(overrides: list[str]) -> int:
+    """``eb run -m hydra/launcher=NAME ...``: the sweep handed to that Hydra launcher (Slurm, Ray...)."""
+    from hydra._internal.hydra import Hydra
+    from hydra._internal.utils import create_config_search_path
+    from hydra.core.global_hydra import GlobalHydra
+
+    from eb_core.compose import hydra_context
+
+    with hydra_context():  # registers the search-path plugin and the resolvers
+        pass
+    GlobalHydra.instance().clear()
+    hydra = Hydra.create_main_hydra2(task_name="eb", config_search_path=create_config_search_path("pkg://eb_conf"))
+    try:
+        batches = hydra.multirun(config_name="config", task_function=_launched_job, overrides=overrides)
+    finally:
+        GlobalHydra.instance().clear()
+    return _finish_sweep([r.return_value for batch in batches for r in batch])
+
+
+def _print_sweep_table(results: list[JobResult]) -> None:
     from rich.console import Console
     from rich.table import Table
 
     t = Table(title=f"Sweep: {len(results)} jobs")
     for col in ("env", "model", "ablation", "experiment", "success % [95% CI]", "episodes", "status", "run dir"):
         t.add_column(col, justify="right" if col in ("episodes",) else "left")
-    for job, summary, err in results:
-        c = job.config
+    for c, run_dir, summary, err in results:
         if summary is None:
             t.add_row(c.env.name, c.model.name, c.ablation.name, c.experiment, "-", "-",
-                      f"[red]failed[/red]: {(err or '')[:60]}", str(job.run_dir))
+                      f"[red]failed[/red]: {(err or '')[:60]}", run_dir)
             continue
         o = summary["overall"]
         ci = o.get("success_rate_ci") or {}
@@ -308,6 +351,5 @@ def _print_sweep_table(results: list[tuple[ComposedRun, dict[str, Any] | None, s
         if summary.get("partial"):
             status += " (partial)"
         t.add_row(c.env.name, c.model.name, c.ablation.name, c.experiment, rate,
-                  f"{summary['n_finished']}/{summary.get('n_episodes', summary['n_selected'])}", status,
-                  str(job.run_dir))
+                  f"{summary['n_finished']}/{summary.get('n_episodes', summary['n_selected'])}", status, run_dir)
     Console(width=max(150, Console().width)).print(t)

@@ -241,3 +241,17 @@ def test_cfg_job_prints_the_config_that_runs(tmp_path):
     m = eb("run", "-m", "env=corridor", "model=scripted-oracle", "ablation=none,no_feedback", "--cfg", "job",
            "-p", "ablation", cwd=tmp_path)
     assert m.returncode == 0 and "name: none" in m.stdout and "name: no_feedback" in m.stdout
+
+
+def test_a_sweep_through_a_hydra_launcher_lands_in_the_same_layout(tmp_path):
+    """`hydra/launcher=NAME` hands the jobs to that launcher (Hydra's basic one here: Slurm and Ray launchers
+    plug in the same way); each job is still composed by eb_core.compose and failures do not stop it."""
+    r = eb("run", "-m", "hydra/launcher=basic", "env=corridor", "model=scripted-oracle", "ablation=none,no_feedback",
+           "+model.fail=auth,ok", "limit=2", "--quiet", cwd=tmp_path)
+    assert r.returncode == 1, r.stderr
+    assert "2 of 4 sweep jobs failed" in r.stderr and "Sweep: 4 jobs" in r.stdout
+    found = sorted(Path(p).parts[-2] for p in glob.glob(str(tmp_path / "runs" / "*" / "*" / "*" / "default")))
+    assert found == ["no_feedback", "none"]
+    for name in found:
+        d = tmp_path / "runs" / "corridor" / "scripted-oracle" / name / "default"
+        assert len((d / "episodes.jsonl").read_text().splitlines()) == 2
