@@ -188,14 +188,14 @@ def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: di
     finally:
         progress.close()
 
-    summary = _summarize(cfg, files, registry, selected, stopped)
+    summary = _summarize(cfg, files, registry, selected, stopped, n_tasks_total=len(all_tasks))
     files.write_json("summary.json", summary)
     hook.eb_on_run_end(event=RunEndEvent(run_dir=str(files.root), summary=summary, stopped_early=stopped))
     return summary
 
 
 def _summarize(cfg: RunConfig, files: RunFiles, registry: Registry, selected: list[Any],
-               stopped: str | None) -> dict[str, Any]:
+               stopped: str | None, n_tasks_total: int) -> dict[str, Any]:
     """``summary.json``: the paper's metrics over the selected episodes in ``episodes.jsonl``, and the run's facts."""
     repeats = cfg.runner.repeats
     all_records = files.load_episodes()
@@ -213,9 +213,9 @@ def _summarize(cfg: RunConfig, files: RunFiles, registry: Registry, selected: li
         "ablation": cfg.ablation.name,
         "experiment": cfg.experiment,
         "n_selected": len(selected),
-        "n_tasks_total": len(all_tasks),
+        "n_tasks_total": n_tasks_total,
         # partial: the selection (subset=, limit=, tasks=) covers less than the world's whole task set
-        "partial": len(selected) < len(all_tasks),
+        "partial": len(selected) < n_tasks_total,
         "selection": selection_of(cfg),
         "repeats": repeats,
         "n_episodes": len(wanted),

@@ -18,6 +18,7 @@ Every bootstrap uses a fixed seed, so the same files always give the same number
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np

@@ -62,29 +62,50 @@ def _fail(msg: str, code: int = 2) -> int:
 
 
 def _command(cmd: str) -> Callable[[list[str]], int]:
+    """The function behind ``eb CMD``, imported only when that command runs."""
     if cmd == "run":
-        from eb_core.cli.run import cmd_run as fn
-    elif cmd == "list":
-        from eb_core.cli.list import cmd_list as fn
-    elif cmd == "report":
-        from eb_core.cli.report import cmd_report as fn
-    elif cmd == "show":
-        from eb_core.cli.show import cmd_show as fn
-    elif cmd == "tasks":
-        from eb_core.cli.tasks import cmd_tasks as fn
-    elif cmd == "prompt":
-        from eb_core.prompt_view import cmd_prompt as fn
-    elif cmd == "export":
-        from eb_core.export import cmd_export as fn
-    elif cmd == "audit":
-        from eb_core.audit import cmd_audit as fn
-    elif cmd == "verify":
-        from eb_core.verify import cmd_verify as fn
-    elif cmd == "plan":
-        from eb_core.budget import cmd_plan as fn
-    else:
-        from eb_core.serve.command import main as fn
-    return fn
+        from eb_core.cli.run import cmd_run
+
+        return cmd_run
+    if cmd == "list":
+        from eb_core.cli.list import cmd_list
+
+        return cmd_list
+    if cmd == "report":
+        from eb_core.cli.report import cmd_report
+
+        return cmd_report
+    if cmd == "show":
+        from eb_core.cli.show import cmd_show
+
+        return cmd_show
+    if cmd == "tasks":
+        from eb_core.cli.tasks import cmd_tasks
+
+        return cmd_tasks
+    if cmd == "prompt":
+        from eb_core.prompt_view import cmd_prompt
+
+        return cmd_prompt
+    if cmd == "export":
+        from eb_core.export import cmd_export
+
+        return cmd_export
+    if cmd == "audit":
+        from eb_core.audit import cmd_audit
+
+        return cmd_audit
+    if cmd == "verify":
+        from eb_core.verify import cmd_verify
+
+        return cmd_verify
+    if cmd == "plan":
+        from eb_core.budget import cmd_plan
+
+        return cmd_plan
+    from eb_core.serve.command import main as cmd_serve
+
+    return cmd_serve
 
 
 def _on_sigterm(signum: int, frame: object) -> None:
