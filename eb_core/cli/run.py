@@ -20,10 +20,6 @@ from typing import Any, NoReturn
 from eb_core.compose import ComposedRun, compose_run, expand_sweep, refuse_secrets, sweep_keys
 from eb_core.exceptions import CliError, UserError
 
-#: Files ``eb run`` writes before the first episode finishes: a folder holding only these has no results.
-_BOOKKEEPING = {"config.yaml", "fingerprint.json", "plugins.json", "run.lock", ".hydra", "episodes",
-                "preflight.jsonl", "model_info.json", "eb.log"}
-
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:  # one line, raised instead of exit(2)
@@ -159,9 +155,7 @@ def _logging(run_dir: Path) -> Iterator[None]:
 
 def _holds_no_results(run_dir: Path) -> bool:
     episodes = run_dir / "episodes.jsonl"
-    if episodes.exists() and episodes.stat().st_size > 0:
-        return False
-    return all(p.name in _BOOKKEEPING for p in run_dir.iterdir())
+    return not (episodes.exists() and episodes.stat().st_size > 0)
 
 
 def _first_missing(path: Path) -> Path | None:
@@ -176,7 +170,8 @@ def _first_missing(path: Path) -> Path | None:
 
 def _discard_empty(run_dir: Path, created: Path) -> None:
     """A run that failed before its first episode leaves no folder behind (the README's globs stay true):
-    ``run_dir`` and the empty parents this call created, up to ``created``."""
+    ``run_dir`` and the empty parents this call created, up to ``created``. Only called for a directory this
+    invocation created, so everything in it was written by this run (config, manifest, lock...)."""
     with contextlib.suppress(OSError):
         if run_dir.is_dir() and _holds_no_results(run_dir):
             shutil.rmtree(run_dir)
