@@ -174,8 +174,9 @@ def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: di
     pending: list[Job] = [(t, r) for r in range(repeats) for t in selected if (t.id, r) not in finished]
     done_before = len(selected) * repeats - len(pending)
     if done_before:
+        # on stdout: stderr is kept for progress and for the one line of an error
         print(f"resuming: {done_before} of {len(selected) * repeats} episodes already done"
-              + ("" if pending else " (nothing left to run)"), file=sys.stderr, flush=True)
+              + ("" if pending else " (nothing left to run)"), flush=True)
 
     hook = registry.pm.hook
     hook.eb_on_run_start(event=RunStartEvent(run_dir=str(files.root), env=cfg.env.name, model=cfg.model.name,

@@ -71,7 +71,6 @@ def _call(fn: Callable[..., Any], kwargs: dict[str, Any], label: str) -> Any:
         takes_progress = False
     if takes_progress:
         kwargs.setdefault("progress", True)
-    print(f"{label}: generating{' (progress below)' if takes_progress else ''} ...", file=sys.stderr, flush=True)
     start = time.monotonic()
     with _heartbeat(label, HEARTBEAT_S), contextlib.redirect_stdout(sys.stderr):
         result = fn(**kwargs)

@@ -135,7 +135,7 @@ def test_a_different_selection_in_the_same_folder_is_refused_naming_the_key(tmp_
     line = one_error_line(eb(*RUN, "subset=near", "limit=2", d, cwd=tmp_path))
     assert "limit=3, this one has limit=2" in line
     more = eb(*RUN, "subset=near", "limit=5", d, cwd=tmp_path)  # a larger limit extends the same run
-    assert more.returncode == 0 and "resuming: 3 of 5 episodes already done" in more.stderr
+    assert more.returncode == 0 and "resuming: 3 of 5 episodes already done" in more.stdout
     summary = json.loads((tmp_path / "r" / "summary.json").read_text())
     assert summary["partial"] is True and summary["n_selected"] == 5 and summary["n_tasks_total"] == 10
     assert "partial: 5 of 10 tasks" in more.stdout
