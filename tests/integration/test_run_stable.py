@@ -2,7 +2,7 @@
 as the golden files in golden/, recorded from main before the CLI/config restructuring (issue #27).
 
 Compared: every field of the golden records, except timings (``model_latency_s``, ``wall_time_s``), the host
-(``node``) and plugin versions. Fields added since (a format version, the partial mark...) are not compared, so
+(``node``), plugin versions and the automatic error labels (see ``SKIP``). Fields added since (a format version, the partial mark...) are not compared, so
 a new field does not fail this test; a changed or missing one does. Navigation's golden files were re-recorded
 when ``limit=`` became "the first N subset by subset" in every world (the same 20 tasks played by the old code
 give these very records). Manipulation plays ~6 s per episode, so only its first tasks are replayed
@@ -20,7 +20,11 @@ from pathlib import Path
 import pytest
 
 GOLDEN = Path(__file__).parent / "golden"
-SKIP = {"model_latency_s", "wall_time_s", "node", "plugins"}
+#: Timings, the host and plugin versions vary; the automatic error labels (``error_counts``, ``perception_score``,
+#: ``error_analysis``) and the summary's ``invalid_action_ratio`` (now: actions refused outright) are an analysis of
+#: the records that issue 26 changed on purpose after these files were recorded; its own tests guard them.
+SKIP = {"model_latency_s", "wall_time_s", "node", "plugins", "error_counts", "perception_score", "error_analysis",
+        "invalid_action_ratio"}
 FAST = ("navigation", "alfred", "habitat")
 
 
