@@ -25,7 +25,7 @@ from pathlib import Path
 
 
 def _play(overrides: list[str], run_dir: Path) -> tuple[float, list[dict]]:
-    from eb_core.cli import compose
+    from eb_core.compose import compose
     from eb_core.config import validate_config
     from eb_core.runner import run
 

@@ -22,7 +22,7 @@ from eb_core.runner import episode_seed, run, select_tasks
 
 
 def _env_config(registry: Registry, env_name: str) -> dict:
-    from eb_core.cli import compose
+    from eb_core.compose import compose
 
     cfg = compose([f"env={env_name}", "model=oracle"])
     return cfg

@@ -121,7 +121,8 @@ class Components:
 
 
 def select_tasks(tasks: Sequence[Task], cfg: RunConfig) -> list[Task]:
-    """Apply ``tasks=``, ``subset=`` and ``limit=`` (first N of the selection, in the stable order)."""
+    """Apply ``tasks=``, ``subset=`` and ``limit=``: ``limit=N`` takes the first N of the selection in one stable
+    order in every world: subset by subset (in the world's subset order), each in its task file's order."""
     if cfg.tasks:
         by_id = {t.id: t for t in tasks}
         missing = [t for t in cfg.tasks if t not in by_id]
@@ -142,7 +143,8 @@ def select_tasks(tasks: Sequence[Task], cfg: RunConfig) -> list[Task]:
                               f"{also}")
         selected = [t for t in selected if t.subset in wanted]
     if cfg.limit is not None:
-        selected = selected[: cfg.limit]
+        rank = {s: i for i, s in enumerate(dict.fromkeys(t.subset for t in tasks))}
+        selected = sorted(selected, key=lambda t: rank[t.subset])[: cfg.limit]  # stable: file order in a subset
     return selected
 
 

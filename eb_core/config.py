@@ -7,12 +7,10 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
+from eb_core.exceptions import ConfigError
+
 __all__ = ["AblationConfig", "EnvConfig", "ModelConfig", "PlannerConfig", "RunConfig", "RunnerConfig", "ConfigError",
            "validate_config"]
-
-
-class ConfigError(ValueError):
-    """The config is invalid; the message is one line naming the key and what is allowed."""
 
 
 class _Strict(BaseModel):
@@ -95,7 +93,7 @@ class PlannerConfig(_Strict):
     answer tags, and an answer without them is an output error."""
 
     @model_validator(mode="after")
-    def _one_observation_mode(self) -> "PlannerConfig":
+    def _one_observation_mode(self) -> PlannerConfig:
         if self.language_only and self.text_state:
             raise ValueError("language_only (blind) and text_state (scene text) exclude each other; set one of them")
         return self
@@ -168,7 +166,7 @@ class RunConfig(_Strict):
     instructions."""
 
 
-def _loc(err: dict[str, Any]) -> str:
+def _loc(err: Any) -> str:
     return ".".join(str(p) for p in err["loc"])
 
 

@@ -339,7 +339,7 @@ def _export_args(args: list[str], usage: str, error: type[Exception]) -> dict[st
 def cmd_export(args: list[str]) -> int:
     """``eb export RUN_DIR --out DIR [--images embed|paths] [--format parquet|chat] [--label model|expert]
     [--only-success] [--overwrite]``."""
-    from eb_core.cli import CliError
+    from eb_core.exceptions import CliError
 
     fmt_asked = _format_asked(args)
     if fmt_asked == "matrix":

@@ -127,7 +127,8 @@ class Registry:
                 if result is None:
                     continue
                 if not isinstance(result, (list, tuple)):
-                    raise PluginError(f"plugin {plugin_name!r}: {hook_name}() must return a list of {spec_type.__name__}")
+                    raise PluginError(f"plugin {plugin_name!r}: {hook_name}() must return a list of "
+                                      f"{spec_type.__name__}")
                 for spec in result:
                     if not isinstance(spec, spec_type):
                         raise PluginError(
@@ -144,7 +145,7 @@ class Registry:
             self._specs[kind] = dict(sorted(merged.items()))
 
     @classmethod
-    def create(cls, **kwargs: Any) -> "Registry":
+    def create(cls, **kwargs: Any) -> Registry:
         return cls(get_plugin_manager(**kwargs))
 
     def all(self, kind: str) -> dict[str, ComponentSpec]:
@@ -160,25 +161,34 @@ class Registry:
             )
         return specs[name]
 
+    def _typed(self, kind: str, spec_type: type[S]) -> dict[str, S]:
+        return {k: v for k, v in self._specs[kind].items() if isinstance(v, spec_type)}
+
+    def env(self, name: str) -> EnvSpec:
+        """The env ``name`` (:meth:`get` with its type); :class:`PluginError` lists the installed ones."""
+        spec = self.get("env", name)
+        assert isinstance(spec, EnvSpec)
+        return spec
+
     @property
     def envs(self) -> dict[str, EnvSpec]:
-        return self.all("env")  # type: ignore[return-value]
+        return self._typed("env", EnvSpec)
 
     @property
     def model_backends(self) -> dict[str, ModelBackendSpec]:
-        return self.all("model backend")  # type: ignore[return-value]
+        return self._typed("model backend", ModelBackendSpec)
 
     @property
     def planners(self) -> dict[str, PlannerSpec]:
-        return self.all("planner")  # type: ignore[return-value]
+        return self._typed("planner", PlannerSpec)
 
     @property
     def augmenters(self) -> dict[str, AugmenterSpec]:
-        return self.all("augmenter")  # type: ignore[return-value]
+        return self._typed("augmenter", AugmenterSpec)
 
     @property
     def metrics(self) -> dict[str, MetricSpec]:
-        return self.all("metric")  # type: ignore[return-value]
+        return self._typed("metric", MetricSpec)
 
     def config_searchpath(self) -> list[str]:
         paths: list[str] = []

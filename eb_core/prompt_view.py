@@ -132,8 +132,8 @@ def capture_prompt(cfg: Any, registry: Any, task_id: str, step: int) -> tuple[Mo
 
 
 def cmd_prompt(args: list[str]) -> int:
-    from eb_core.cli import CliError, _validate, compose
-    from eb_core.config import ConfigError
+    from eb_core.compose import compose, validate
+    from eb_core.exceptions import CliError, ConfigError
     from eb_core.plugins import PluginError, Registry
 
     task_id: str | None = None
@@ -158,7 +158,7 @@ def cmd_prompt(args: list[str]) -> int:
     if not task_id:
         raise CliError("eb prompt needs task=TASK_ID; " + _USAGE)
     cfg_dict = compose(overrides)
-    cfg = _validate(cfg_dict)
+    cfg = validate(cfg_dict)
     try:
         registry = Registry.create()
         request, note = capture_prompt(cfg, registry, task_id, step)

@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-__all__ = ["FORMATS", "load_run", "print_summary", "relabel", "render_paired", "render_report"]
+__all__ = ["FORMATS", "load_run", "print_summary", "relabel", "render_report", "runs_with_results"]
 
 
 def _pct(x: float | None) -> str:
@@ -89,9 +89,22 @@ def print_summary(summary: dict[str, Any], run_dir: str) -> None:
     # A plain line that scripts (and CI logs) can grep.
     ci = o.get("success_rate_ci") or {}
     ci_text = (f", 95% CI [{_pct(ci['ci_low'])}, {_pct(ci['ci_high'])}]" if ci.get("ci_low") is not None else "")
-    total = summary.get("n_episodes", summary["n_selected"])
-    print(f"success rate: {_pct(o.get('success_rate'))}% ({summary['n_finished']}/{total} episodes){ci_text} "
+    print(f"success rate: {_pct(o.get('success_rate'))}% ({_count_text(summary)}){ci_text} "
           f"-> {run_dir}/summary.json", flush=True)
+
+
+def _count_text(summary: dict[str, Any]) -> str:
+    """``7 of 10 episodes succeeded`` (+ how many did not finish, + a partial mark) for the summary line."""
+    o = summary["overall"]
+    total = int(summary.get("n_episodes", summary["n_selected"]))
+    finished = int(summary["n_finished"])
+    succeeded = round(float(o.get("success_rate") or 0.0) * finished)
+    text = f"{succeeded} of {finished} episodes succeeded"
+    if finished < total:
+        text += f"; {total - finished} of {total} not finished"
+    if summary.get("partial"):
+        text += f"; partial: {summary['n_selected']} of {summary.get('n_tasks_total', '?')} tasks"
+    return text
 
 
 def _run_config(root: Path) -> dict[str, Any]:
@@ -152,7 +165,7 @@ def load_run(run_dir: str | Path, relabel_errors: bool = False) -> dict[str, Any
     and ``complete`` is False. Episodes without error labels (runs older than the labeller) are labelled from
     their step files; ``relabel_errors`` relabels all of them.
     """
-    from eb_core.metrics import compute_summary, errors, steps, subgoal_success, success_rate, usage
+    from eb_core.metrics import Metric, compute_summary, errors, steps, subgoal_success, success_rate, usage
 
     root = Path(run_dir)
     records = relabel(load_records(root), root, force=relabel_errors)
@@ -161,8 +174,8 @@ def load_run(run_dir: str | Path, relabel_errors: bool = False) -> dict[str, Any
         meta = json.loads((root / "summary.json").read_text())
     conf = _run_config(root)
     aliases = ((conf.get("env") or {}).get("subset_aliases") or {})
-    fns = {"success_rate": success_rate, "subgoal_success": subgoal_success, "steps": steps, "errors": errors,
-           "usage": usage}
+    fns: dict[str, Metric] = {"success_rate": success_rate, "subgoal_success": subgoal_success, "steps": steps,
+                              "errors": errors, "usage": usage}
     subsets = list(dict.fromkeys(aliases.get(s, s) for s in meta.get("subsets", {})))
     subsets += [s for s in dict.fromkeys(r.subset for r in records) if s not in subsets]  # in the run's order
     summary = compute_summary(records, fns, subsets)
@@ -175,6 +188,43 @@ def load_run(run_dir: str | Path, relabel_errors: bool = False) -> dict[str, Any
     return {"dir": str(root), "env": name("env"), "model": name("model"), "ablation": name("ablation"),
             "repeats": repeats, "complete": bool(meta.get("complete", False)), "has_summary": bool(meta),
             "records": records, "config": conf, "meta": meta, **summary}
+
+
+def _has_results(root: Path) -> bool:
+    path = root / "episodes.jsonl"
+    return path.exists() and path.stat().st_size > 0
+
+
+def runs_with_results(dirs: list[str]) -> list[str]:
+    """The run directories of ``dirs`` that hold finished episodes. Folders with none (a run that failed or was
+    stopped before its first episode) are skipped with one note on stderr, so a glob such as
+    ``runs/*/*/*/default`` keeps working; a path that does not exist, or no run with results at all, is an error."""
+    from eb_core.exceptions import CliError
+
+    kept: list[str] = []
+    skipped: list[str] = []
+    for d in dirs:
+        root = Path(d)
+        if not root.is_dir():
+            raise CliError(f"{d} is not a run directory (no episodes.jsonl)")
+        (kept if _has_results(root) else skipped).append(d)
+    if not kept:
+        raise CliError(f"{dirs[0]} is not a run directory (no episodes.jsonl)" if len(dirs) == 1 else
+                       f"none of the {len(dirs)} folders holds a finished episode (no episodes.jsonl); run "
+                       f"`eb run ...` first")
+    if skipped:
+        more = f" and {len(skipped) - 3} more" if len(skipped) > 3 else ""
+        print(f"eb report: note: skipped {len(skipped)} folder(s) with no finished episodes: "
+              f"{', '.join(skipped[:3])}{more}", file=sys.stderr)
+    return kept
+
+
+def _partial_mark(r: dict[str, Any]) -> str:
+    """`` (partial: 20 of 300 tasks)`` for a run whose selection (subset=, limit=, tasks=) is not the whole set."""
+    meta = r.get("meta") or {}
+    if not meta.get("partial"):
+        return ""
+    return f" (partial: {meta.get('n_selected', '?')} of {meta.get('n_tasks_total', '?')} tasks)"
 
 
 def _subset_names(runs: list[dict[str, Any]]) -> list[str]:
@@ -311,163 +361,101 @@ def render_report(dirs: list[str], fmt: str = "rich", out: str | None = None, pl
     """``eb report``: runs side by side (models x subsets, like the paper's tables), ablation deltas and the
     automatic error breakdown, in ``fmt``; ``plot`` also draws them to an image; ``errors`` relabels every
     episode from its step files and adds the per-subset error tables."""
-    from eb_core.cli import CliError
 
-    runs = []
-    for d in dirs:
-        try:
-            runs.append(load_run(d, relabel_errors=errors))
-        except FileNotFoundError as exc:
-            raise CliError(str(exc)) from None
+    runs = [load_run(d, relabel_errors=errors) for d in runs_with_results(dirs)]
     by_env: dict[str, list[dict[str, Any]]] = {}
     for r in runs:
         by_env.setdefault(r["env"], []).append(r)
     rows_out: list[list[str]] = []
     tables: list[Table] = []
-    from eb_core.errors import CATEGORIES
-
     for env, env_runs in by_env.items():
         subsets = _subset_names(env_runs)
-        for title, key in (("Success rate (%)", "success_rate"), ("Subgoal success (%)", "subgoal_success"),
-                           ("Subgoal success, the original's rule (%)", "subgoal_success_paper")):
-            header = ["env", "model", "ablation"]
-            if key == "success_rate":
-                header.append("avg")
-            header += ["all [95% CI]", *subsets, "repeats", "sd between repeats", "episodes"]
-            rows = []
-            for r in env_runs:
-                o = r["overall"]
-                row = [env, r["model"], r["ablation"] + ("" if r["complete"] else " (incomplete)")]
-                if key == "success_rate":
-                    row.append(_pct(o["avg_subset_success_rate"]))
-                row += [_with_ci(o, key), *[_with_ci(r["subsets"][s], key) if s in r["subsets"] else "-"
-                                            for s in subsets],
-                        str(r["repeats"]), _sd(o, key), f"{o['episodes']:.0f}"]
-                rows.append(row)
-            tables.append((f"{title} — {env}", header, rows))
+        tables += _rate_tables(env, env_runs, subsets)
         tables += _ablation_tables(env, env_runs)
         tables += _error_tables(env, env_runs, detailed=errors)
         if fmt == "csv":
-            header = ["env", "model", "ablation", "avg", "repeats", "episodes", "complete"]
-            for key, short in (("success_rate", "success"), ("subgoal_success", "subgoal"),
-                               ("subgoal_success_paper", "subgoal_paper")):
-                for s in ["all", *subsets]:
-                    header += [f"{short}:{s}", f"{short}:{s}:ci_low", f"{short}:{s}:ci_high"]
-                header.append(f"{short}:repeat_sd")
-            header += [f"errors:{k}" for k in CATEGORIES] + [f"errors:{k}:episode_rate" for k in CATEGORIES]
-            header.append("perception_score")
+            header = _csv_header(subsets)
             if not rows_out or rows_out[0] != header:
                 rows_out.append(header)
-            for r in env_runs:
-                o = r["overall"]
-                row = [env, r["model"], r["ablation"], _pct(o["avg_subset_success_rate"]), str(r["repeats"]),
-                       f"{o['episodes']:.0f}", str(r["complete"]).lower()]
-                for key in ("success_rate", "subgoal_success", "subgoal_success_paper"):
-                    for s in ["all", *subsets]:
-                        block = o if s == "all" else r["subsets"].get(s)
-                        ci = (block or {}).get(f"{key}_ci") or {}
-                        row += [_pct(block.get(key)) if block else "", _pct(ci.get("ci_low")),
-                                _pct(ci.get("ci_high"))]
-                    sd = (o.get(f"{key}_ci") or {}).get("repeat_sd")
-                    row.append("" if sd is None else f"{100 * sd:.2f}")
-                ea = o.get("error_analysis") or {}
-                cats = ea.get("categories") or {}
-                row += [f"{cats[k]['count']:.0f}" if k in cats else "" for k in CATEGORIES]
-                row += [f"{100 * cats[k]['episode_rate']:.1f}" if k in cats else "" for k in CATEGORIES]
-                ps = ea.get("perception_score")
-                row.append("" if ps is None else f"{ps:.3f}")
-                rows_out.append(row)
+            rows_out += [_csv_row(env, r, subsets) for r in env_runs]
     if fmt == "csv":
         buf = io.StringIO()
         csv.writer(buf, lineterminator="\n").writerows(rows_out)
         text = buf.getvalue()
     else:
-        note = ("Intervals: 95 %, over tasks (Wilson for a success rate with one repeat, else a cluster "
+        partial = [r for r in runs if r["meta"].get("partial")]
+        note = (("Partial runs (marked in the episodes column) cover less than their world's task set (subset=, "
+                 "limit=, tasks=): their averages are not the benchmark's. " if partial else "")
+                + "Intervals: 95 %, over tasks (Wilson for a success rate with one repeat, else a cluster "
                 "bootstrap keeping each task's repeats together); see docs/statistics.md. Error labels are "
                 "computed from the run's records; see docs/error_analysis.md.")
         text = _render_tables(tables, fmt, out, note)
     _emit(text, out)
     if plot:
+        from eb_core.plot import plot_runs
+
         plot_runs(runs, plot)
     return text
 
 
-def plot_runs(runs: list[dict[str, Any]], path: str | Path) -> Path:
-    """Draw the runs to ``path`` (.png or .svg): success per subset as grouped bars with the 95 % intervals as
-    error bars, and, when the runs are labelled, the share of episodes with each error category.
-    matplotlib is imported here only (Agg backend, no display)."""
-    from eb_core.cli import CliError
+_RATES = (("Success rate (%)", "success_rate", "success"), ("Subgoal success (%)", "subgoal_success", "subgoal"),
+          ("Subgoal success, the original's rule (%)", "subgoal_success_paper", "subgoal_paper"))
 
-    path = Path(path)
-    if path.suffix.lower() not in (".png", ".svg"):
-        raise CliError(f"--plot {path}: the file must end in .png or .svg (e.g. --plot report.png)")
-    try:
-        import matplotlib
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        raise CliError("--plot needs matplotlib: pip install 'embodiedbench[report]' "
-                       "(or pip install -r requirements.txt)") from None
+def _rate_tables(env: str, env_runs: list[dict[str, Any]], subsets: list[str]) -> list[Table]:
+    """The paper's tables: one per rate, a row per run, a column per subset, each with its interval."""
+    tables: list[Table] = []
+    for title, key, _short in _RATES:
+        header = ["env", "model", "ablation"]
+        if key == "success_rate":
+            header.append("avg")
+        header += ["all [95% CI]", *subsets, "repeats", "sd between repeats", "episodes"]
+        rows = []
+        for r in env_runs:
+            o = r["overall"]
+            row = [env, r["model"], r["ablation"] + ("" if r["complete"] else " (incomplete)")]
+            if key == "success_rate":
+                row.append(_pct(o["avg_subset_success_rate"]))
+            row += [_with_ci(o, key), *[_with_ci(r["subsets"][s], key) if s in r["subsets"] else "-"
+                                        for s in subsets],
+                    str(r["repeats"]), _sd(o, key), f"{o['episodes']:.0f}" + _partial_mark(r)]
+            rows.append(row)
+        tables.append((f"{title} — {env}", header, rows))
+    return tables
+
+
+def _csv_header(subsets: list[str]) -> list[str]:
     from eb_core.errors import CATEGORIES
 
-    subsets = [*_subset_names(runs), "all"]
-    labelled = [r for r in runs if r["overall"].get("error_analysis")]
-    used = [k for k in CATEGORIES if any(r["overall"]["error_analysis"]["categories"][k]["count"] for r in labelled)]
-    ncols = 2 if used else 1
-    fig, axes = plt.subplots(1, ncols, figsize=(6.5 * ncols + 0.5, 5.0), squeeze=False,
-                             gridspec_kw={"width_ratios": [1.3, 1][:ncols]})
-    colours = plt.get_cmap("tab10").colors
-    names = [f"{r['model']} / {r['ablation']}" + ("" if len({x['env'] for x in runs}) == 1 else f" ({r['env']})")
-             for r in runs]
-    ax = axes[0][0]
-    width = 0.8 / max(1, len(runs))
-    for i, (r, name) in enumerate(zip(runs, names)):
-        xs, ys, lo, hi = [], [], [], []
-        for j, s in enumerate(subsets):
-            block = r["overall"] if s == "all" else r["subsets"].get(s)
-            if not block or not block.get("episodes"):
-                continue
-            value = 100 * float(block["success_rate"])
-            ci = block.get("success_rate_ci") or {}
-            xs.append(j - 0.4 + width * (i + 0.5))
-            ys.append(value)
-            lo.append(value - 100 * ci["ci_low"] if ci.get("ci_low") is not None else 0.0)
-            hi.append(100 * ci["ci_high"] - value if ci.get("ci_high") is not None else 0.0)
-        ax.bar(xs, ys, width=width * 0.92, color=colours[i % len(colours)], label=name,
-               yerr=[lo, hi], capsize=3, error_kw={"elinewidth": 1, "ecolor": "#333333"})
-        for x, y in zip(xs, ys):
-            ax.text(x, y + 1, f"{y:.0f}", ha="center", va="bottom", fontsize=7, color="#222222")
-    ax.set_xticks(range(len(subsets)))
-    ax.set_xticklabels(subsets, rotation=25 if len(subsets) > 4 else 0, ha="right" if len(subsets) > 4 else "center",
-                       fontsize=9)
-    ax.set_ylim(0, 110)
-    ax.set_ylabel("success rate (%)")
-    envs = ", ".join(dict.fromkeys(r["env"] for r in runs))
-    ax.set_title(f"Success per subset — {envs} (bars: 95% CI over tasks)", fontsize=10)
-    ax.grid(axis="y", alpha=0.3)
-    handles, legend_labels = ax.get_legend_handles_labels()
-    fig.legend(handles, legend_labels, fontsize=9, loc="lower center", ncol=min(4, len(runs)), frameon=False)
-    if used:
-        ax2 = axes[0][1]
-        h = 0.8 / max(1, len(labelled))
-        for i, r in enumerate(labelled):
-            cats = r["overall"]["error_analysis"]["categories"]
-            ys = [k - 0.4 + h * (i + 0.5) for k in range(len(used))]
-            ax2.barh(ys, [100 * cats[c]["episode_rate"] for c in used], height=h * 0.92,
-                     color=colours[runs.index(r) % len(colours)], label=names[runs.index(r)])
-        ax2.set_yticks(range(len(used)))
-        ax2.set_yticklabels([f"{CATEGORIES[c].title}\n({CATEGORIES[c].group})" for c in used], fontsize=8)
-        ax2.invert_yaxis()
-        ax2.set_xlim(0, 100)
-        ax2.set_xlabel("episodes with the error (%)")
-        ax2.set_title("Automatic error analysis (all subsets)", fontsize=10)
-        ax2.grid(axis="x", alpha=0.3)
-    fig.tight_layout(rect=(0, 0.07, 1, 1))
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    header = ["env", "model", "ablation", "avg", "repeats", "episodes", "complete"]
+    for _title, _key, short in _RATES:
+        for s in ["all", *subsets]:
+            header += [f"{short}:{s}", f"{short}:{s}:ci_low", f"{short}:{s}:ci_high"]
+        header.append(f"{short}:repeat_sd")
+    header += [f"errors:{k}" for k in CATEGORIES] + [f"errors:{k}:episode_rate" for k in CATEGORIES]
+    return [*header, "perception_score", "partial", "tasks_total"]
+
+
+def _csv_row(env: str, r: dict[str, Any], subsets: list[str]) -> list[str]:
+    from eb_core.errors import CATEGORIES
+
+    o = r["overall"]
+    row = [env, r["model"], r["ablation"], _pct(o["avg_subset_success_rate"]), str(r["repeats"]),
+           f"{o['episodes']:.0f}", str(r["complete"]).lower()]
+    for _title, key, _short in _RATES:
+        for s in ["all", *subsets]:
+            block = o if s == "all" else r["subsets"].get(s)
+            ci = (block or {}).get(f"{key}_ci") or {}
+            row += [_pct(block.get(key)) if block else "", _pct(ci.get("ci_low")), _pct(ci.get("ci_high"))]
+        sd = (o.get(f"{key}_ci") or {}).get("repeat_sd")
+        row.append("" if sd is None else f"{100 * sd:.2f}")
+    ea = o.get("error_analysis") or {}
+    cats = ea.get("categories") or {}
+    row += [f"{cats[k]['count']:.0f}" if k in cats else "" for k in CATEGORIES]
+    row += [f"{100 * cats[k]['episode_rate']:.1f}" if k in cats else "" for k in CATEGORIES]
+    ps = ea.get("perception_score")
+    row.append("" if ps is None else f"{ps:.3f}")
+    return [*row, str(bool(r["meta"].get("partial"))).lower(), str(r["meta"].get("n_tasks_total", ""))]
 
 
 def _emit(text: str, out: str | None) -> None:
@@ -475,104 +463,3 @@ def _emit(text: str, out: str | None) -> None:
         Path(out).write_text(text, encoding="utf-8")
     else:
         sys.stdout.write(text)
-
-
-# -- paired comparison -----------------------------------------------------------------------------
-
-
-def paired_rows(run_a: dict[str, Any], run_b: dict[str, Any]) -> list[dict[str, Any]]:
-    """Per subset and overall: success and subgoal rates of A and B, the difference B - A with its 95 %
-    interval and the paired test. Raises ``ValueError`` (one line) when the task sets differ."""
-    from eb_core.metrics import INTERVAL_METRICS, outcomes
-    from eb_core.stats import outcome_matrix, paired_comparison
-
-    recs_a, recs_b = run_a["records"], run_b["records"]
-    ids_a = list(dict.fromkeys(r.task_id for r in recs_a))
-    ids_b = list(dict.fromkeys(r.task_id for r in recs_b))
-    only_a = [t for t in ids_a if t not in set(ids_b)]
-    only_b = [t for t in ids_b if t not in set(ids_a)]
-    if only_a or only_b:
-        parts = []
-        if only_a:
-            parts.append(f"only in A ({len(only_a)}): {', '.join(only_a[:4])}" + (", ..." if len(only_a) > 4 else ""))
-        if only_b:
-            parts.append(f"only in B ({len(only_b)}): {', '.join(only_b[:4])}" + (", ..." if len(only_b) > 4 else ""))
-        raise ValueError(f"cannot pair {run_a['dir']} with {run_b['dir']}: their task sets differ "
-                         f"({'; '.join(parts)}); pair runs of the same tasks (same env, subset=, limit=, tasks=)")
-    subset_of = {r.task_id: r.subset for r in recs_a}
-    subsets = list(dict.fromkeys(subset_of[t] for t in ids_a))
-    out = []
-    for group in [*subsets, "all"]:
-        ids = [t for t in ids_a if group == "all" or subset_of[t] == group]
-        for metric in ("success_rate", "subgoal_success"):
-            score, binary = INTERVAL_METRICS[metric]
-            oa = outcomes([r for r in recs_a if r.task_id in set(ids)], score)
-            ob = outcomes([r for r in recs_b if r.task_id in set(ids)], score)
-            common = [t for t in ids if t in oa and t in ob]  # measured in both
-            _, ma = outcome_matrix({t: oa[t] for t in common})
-            _, mb = outcome_matrix({t: ob[t] for t in common})
-            res = paired_comparison(ma, mb, binary=binary)
-            out.append({"subset": group, "metric": metric, **res})
-    return out
-
-
-def render_paired(dirs: list[str], fmt: str = "rich", out: str | None = None) -> str:
-    """``eb report A B --paired``: is the difference between two runs on the same tasks real?"""
-    from eb_core.cli import CliError
-
-    if len(dirs) != 2:
-        raise CliError(f"--paired compares exactly two run directories (got {len(dirs)}): eb report A B --paired")
-    try:
-        run_a, run_b = load_run(dirs[0]), load_run(dirs[1])
-    except FileNotFoundError as exc:
-        raise CliError(str(exc)) from None
-    try:
-        rows = paired_rows(run_a, run_b)
-    except ValueError as exc:
-        raise CliError(str(exc)) from None
-    header = ["subset", "metric", "tasks", "A %", "B %", "B - A [95% CI]", "test", "p", "verdict"]
-    table: list[list[str]] = []
-    for r in rows:
-        if r["diff"] is None:
-            table.append([r["subset"], r["metric"], "0", "-", "-", "-", "-", "-", "no measured tasks"])
-            continue
-        diff = f"{100 * r['diff']:+.1f} [{100 * r['ci_low']:+.1f}, {100 * r['ci_high']:+.1f}]"
-        verdict = "significant" if r["significant"] else "n.s. (not significant)"
-        from eb_core.stats import BOOTSTRAP_SAMPLES
-
-        p = r["p_value"]
-        p_text = f"<{1 / BOOTSTRAP_SAMPLES:.4f}" if r["test"] == "paired-bootstrap" and p == 0 else f"{p:.3g}"
-        table.append([r["subset"], r["metric"], str(r["tasks"]), _pct(r["a"]), _pct(r["b"]), diff, r["test"],
-                      p_text, verdict])
-    title = (f"Paired comparison on {run_a['env']}: A = {run_a['model']} / {run_a['ablation']} "
-             f"({run_a['repeats']} repeat(s)), B = {run_b['model']} / {run_b['ablation']} ({run_b['repeats']} "
-             f"repeat(s))")
-    note = ("p < 0.05 is marked significant. Test: McNemar's exact test on per-task outcomes when both runs have "
-            "one repeat, else a paired bootstrap over tasks; the interval is always a paired bootstrap over tasks.")
-    if fmt == "csv":
-        buf = io.StringIO()
-        w = csv.writer(buf, lineterminator="\n")
-        w.writerow(["subset", "metric", "tasks", "a", "b", "diff", "ci_low", "ci_high", "test", "p_value",
-                    "significant"])
-        for r in rows:
-            w.writerow([r["subset"], r["metric"], r["tasks"], r["a"], r["b"], r["diff"], r["ci_low"], r["ci_high"],
-                        r["test"], r["p_value"], r["significant"]])
-        text = buf.getvalue()
-    elif fmt == "markdown":
-        md = [f"**{title}**", "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-        md += ["| " + " | ".join(row) + " |" for row in table]
-        text = "\n".join(md) + "\n\n" + note + "\n"
-    else:
-        from rich.console import Console
-        from rich.table import Table
-
-        t = Table(title=title)
-        for col in header:
-            t.add_column(col, justify="left" if col in ("subset", "metric", "test", "verdict") else "right")
-        for row in table:
-            t.add_row(*row)
-        buf = io.StringIO()
-        Console(file=buf, width=200, force_terminal=out is None and sys.stdout.isatty()).print(t)
-        text = buf.getvalue().rstrip("\n") + "\n" + note + "\n"
-    _emit(text, out)
-    return text

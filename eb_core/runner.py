@@ -26,6 +26,7 @@ from eb_core.metrics import compute_summary
 from eb_core.model import ModelBudgetExceeded, ModelFatalError, Usage
 from eb_core.plugins import Registry, get_plugin_manager, plugin_versions
 from eb_core.records import EpisodeRecord, RunDirLocked, RunFiles, RunLock, episode_dir_name
+from eb_core.selection import selection_conflict, selection_of
 from eb_core.workers import Job, concurrency, finish_episode, job_key, run_workers, split_slots
 
 __all__ = ["RunError", "Components", "episode_seed", "job_key", "run", "select_tasks", "split_slots"]
@@ -145,14 +146,18 @@ def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: di
     fp = _fingerprint(json.loads(json.dumps(cfg_dict, default=str)))
     if fp_path.exists() and files.episodes_path.exists() and files.episodes_path.stat().st_size > 0:
         old = json.loads(fp_path.read_text())
+        old_selection = old.pop("selection", None)
         diff = _diff_keys(old, fp)
         if diff:
             raise RunError(
                 f"{files.root} holds results of a different config (differs in: {', '.join(diff[:6])}); "
                 f"pick a new experiment=NAME or hydra.run.dir=DIR, or delete that directory"
             )
-    else:  # a fresh directory, or one where no episode ever finished (e.g. a missing key): take it over
-        files.write_json("fingerprint.json", fp)
+        conflict = selection_conflict(old_selection, selection_of(cfg), files.root)
+        if conflict:
+            raise RunError(conflict)
+    # a fresh directory, one where no episode ever finished (e.g. a missing key), or a larger limit: record it
+    files.write_json("fingerprint.json", {**fp, "selection": selection_of(cfg)})
     import yaml  # shipped with omegaconf
 
     (files.root / "config.yaml").write_text(yaml.safe_dump(cfg_dict, sort_keys=False))
@@ -167,6 +172,11 @@ def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: di
     files.clean_partial({episode_dir_name(*k) for k in finished})
     # Repeat-major order: a run stopped early (budget) has whole passes over the tasks first.
     pending: list[Job] = [(t, r) for r in range(repeats) for t in selected if (t.id, r) not in finished]
+    done_before = len(selected) * repeats - len(pending)
+    if done_before:
+        # on stdout: stderr is kept for progress and for the one line of an error
+        print(f"resuming: {done_before} of {len(selected) * repeats} episodes already done"
+              + ("" if pending else " (nothing left to run)"), flush=True)
 
     hook = registry.pm.hook
     hook.eb_on_run_start(event=RunStartEvent(run_dir=str(files.root), env=cfg.env.name, model=cfg.model.name,
@@ -179,14 +189,14 @@ def _run_locked(cfg: RunConfig, run_dir: str | os.PathLike[str], *, cfg_dict: di
     finally:
         progress.close()
 
-    summary = _summarize(cfg, files, registry, selected, stopped)
+    summary = _summarize(cfg, files, registry, selected, stopped, n_tasks_total=len(all_tasks))
     files.write_json("summary.json", summary)
     hook.eb_on_run_end(event=RunEndEvent(run_dir=str(files.root), summary=summary, stopped_early=stopped))
     return summary
 
 
 def _summarize(cfg: RunConfig, files: RunFiles, registry: Registry, selected: list[Any],
-               stopped: str | None) -> dict[str, Any]:
+               stopped: str | None, n_tasks_total: int) -> dict[str, Any]:
     """``summary.json``: the paper's metrics over the selected episodes in ``episodes.jsonl``, and the run's facts."""
     repeats = cfg.runner.repeats
     all_records = files.load_episodes()
@@ -205,6 +215,10 @@ def _summarize(cfg: RunConfig, files: RunFiles, registry: Registry, selected: li
         "ablation": cfg.ablation.name,
         "experiment": cfg.experiment,
         "n_selected": len(selected),
+        "n_tasks_total": n_tasks_total,
+        # partial: the selection (subset=, limit=, tasks=) covers less than the world's whole task set
+        "partial": len(selected) < n_tasks_total,
+        "selection": selection_of(cfg),
         "repeats": repeats,
         "n_episodes": len(wanted),
         "n_finished": sum(1 for r in records if r.status == "ok"),

@@ -28,6 +28,8 @@ __all__ = [
     "BOOTSTRAP_SEED",
     "LEVEL",
     "bootstrap_weights",
+    "clopper_pearson",
+    "mcnemar_interval",
     "cluster_bootstrap_interval",
     "describe_interval",
     "detectable_difference",
@@ -185,11 +187,60 @@ def mcnemar_exact(a: Any, b: Any) -> float:
     return min(1.0, 2 * tail / 2 ** n)
 
 
+def _binom_cdf(k: int, n: int, p: float) -> float:
+    """P(X <= k) for X ~ Bin(n, p), summed in log space (stable for the n of a benchmark)."""
+    if p <= 0.0:
+        return 1.0
+    if p >= 1.0:
+        return 1.0 if k >= n else 0.0
+    lp, lq = math.log(p), math.log1p(-p)
+    terms = [math.lgamma(n + 1) - math.lgamma(i + 1) - math.lgamma(n - i + 1) + i * lp + (n - i) * lq
+             for i in range(k + 1)]
+    top = max(terms)
+    return min(1.0, math.exp(top) * sum(math.exp(t - top) for t in terms))
+
+
+def clopper_pearson(k: int, n: int, level: float = LEVEL) -> tuple[float, float]:
+    """The exact (Clopper-Pearson) interval of a binomial proportion ``k / n``: the proportions that two
+    one-sided exact tests at ``(1 - level) / 2`` each do not reject."""
+    if n <= 0:
+        return 0.0, 1.0
+    alpha = (1 - level) / 2
+
+    def solve(f: Any) -> float:  # f is increasing in p on [0, 1]; find f(p) = 0 by bisection
+        lo, hi = 0.0, 1.0
+        for _ in range(60):
+            mid = (lo + hi) / 2
+            lo, hi = (mid, hi) if f(mid) < 0 else (lo, mid)
+        return (lo + hi) / 2
+
+    low = 0.0 if k == 0 else solve(lambda p: (1 - _binom_cdf(k - 1, n, p)) - alpha)
+    high = 1.0 if k == n else solve(lambda p: alpha - _binom_cdf(k, n, p))
+    return low, high
+
+
+def mcnemar_interval(only_a: int, only_b: int, n_tasks: int, level: float = LEVEL) -> tuple[float, float]:
+    """An exact interval for B - A on paired binary outcomes that agrees with :func:`mcnemar_exact`.
+
+    B - A = q (2 pi - 1), with q the share of discordant tasks and pi the share of them that B solved. pi gets
+    the Clopper-Pearson interval McNemar's exact test inverts (so the interval holds 0 exactly when the test is
+    not significant) and q its own Clopper-Pearson interval; the interval is the range of q (2 pi - 1) over both.
+    """
+    n = only_a + only_b
+    if n == 0:
+        return 0.0, 0.0
+    pi_lo, pi_hi = clopper_pearson(only_b, n, level)
+    q_lo, q_hi = clopper_pearson(n, n_tasks, level)
+    corners = [q * (2 * pi - 1) for q in (q_lo, q_hi) for pi in (pi_lo, pi_hi)]
+    return min(corners), max(corners)
+
+
 def paired_comparison(a: Any, b: Any, binary: bool = True, level: float = LEVEL) -> dict[str, Any]:
     """Compare run B with run A on the same tasks (rows aligned; columns are repeats, NaN = missing).
 
-    ``diff`` is B minus A. The interval is a paired bootstrap over tasks; the test is McNemar's exact test
-    when both runs have one repeat of a binary score, else the paired bootstrap's two-sided p-value.
+    ``diff`` is B minus A. One method per comparison, so its interval and its test always agree: McNemar's
+    exact test with :func:`mcnemar_interval` when both runs have one repeat of a binary score, else a paired
+    bootstrap over tasks (percentile interval and its two-sided p-value). ``method`` names it.
     """
     a_m = np.asarray(a, dtype=float)
     b_m = np.asarray(b, dtype=float)
@@ -207,16 +258,17 @@ def paired_comparison(a: Any, b: Any, binary: bool = True, level: float = LEVEL)
         return out
     ma, mb = np.nanmean(a_m, axis=1), np.nanmean(b_m, axis=1)
     d = mb - ma
-    w = bootstrap_weights(n)
-    boot = w @ d
-    alpha = (1 - level) / 2
-    lo, hi = np.quantile(boot, [alpha, 1 - alpha])
     reps_a = int(np.max(np.sum(~np.isnan(a_m), axis=1)))
     reps_b = int(np.max(np.sum(~np.isnan(b_m), axis=1)))
     if binary and reps_a == 1 and reps_b == 1:
-        p = mcnemar_exact(ma > 0.5, mb > 0.5)
+        sa, sb = ma > 0.5, mb > 0.5
+        p = mcnemar_exact(sa, sb)
+        lo, hi = mcnemar_interval(int(np.sum(sa & ~sb)), int(np.sum(~sa & sb)), n, level)
         test = "mcnemar-exact"
     else:
+        boot = bootstrap_weights(n) @ d
+        alpha = (1 - level) / 2
+        lo, hi = (float(x) for x in np.quantile(boot, [alpha, 1 - alpha]))
         if np.all(d == 0):
             p = 1.0
         else:

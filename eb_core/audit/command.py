@@ -41,13 +41,10 @@ class AuditArgs:
 
 
 def _config_path() -> tuple[type[Exception], Callable[..., Any], Callable[..., Any]]:
-    """``(CliError, compose, validate)`` from the one config path (``eb_core.exceptions``, ``eb_core.compose``),
-    or from the CLI module that held them before it (so this module works on either side of that move)."""
-    try:
-        from eb_core.compose import compose, validate
-        from eb_core.exceptions import CliError
-    except ImportError:
-        from eb_core.cli import CliError, _validate as validate, compose  # type: ignore[no-redef]
+    """``(CliError, compose, validate)`` from the one config path (``eb_core.exceptions``, ``eb_core.compose``)."""
+    from eb_core.compose import compose, validate
+    from eb_core.exceptions import CliError
+
     return CliError, compose, validate
 
 

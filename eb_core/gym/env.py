@@ -54,18 +54,19 @@ class _AnswerBackend(ModelBackend):
 
 @lru_cache(maxsize=16)
 def _compose(world: str, overrides: tuple[str, ...]) -> Any:
-    from eb_core.cli import CliError, _group_options, _hydra_context, _validate, compose
+    from eb_core.compose import compose, group_options, hydra_context, validate
+    from eb_core.exceptions import UserError
 
     extra: list[str] = []
     if not any(o.split("=", 1)[0].lstrip("+~") == "model" for o in overrides):
         # the gym env makes no model calls; any installed model preset fills the config's model group
-        with _hydra_context():
-            models = _group_options("model")
+        with hydra_context():
+            models = group_options("model")
         if models and "oracle" not in models:
             extra = [f"model={models[0]}"]
     try:
-        return _validate(compose([f"env={world}", *extra, *overrides]))
-    except CliError as exc:
+        return validate(compose([f"env={world}", *extra, *overrides]))
+    except UserError as exc:
         raise ValueError(str(exc)) from None
 
 

@@ -31,12 +31,12 @@ def one_error_line(result):
 def test_run_and_report(tmp_path):
     r = eb("run", "env=corridor", "model=scripted-oracle", "subset=far", "runner.quiet=true", f"hydra.run.dir={tmp_path}/a")
     assert r.returncode == 0, r.stderr
-    assert "success rate: 100.0% (5/5 episodes)" in r.stdout
+    assert "success rate: 100.0% (5 of 5 episodes succeeded; partial: 5 of 10 tasks)" in r.stdout
     summary = json.loads((tmp_path / "a" / "summary.json").read_text())
     assert list(summary["subsets"]) == ["far"]
     assert (tmp_path / "a" / ".hydra" / "config.yaml").exists()
     r = eb("run", "env=corridor", "model=scripted-garbage", "limit=2", "runner.quiet=true", f"hydra.run.dir={tmp_path}/b")
-    assert "success rate: 0.0% (2/2 episodes)" in r.stdout
+    assert "success rate: 0.0% (0 of 2 episodes succeeded; partial: 2 of 10 tasks)" in r.stdout
     md = eb("report", str(tmp_path / "a"), str(tmp_path / "b"), "--format", "markdown")
     assert md.returncode == 0, md.stderr
     assert "| corridor | scripted-oracle | none | 100.0 |" in md.stdout

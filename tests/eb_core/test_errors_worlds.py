@@ -41,7 +41,7 @@ def test_a_scripted_habitat_episode_is_labelled(tmp_path, monkeypatch):
     monkeypatch.delenv("EB_PLUGINS", raising=False)
     import test_errors_worlds
 
-    from eb_core.cli import compose
+    from eb_core.compose import compose
     from eb_core.config import validate_config
     from eb_core.plugins import Registry
     from eb_core.runner import run

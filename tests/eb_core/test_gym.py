@@ -83,7 +83,8 @@ def test_check_env_every_world_and_mode(installed, world, mode):
 
 
 def test_prompt_observation_is_exactly_what_eb_run_sends(installed):
-    from eb_core.cli import _validate, compose
+    from eb_core.compose import compose
+    from eb_core.compose import validate as _validate
     from eb_core.prompt_view import capture_prompt
 
     env = gymnasium.make("EB/Habitat-v0", obs_mode="prompt", overrides=("ablation=multi_step_images",)).unwrapped

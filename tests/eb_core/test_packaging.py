@@ -21,7 +21,7 @@ def test_wheel_ships_conf_and_the_hydra_searchpath_plugin(tmp_path):
     names = set(zipfile.ZipFile(wheel).namelist())
     for needed in ("eb_conf/config.yaml", "eb_conf/planner/vlm.yaml", "eb_conf/ablation/none.yaml",
                    "eb_conf/ablation/no_feedback.yaml", "hydra_plugins/eb_searchpath/__init__.py",
-                   "eb_core/cli.py", "eb_core/testing/suites.py"):
+                   "eb_core/cli/__init__.py", "eb_core/cli/run.py", "eb_core/compose.py", "eb_core/testing/suites.py"):
         assert needed in names, needed
     entry_points = next(n for n in names if n.endswith("entry_points.txt"))
     text = zipfile.ZipFile(wheel).read(entry_points).decode()
@@ -78,7 +78,7 @@ def test_installed_third_party_plugin_runs(plugin_venv, tmp_path):
                         "runner.quiet=true", f"hydra.run.dir={tmp_path}/run"],
                        capture_output=True, text=True, env=_clean_env(), cwd=tmp_path, timeout=300)
     assert r.returncode == 0, r.stderr
-    assert "success rate: 100.0% (12/12 episodes)" in r.stdout
+    assert "success rate: 100.0% (12 of 12 episodes succeeded)" in r.stdout
     assert "eb-example-plugin 0.1.0" in (tmp_path / "run" / "plugins.json").read_text()
 
 

@@ -7,7 +7,7 @@ A world whose plugin is not installed, or whose task file is being regenerated, 
 
 import pytest
 
-from eb_core.cli import compose
+from eb_core.compose import compose
 from eb_core.config import validate_config
 from eb_core.plugins import Registry
 from eb_core.prompt_view import capture_prompt

@@ -12,8 +12,8 @@ import pytest
 
 import fixture_plugin
 from eb_core_testutil import make_config
-from eb_core.cli import CliError
-from eb_core.report import load_run, paired_rows, render_paired, render_report
+from eb_core.paired import paired_rows, render_paired
+from eb_core.report import load_run, render_report
 from eb_core.runner import run
 
 FIXTURE_DIR = Path(fixture_plugin.__file__).parent
@@ -53,18 +53,55 @@ def test_paired_test_needs_enough_tasks(runs, tmp_path):
     assert far["test"] == "mcnemar-exact" and far["p_value"] == pytest.approx(0.0625) and not far["significant"]
     assert overall["p_value"] == pytest.approx(2 / 2 ** 10) and overall["significant"] and overall["diff"] == -1.0
     text = render_paired([str(runs / "oracle"), str(runs / "garbage")], "markdown", str(tmp_path / "p.md"))
-    assert "| far | success_rate | 5 | 100.0 | 0.0 | -100.0 [-100.0, -100.0] | mcnemar-exact | 0.0625 | n.s." in text
+    # the interval is McNemar's own (exact): it holds 0 because the test is not significant (issue #28, item 6)
+    assert "| far | success_rate | 5 | 100.0 | 0.0 | -100.0 [-100.0, +4.4] | mcnemar-exact | 0.0625 | n.s." in text
     assert "| all | success_rate | 10 |" in text and "| significant |" in text
 
 
-def test_paired_refuses_different_task_sets_in_one_line(runs):
-    with pytest.raises(CliError, match=r"task sets differ \(only in B \(7\): near-3, near-4, far-0, far-1, \.\.\.\)"):
-        render_paired([str(runs / "short"), str(runs / "oracle")])
+def test_paired_compares_overlapping_task_sets_on_the_shared_tasks(runs, tmp_path):
+    rows = {(r["subset"], r["metric"]): r for r in paired_rows(load_run(runs / "short"), load_run(runs / "oracle"))}
+    assert rows[("all", "success_rate")]["tasks"] == 3 and ("far", "success_rate") not in rows
+    text = render_paired([str(runs / "short"), str(runs / "oracle")], "markdown", str(tmp_path / "p.md"))
+    assert "Compared on the 3 tasks both runs played (0 only in A, 7 only in B, left out)." in text
     env = dict(os.environ, EB_PLUGINS="fixture_plugin", EB_DISABLE_PLUGIN_AUTOLOAD="1", PYTHONPATH=str(FIXTURE_DIR))
-    r = subprocess.run([sys.executable, "-m", "eb_core.cli", "report", str(runs / "oracle"), str(runs / "short"),
+    other = tmp_path / "far"
+    run(make_config(subset="far"), other, plugins=[fixture_plugin])
+    r = subprocess.run([sys.executable, "-m", "eb_core.cli", "report", str(runs / "short"), str(other),
                         "--paired"], capture_output=True, text=True, env=env, timeout=120)
     lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
-    assert r.returncode == 2 and len(lines) == 1 and "only in A (7): near-3" in lines[0], r.stderr
+    assert r.returncode == 2 and len(lines) == 1 and "they share no task (A has 3, B 5)" in lines[0], r.stderr
+
+
+def test_paired_interval_and_test_agree_on_every_row(runs):
+    """One method per row: a row is significant exactly when its interval leaves out 0."""
+    for a, b in (("oracle", "garbage"), ("short", "garbage"), ("oracle", "oracle2")):
+        for r in paired_rows(load_run(runs / a), load_run(runs / b)):
+            excludes_zero = r["ci_low"] > 0 or r["ci_high"] < 0
+            assert excludes_zero == r["significant"] or r["ci_low"] == r["ci_high"] == r["diff"], r
+
+
+def test_report_skips_folders_without_episodes_with_one_note(runs, tmp_path):
+    empty = tmp_path / "failed"
+    empty.mkdir()
+    (empty / "config.yaml").write_text("env: {name: corridor}\n")  # what a run that failed at start leaves
+    env = dict(os.environ, EB_PLUGINS="fixture_plugin", EB_DISABLE_PLUGIN_AUTOLOAD="1", PYTHONPATH=str(FIXTURE_DIR))
+    r = subprocess.run([sys.executable, "-m", "eb_core.cli", "report", str(runs / "oracle"), str(empty),
+                        "--format", "markdown"], capture_output=True, text=True, env=env, timeout=120)
+    assert r.returncode == 0 and "| corridor | scripted-oracle | none | 100.0 |" in r.stdout, r.stderr
+    assert r.stderr.strip() == f"eb report: note: skipped 1 folder(s) with no finished episodes: {empty}"
+    alone = subprocess.run([sys.executable, "-m", "eb_core.cli", "report", str(empty)], capture_output=True,
+                           text=True, env=env, timeout=120)
+    assert alone.returncode == 2 and "is not a run directory" in alone.stderr
+
+
+def test_partial_runs_are_marked(runs, tmp_path):
+    summary = json.loads((runs / "short" / "summary.json").read_text())
+    assert summary["partial"] is True and summary["n_selected"] == 3 and summary["n_tasks_total"] == 10
+    assert json.loads((runs / "oracle" / "summary.json").read_text())["partial"] is False
+    text = render_report([str(runs / "short")], "markdown", str(tmp_path / "s.md"))
+    assert "| 3 (partial: 3 of 10 tasks) |" in text and "Partial runs" in text
+    rows = list(csv.reader(io.StringIO(render_report([str(runs / "short")], "csv", str(tmp_path / "s.csv")))))
+    assert dict(zip(rows[0], rows[1]))["partial"] == "true"
 
 
 def test_subset_aliases_merge_under_one_name(runs, tmp_path):

@@ -147,7 +147,7 @@ def test_kill_9_loses_nothing_finished_and_resume_completes(tmp_path):
     after = [(r["task_id"], r["repeat"]) for r in lines(tmp_path)]
     assert after[: len(before)] == [r.key for r in before]
     assert len(after) == 20 == len(set(after))
-    assert "success rate: 100.0% (20/20 episodes)" in done.stdout
+    assert "success rate: 100.0% (20 of 20 episodes succeeded)" in done.stdout
     assert sorted(p.name for p in (tmp_path / "episodes").iterdir()) == sorted(
         t if r == 0 else f"{t}_repeat{r}" for t, r in after)
 

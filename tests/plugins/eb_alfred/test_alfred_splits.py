@@ -104,7 +104,7 @@ def test_eb_run_plays_the_val_split_and_generate_writes_train(tmp_path):
     r = subprocess.run(base + ["split=val", "limit=3", f"hydra.run.dir={tmp_path / 'val'}"], capture_output=True,
                        text=True, timeout=300)
     assert r.returncode == 0, r.stderr
-    assert "success rate: 100.0% (3/3 episodes)" in r.stdout
+    assert "success rate: 100.0% (3 of 3 episodes succeeded)" in r.stdout
     ids = [json.loads(x)["task_id"] for x in (tmp_path / "val" / "episodes.jsonl").read_text().splitlines()]
     assert ids == [t.id for t in AlfredEnv.split_tasks("val", 0, 3)]
 
@@ -117,4 +117,4 @@ def test_eb_run_plays_the_val_split_and_generate_writes_train(tmp_path):
     run = subprocess.run(base + [f"+env.params.task_dir={out}", f"hydra.run.dir={tmp_path / 'run'}"],
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
-    assert "success rate: 100.0% (7/7 episodes)" in run.stdout
+    assert "success rate: 100.0% (7 of 7 episodes succeeded)" in run.stdout

@@ -119,7 +119,7 @@ def test_eb_tasks_generate_writes_a_training_split_that_eb_run_plays(tmp_path):
                           f"env.params.task_dir={out}", "env.params.render=false", f"hydra.run.dir={tmp_path / 'run'}"],
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
-    assert "success rate: 100.0% (6/6 episodes)" in run.stdout
+    assert "success rate: 100.0% (6 of 6 episodes succeeded)" in run.stdout
     bad = subprocess.run([sys.executable, "-m", "eb_core", "tasks", "generate", "env=habitat", "split=dev", "n=2",
                           f"out={tmp_path / 'x'}"], capture_output=True, text=True, timeout=300)
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1 and "split" in bad.stderr

@@ -68,7 +68,7 @@ def test_eb_run_oracle_plays_the_val_split(tmp_path):
                         "+env.params.render=false", "split=val", "limit=3", f"hydra.run.dir={tmp_path / 'run'}"],
                        capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr
-    assert "success rate: 100.0% (3/3 episodes)" in r.stdout
+    assert "success rate: 100.0% (3 of 3 episodes succeeded)" in r.stdout
     ids = [json.loads(x)["task_id"] for x in (tmp_path / "run" / "episodes.jsonl").read_text().splitlines()]
     assert ids == [t.id for t in split_tasks("val", 0, 3)]
 

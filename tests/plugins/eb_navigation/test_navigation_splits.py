@@ -125,7 +125,7 @@ def test_eb_run_plays_the_val_split_and_generate_writes_train(tmp_path):
                           "split=val", "limit=3", "env.params.render=false", f"hydra.run.dir={tmp_path / 'run'}"],
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
-    assert "success rate: 100.0% (3/3 episodes)" in run.stdout
+    assert "success rate: 100.0% (3 of 3 episodes succeeded)" in run.stdout
     ids = [json.loads(x)["task_id"] for x in (tmp_path / "run" / "episodes.jsonl").read_text().splitlines()]
     assert ids == [t.id for t in split_tasks("val", 0, 3)]
     gen = subprocess.run([sys.executable, "-m", "eb_core", "tasks", "generate", "env=navigation", "split=train", "n=5",

@@ -88,7 +88,7 @@ def test_hydra_finds_the_presets_and_overrides_work(tmp_path):
     from hydra import compose
     from omegaconf import OmegaConf
 
-    from eb_core.cli import _hydra_context  # the eb CLI's own context: every installed plugin's options
+    from eb_core.compose import hydra_context as _hydra_context  # every installed plugin's options
 
     with _hydra_context():
         for name in ("gpt-4o", "internvl3-8b", "oracle"):
