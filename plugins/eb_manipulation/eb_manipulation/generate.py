@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -543,20 +544,54 @@ _FAMILY_FN: dict[str, Callable[[np.random.Generator, str, int], _Draft]] = {
 
 
 # --------------------------------------------------------------------------------------------------------
+LEVELS = {"classic": 0, "medium": 1, "hard": 2}
+"""The difficulty knob: ``difficulty=classic|medium|hard`` (or the level number)."""
+
+
+def _level(difficulty: str | int) -> int:
+    if isinstance(difficulty, int) or str(difficulty).isdigit():
+        level = int(difficulty)
+        if level in LEVELS.values():
+            return level
+    elif str(difficulty) in LEVELS:
+        return LEVELS[str(difficulty)]
+    raise ValueError(f"manipulation: unknown difficulty {difficulty!r}; allowed: classic, medium, hard (or 0, 1, 2). "
+                     f"Fix: difficulty=hard")
+
+
 def task_id(subset: str, family: str, k: int) -> str:
     return f"{subset}_{family}_{k:02d}"
 
 
-def make_task(seed: int, subset: str, family: str, k: int, attempt: int) -> dict[str, Any]:
-    """One task as a dict (``id``, ``subset``, ``instruction``, ``metadata``), without verification."""
-    scene_seed = int(np.random.SeedSequence([seed, SUBSETS.index(subset), FAMILY_ORDER.index(family), k, attempt])
-                     .generate_state(1)[0])
+def draft_task(rng: np.random.Generator, family: str, subset: str, k: int, level: int = 0) -> _Draft:
+    """A draft of ``family`` from ``rng``: the classic builders at level 0, :mod:`eb_manipulation.hard` above."""
+    if level <= 0:
+        return _FAMILY_FN[family](rng, subset, k)
+    from eb_manipulation.hard import build
+
+    return build(family, rng, subset, k, level)
+
+
+def scene_metadata(scene: SceneSpec) -> dict[str, Any]:
+    """A scene as task-file JSON; an empty ``keep_still`` is left out, so classic entries keep their old form."""
+    meta = scene.model_dump(mode="json")
+    if not meta["goal"]["keep_still"]:
+        del meta["goal"]["keep_still"]
+    return meta
+
+
+def make_task(seed: int, subset: str, family: str, k: int, attempt: int, level: int = 0) -> dict[str, Any]:
+    """One task as a dict (``id``, ``subset``, ``instruction``, ``metadata``), without verification.
+
+    ``level`` is the difficulty (0 classic, 1 medium, 2 hard); levels above 0 seed from their own namespace."""
+    entropy = [seed, SUBSETS.index(subset), FAMILY_ORDER.index(family), k, attempt] + ([7000 + level] if level else [])
+    scene_seed = int(np.random.SeedSequence(entropy).generate_state(1)[0])
     rng = np.random.default_rng(scene_seed)
-    draft = _FAMILY_FN[family](rng, subset, k)
+    draft = draft_task(rng, family, subset, k, level)
     scene = SceneSpec(family=family, variant=draft.variant, scene_seed=scene_seed, objects=tuple(draft.objects),
                       goal=draft.goal, target_ids=draft.target_ids, template=draft.template)
     return {"id": task_id(subset, family, k), "subset": subset, "instruction": draft.instruction,
-            "metadata": scene.model_dump(mode="json")}
+            "metadata": scene_metadata(scene)}
 
 
 def verify_task(task: dict[str, Any], max_steps: int = MAX_ORACLE_STEPS, closed_loop: bool = False) -> tuple[bool, int]:
@@ -590,8 +625,9 @@ def verify_task(task: dict[str, Any], max_steps: int = MAX_ORACLE_STEPS, closed_
 
 
 def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, per_family: int = PER_FAMILY,
-             subsets: list[str] | tuple[str, ...] | str | None = None, max_attempts: int = 40,
-             quiet: bool = False, split: str = "test", n: int | None = None, start: int = 0) -> Path | str:
+             subsets: list[str] | tuple[str, ...] | str | None = None, max_attempts: int | None = None,
+             quiet: bool = False, split: str = "test", n: int | None = None, start: int = 0,
+             difficulty: str | int = "classic") -> Path | str | list[Path]:
     """Generate the task file and return its path.
 
     Args:
@@ -603,7 +639,12 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
         split: ``train`` or ``val`` writes tasks ``start .. start + n - 1`` of a generated training split instead
             (disjoint from the shipped tasks; :mod:`eb_manipulation.splits`) to ``out`` (a ``.json`` file or a
             folder), for ``eb run env=manipulation env.params.task_file=<file>``.
+        difficulty: ``classic`` (the paper's scenes; the shipped classic file), ``medium`` or ``hard`` (or 0, 1,
+            2): more objects, look-alikes in near shades, "only" conditions, multi-hop spatial references
+            (:mod:`eb_manipulation.hard`). The default ``out`` of ``hard`` is the shipped hard file. Progress goes
+            to stderr.
     """
+    level = _level(difficulty)
     if split != "test":
         from eb_manipulation.splits import SPLITS, write_split
 
@@ -612,8 +653,15 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
         if n is None or int(n) < 1 or out is None:
             raise ValueError(f"split={split} needs n=<tasks, >= 1> and out=<file.json or folder> (the shipped "
                              f"task file holds the test split only)")
-        return write_split(str(out), split, int(n), int(start))
-    out_path = Path(out) if out is not None else DEFAULT_OUT
+        return write_split(str(out), split, int(n), int(start), difficulty=level)
+    if max_attempts is None:
+        max_attempts = 40 if level == 0 else 300
+    if out is not None:
+        out_path = Path(out)
+    else:
+        from eb_manipulation.tasks import HARD_TASK_FILE
+
+        out_path = DEFAULT_OUT if level == 0 else HARD_TASK_FILE
     chosen = SUBSETS if subsets is None else ((subsets,) if isinstance(subsets, str) else tuple(subsets))
     unknown = [s for s in chosen if s not in SUBSETS]
     if unknown:
@@ -626,7 +674,7 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
             for k in range(per_family):
                 for attempt in range(max_attempts):
                     try:
-                        task = make_task(seed, subset, family, k, attempt)
+                        task = make_task(seed, subset, family, k, attempt, level)
                     except _Retry:
                         continue
                     if task["instruction"] in seen[subset]:
@@ -643,7 +691,21 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
                 else:
                     raise RuntimeError(f"could not make a solvable task for {subset}/{family}/{k}")
             if not quiet:
-                print(f"  {subset:<13} {family:<7} {per_family} tasks  ({time.time() - t0:.0f}s)", flush=True)
+                print(f"  {subset:<13} {family:<7} {per_family} tasks  ({time.time() - t0:.0f}s)", flush=True,
+                      file=sys.stderr if level else sys.stdout)
+    if level:
+        from eb_manipulation.tasks import envelope
+
+        name = {v: k for k, v in LEVELS.items()}.get(level, str(level))
+        doc = envelope(tasks, generator={"name": "eb_manipulation.generate:generate", "seed": seed,
+                                         "difficulty": name, "verified": bool(verify), "count": len(tasks)})
+        out_path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = out_path.with_name(out_path.name + ".tmp")
+        tmp.write_text(json.dumps(doc, indent=1) + "\n")
+        tmp.replace(out_path)
+        if not quiet:
+            print(f"wrote {len(tasks)} tasks ({name}) to {out_path}", file=sys.stderr)
+        return out_path
     doc = {
         "format": TASK_FORMAT,
         "version": TASKS_VERSION,

@@ -11,9 +11,10 @@ def eb_register_envs() -> list[EnvSpec]:
         EnvSpec(
             name="manipulation",
             entry_point="eb_manipulation.env:ManipulationEnv",
-            description="EB-Manipulation: 228 tabletop tasks for a Franka Panda in MuJoCo (pick & place, stacking, "
+            description="EB-Manipulation: 228 tabletop tasks (classic and hard sets) for a Franka Panda in MuJoCo (pick & place, stacking, "
                         "shape sorter, wiping); discrete 7-D gripper poses",
             subsets=dict(SUBSETS),
+            tasksets=("classic", "hard"),
             task_generator="eb_manipulation.generate:generate",
             audit_probes="eb_manipulation.audit:audit_probes",
             install_hint="pip install -e plugins/eb_manipulation",
