@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from eb_manipulation.generate import (
+from eb_manipulation.families import (
     _SIDE,
     _AREA_SIDE,
     _Draft,

@@ -32,7 +32,7 @@ MAX_ATTEMPTS = 200
 
 
 def _combos() -> tuple[tuple[str, str], ...]:
-    from eb_manipulation.generate import SUBSET_FAMILIES, SUBSETS
+    from eb_manipulation.families import SUBSET_FAMILIES, SUBSETS
 
     return tuple((s, f) for s in SUBSETS for f in SUBSET_FAMILIES[s])
 
@@ -69,7 +69,8 @@ def _scene_seed(split: str, index: int, attempt: int, level: int = 0) -> int:
 
 
 def _one(split: str, index: int, keys: tuple[frozenset[int], frozenset[Any], frozenset[str]], level: int = 0) -> Task:
-    from eb_manipulation.generate import _Retry, draft_task, scene_metadata, verify_task
+    from eb_manipulation.draw import draft_task, scene_metadata, verify_task
+    from eb_manipulation.families import _Retry
     from eb_manipulation.spec import SceneSpec
 
     seeds, layouts, instructions = keys
@@ -113,9 +114,9 @@ def split_tasks(split: str, start: int, count: int, task_file: str | None = None
                 **_: Any) -> list[Task]:
     """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``) at a difficulty
     (``classic``, ``medium``, ``hard``: a curriculum for trainers). Harder splits stay apart from both shipped sets."""
-    from eb_manipulation.generate import _level
+    from eb_manipulation.draw import level_of
 
-    level = _level(difficulty)
+    level = level_of(difficulty)
     if split not in SPLITS:
         raise ValueError(f"manipulation: unknown split {split!r}; generated splits are {', '.join(SPLITS)} "
                          f"('test' is the shipped task file). Use split=train or split=val.")
