@@ -3,7 +3,7 @@
 Same four families, same success checks and protocol as the classic set; what changes is the scene and the
 instruction:
 
-* more objects (hard: 7 shapes for pick and the sorter, 6 cubes for stacking, 6 marked areas for wiping; medium:
+* more objects (hard: 7 shapes for pick and the sorter, 6 cubes for stacking, 7 marked areas for wiping; medium:
   5 / 5 / 4), so a guess has many candidates;
 * look-alikes: the target's shape again in a near shade (red / maroon, blue / navy, green / lime ...), the target's
   colour again on another shape, containers and areas in near shades, all pairs a person tells apart in the image
@@ -13,7 +13,8 @@ instruction:
   A wrong guess ruins the episode, so a plan cannot queue guesses until one succeeds;
 * multi-hop spatial references on a jittered grid ("the star just behind the cube that is just left of the red
   moon"), whose anchors are named by colour and shape, so coordinates alone never resolve them;
-* smaller marked areas (16 x 10 cm) packed closer together.
+* smaller marked areas (14 x 9 cm) packed closer together;
+* towers are built from scratch (a tower already begun shows in the list's heights).
 
 Heights in the object list still tell a shape from a container, but not which shape: all shapes stand 4-4.5 cm
 tall (z 17), and every role has several candidates.
@@ -55,7 +56,7 @@ __all__ = ["build"]
 #: view of the front camera).
 REGION_X = (-0.04, 0.31)
 REGION_Y = (-0.32, 0.32)
-AREA_SIZE = (0.16, 0.10)  # long side along the wiping direction, short side across (m)
+AREA_SIZE = (0.14, 0.09)  # long side along the wiping direction, short side across (m)
 
 _KEEP = (
     "Leave everything else exactly where it is.",
@@ -67,6 +68,11 @@ _KEEP_WIPE = (
     "Do not wipe any other area, and leave everything else where it is.",
     "Keep the sponge off every other area.",
     "No other area may be touched by the sponge.",
+)
+_KEEP_SORTER = (
+    "Drop it straight through its own hole: nothing may be left on the sorter's lid, and everything else stays "
+    "where it is.",
+    "Use its own hole at the first try, leave nothing on the lid, and move nothing else.",
 )
 _CLOSE = (
     "Thanks, that will make the rest of my day easier.",
@@ -240,8 +246,9 @@ def _pick(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
 def _stack(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
     placer = _Placer(rng)
     n = 6 if level >= 2 else 5
-    # spatial towers start from scratch: a cube standing on another has no neighbour relation of its own
-    mode = ("two", "three")[k % 2] if subset == "spatial" else ("two", "three", "partial3")[k % 3]
+    # towers start from scratch: a tower already begun would show itself in the list's heights (z 22 on top of a
+    # cube), leaving a blind player one cube to guess
+    mode = ("two", "three")[k % 2]
     height = 2 if mode == "two" else 3
     a, b = _near_pair(rng)
     c2, d2 = _near_pair(rng)
@@ -320,8 +327,8 @@ def _sorter(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft
         ref = _obj_text(subset, target, rng)
     core = pick(rng, ("Put {o} into the shape sorter.", "Slot {o} into its hole in the shape sorter.",
                       "Drop {o}, and only that object, through its hole in the shape sorter.")).format(o=ref)
-    instr = _finish(rng, subset, core[0].upper() + core[1:])
-    keep = tuple(o.id for o in objs[1:])
+    instr = _finish(rng, subset, core[0].upper() + core[1:], keep=_KEEP_SORTER)
+    keep = tuple(o.id for o in objs[1:]) + (sorter.id,)
     variant = "place_into_shape_sorter_relative" if subset == "spatial" else VARIANTS["sorter"]
     return _Draft([sorter] + objs, GoalSpec(family="sorter", target=target.id, keep_still=keep), instr,
                   (target.id,), variant, f"sorter/{subset}/hard")
@@ -336,7 +343,7 @@ def _wipe(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
     placer = _Placer(rng)
     direction = DIRECTIONS[k % 4]
     size = _area_size(direction)
-    n = 6 if level >= 2 else 4
+    n = 7 if level >= 2 else 4
     if subset == "common_sense":
         spills = [c for c in SPILLS]
         a = str(pick(rng, spills))

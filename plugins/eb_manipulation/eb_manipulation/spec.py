@@ -78,7 +78,8 @@ class GoalSpec(BaseModel):
     direction: Literal["left_to_right", "right_to_left", "front_to_back", "back_to_front"] | None = None
     keep_still: tuple[str, ...] = ()
     """Objects the instruction says to leave alone ("only the red one"): a loose one must never be grasped nor
-    moved by more than 2 cm, a container must receive nothing, an area must not be touched by the sponge. Once one
+    moved by more than 2 cm, a container must receive nothing, an area must not be touched by the sponge, nothing may
+    be left on the shape sorter's lid (a shape goes straight through its own hole). Once one
     of them is disturbed the task can no longer succeed. Empty in the classic set (and then left out of files)."""
 
 

@@ -404,8 +404,8 @@ class World:
 
     # --- leave-alone conditions ---------------------------------------------------------------------------
     def _check_keep(self, grasped: str | None) -> None:
-        """Mark the first disturbed ``keep_still`` object: grasped, moved by more than 2 cm, or (a container)
-        holding a loose object."""
+        """Mark the first disturbed ``keep_still`` object: grasped, moved by more than 2 cm, (a container) holding a
+        loose object, or (the shape sorter) with a loose object left on its lid."""
         keep = self.scene.goal.keep_still
         if not keep or self.disturbed is not None:
             return
@@ -421,6 +421,16 @@ class World:
                                                 if o != self.held):
                 self.disturbed = obj
                 return
+            if spec.kind == "sorter" and any(self.on_sorter_lid(o, spec) for o in self.free_objects if o != self.held):
+                self.disturbed = obj
+                return
+
+    def on_sorter_lid(self, obj: str, sorter: ObjectSpec) -> bool:
+        """``obj`` rests on the sorter's lid (e.g. dropped on a hole that is not its own)."""
+        p = self.body_pos(obj)
+        lx, ly = _to_local(sorter, p)
+        return (abs(lx) < SORTER.depth / 2 + 0.01 and abs(ly) < SORTER.length(len(sorter.holes)) / 2 + 0.01
+                and p[2] > TABLE_TOP + SORTER.height)
 
     def _check_keep_areas(self, point: tuple[float, float]) -> None:
         if self.disturbed is not None:
