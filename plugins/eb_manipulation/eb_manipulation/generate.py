@@ -156,11 +156,11 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
     return out_path
 
 
-def audit_form(out: str, seed: int, per_subset: int) -> Path:
+def audit_form(out: str, seed: int, per_subset: int, difficulty: str | int = "classic") -> Path:
     """A fresh form for ``eb audit``'s parallel-forms probe: about ``per_subset`` tasks per subset (the same number
-    of each family, ``ceil(per_subset / families)``), verified like the shipped file, as one task file at ``out``.
-    Each task's scene follows from (seed, subset, family, index) alone, so these are the first tasks per family
-    of a full file drawn with ``seed``."""
+    of each family, ``ceil(per_subset / families)``), verified like the shipped file, as one task file at ``out``,
+    at a ``difficulty`` (``eb audit taskset=hard`` asks for ``hard``). Each task's scene follows from (seed, subset,
+    family, index) alone, so these are the first tasks per family of a full file drawn with ``seed``."""
     import tempfile
 
     tasks: list[dict[str, Any]] = []
@@ -169,10 +169,14 @@ def audit_form(out: str, seed: int, per_subset: int) -> Path:
         for subset in SUBSETS:
             per_family = max(1, math.ceil(int(per_subset) / len(SUBSET_FAMILIES[subset])))
             part = generate(out=Path(tmp) / f"{subset}.json", seed=seed, per_family=per_family, subsets=[subset],
-                            quiet=True)
-            doc = json.loads(Path(part).read_text())
+                            quiet=True, difficulty=difficulty)
+            doc = json.loads(Path(part).read_text())  # type: ignore[arg-type]
             tasks += doc["tasks"]
-    doc.update(count=len(tasks), tasks=tasks)
+    if _level(difficulty):
+        doc["tasks"] = tasks
+        doc["generator"] = {**doc.get("generator", {}), "count": len(tasks)}
+    else:
+        doc.update(count=len(tasks), tasks=tasks)
     path = Path(out)
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(doc, indent=1) + "\n")

@@ -11,8 +11,8 @@ def eb_register_envs() -> list[EnvSpec]:
         EnvSpec(
             name="manipulation",
             entry_point="eb_manipulation.env:ManipulationEnv",
-            description="EB-Manipulation: 228 tabletop tasks (classic and hard sets) for a Franka Panda in MuJoCo (pick & place, stacking, "
-                        "shape sorter, wiping); discrete 7-D gripper poses",
+            description="EB-Manipulation: 228 tabletop tasks for a Franka Panda in MuJoCo (pick & place, stacking, "
+                        "shape sorter, wiping; classic and hard sets); discrete 7-D gripper poses",
             subsets=dict(SUBSETS),
             tasksets=("classic", "hard"),
             task_generator="eb_manipulation.generate:generate",
