@@ -476,6 +476,10 @@ class World:
         says to leave alone was disturbed."""
         if self.disturbed is not None:
             return False, 0.0
+        return self._physical()
+
+    def _physical(self) -> tuple[bool, float]:
+        """The family's physical success check alone (without the leave-alone conditions)."""
         g = self.scene.goal
         if g.family == "pick":
             ok = self.held != g.target and self.in_container(g.target, g.container)  # type: ignore[arg-type]
@@ -515,8 +519,8 @@ class World:
         ``|t - s| + |s - S| + L`` (sponge not held), ``|s - S| + L`` (held, not wiping), ``|s - E|`` (held,
         touching the table) with ``S``/``E`` the start/end points.
         """
-        if self.evaluate()[0]:
-            return 0.0
+        if self._physical()[0]:
+            return 0.0  # (also once a leave-alone object was disturbed: nothing left to move, the task is lost)
         mujoco.mj_kinematics(self.model, self.data)
         tcp = self.arm.tcp()[0]
         g = self.scene.goal
