@@ -188,8 +188,20 @@ def _wrap(rng: np.random.Generator, core: str) -> str:
     return f"{first} {second} {pick(rng, _CONTEXT_BRIDGE)} {core[0].lower()}{core[1:]} {pick(rng, _CLOSE)}"
 
 
-def _finish(rng: np.random.Generator, subset: str, core: str, keep: tuple[str, ...] = _KEEP) -> str:
-    core = f"{core} {pick(rng, keep)}"
+def _tpick(rng: np.random.Generator, options, rec: list[int]):
+    """``pick`` (the same draw) that also records the sentence's index for the task's template id."""
+    i = int(rng.integers(len(options)))
+    rec.append(i)
+    return options[i]
+
+
+def _tid(family: str, subset: str, rec: list[int], extra: str = "") -> str:
+    return f"{family}/{subset}/hard{extra}/" + ".".join(str(i) for i in rec)
+
+
+def _finish(rng: np.random.Generator, subset: str, core: str, keep: tuple[str, ...] = _KEEP,
+            rec: list[int] | None = None) -> str:
+    core = f"{core} {_tpick(rng, keep, rec if rec is not None else [])}"
     return _wrap(rng, core) if subset == "complex" else core
 
 
@@ -213,6 +225,7 @@ def _cont_text(subset: str, c: str) -> str:
 # --------------------------------------------------------------------------------------------------------
 def _pick(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
     placer = _Placer(rng)
+    rec: list[int] = []  # indices of the sentences drawn (the template id)
     n = 7 if level >= 2 else 5
     n_cont = 3 if level >= 2 else 2
     ca, cb = _near_pair(rng)
@@ -230,21 +243,22 @@ def _pick(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
         ref = _two_hop(objs, target, rng)
         if ref is None:
             raise _Retry("no two-hop reference")
-        core = pick(rng, ("Put {o} into the {c} container.", "Move {o} into the {c} container.",
-                          "Pick up {o} and drop it into the {c} container.")).format(o=ref, c=box.colour)
+        core = _tpick(rng, ("Put {o} into the {c} container.", "Move {o} into the {c} container.",
+                          "Pick up {o} and drop it into the {c} container."), rec).format(o=ref, c=box.colour)
     else:
         o, c = _obj_text(subset, target, rng), _cont_text(subset, box.colour)  # type: ignore[arg-type]
-        core = pick(rng, ("Put only {o} into {c}.", "Move {o}, and nothing else, into {c}.",
-                          "Pick up {o} and place it in {c}.")).format(o=o, c=c)
-    instr = _finish(rng, subset, core[0].upper() + core[1:])
+        core = _tpick(rng, ("Put only {o} into {c}.", "Move {o}, and nothing else, into {c}.",
+                            "Pick up {o} and place it in {c}."), rec).format(o=o, c=c)
+    instr = _finish(rng, subset, core[0].upper() + core[1:], rec=rec)
     keep = tuple(o.id for o in objs[1:]) + tuple(c.id for c in conts[1:])
     variant = "pick_cube_relative" if subset == "spatial" else VARIANTS["pick"]
     return _Draft(conts + objs, GoalSpec(family="pick", target=target.id, container=box.id, keep_still=keep), instr,
-                  (target.id, box.id), variant, f"pick/{subset}/hard")
+                  (target.id, box.id), variant, _tid("pick", subset, rec))
 
 
 def _stack(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
     placer = _Placer(rng)
+    rec: list[int] = []  # indices of the sentences drawn (the template id)
     n = 6 if level >= 2 else 5
     # towers start from scratch: a tower already begun would show itself in the list's heights (z 22 on top of a
     # cube), leaving a blind player one cube to guess
@@ -289,21 +303,22 @@ def _stack(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
     else:
         refs = [f"the {c.colour} cube" for c in order]
     if height == 2:
-        core = pick(rng, ("Stack {1} on top of {0}.", "Put {1} onto {0}.")).format(*refs)
+        core = _tpick(rng, ("Stack {1} on top of {0}.", "Put {1} onto {0}."), rec).format(*refs)
     else:
-        core = pick(rng, ("Build a tower with {0} at the bottom, {1} in the middle and {2} on top.",
-                          "Stack these cubes from the bottom up: {0}, then {1}, then {2}.")).format(*refs)
+        core = _tpick(rng, ("Build a tower with {0} at the bottom, {1} in the middle and {2} on top.",
+                            "Stack these cubes from the bottom up: {0}, then {1}, then {2}."), rec).format(*refs)
     instr = _finish(rng, subset, core[0].upper() + core[1:],
                     keep=("Use only these cubes and leave the other cubes where they are.",
-                          "Do not move any other cube."))
+                          "Do not move any other cube."), rec=rec)
     keep = tuple(c.id for c in cubes if c not in order)
     variant = "stack_cubes_relative" if subset == "spatial" else VARIANTS["stack"]
     return _Draft(cubes, GoalSpec(family="stack", order=tuple(c.id for c in order), keep_still=keep), instr,
-                  tuple(c.id for c in order), variant, f"stack/{subset}/hard/{mode}")
+                  tuple(c.id for c in order), variant, _tid("stack", subset, rec, f"/{mode}"))
 
 
 def _sorter(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
     placer = _Placer(rng)
+    rec: list[int] = []  # indices of the sentences drawn (the template id)
     holes = [str(s) for s in rng.permutation(list(SHAPES))[:3]]
     yaw = float(rng.choice([0.0, 90.0])) + float(rng.uniform(-10, 10))
     if abs(yaw) < 45:
@@ -325,13 +340,13 @@ def _sorter(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft
             raise _Retry("no two-hop reference")
     else:
         ref = _obj_text(subset, target, rng)
-    core = pick(rng, ("Put {o} into the shape sorter.", "Slot {o} into its hole in the shape sorter.",
-                      "Drop {o}, and only that object, through its hole in the shape sorter.")).format(o=ref)
-    instr = _finish(rng, subset, core[0].upper() + core[1:], keep=_KEEP_SORTER)
+    core = _tpick(rng, ("Put {o} into the shape sorter.", "Slot {o} into its hole in the shape sorter.",
+                        "Drop {o}, and only that object, through its hole in the shape sorter."), rec).format(o=ref)
+    instr = _finish(rng, subset, core[0].upper() + core[1:], keep=_KEEP_SORTER, rec=rec)
     keep = tuple(o.id for o in objs[1:]) + (sorter.id,)
     variant = "place_into_shape_sorter_relative" if subset == "spatial" else VARIANTS["sorter"]
     return _Draft([sorter] + objs, GoalSpec(family="sorter", target=target.id, keep_still=keep), instr,
-                  (target.id,), variant, f"sorter/{subset}/hard")
+                  (target.id,), variant, _tid("sorter", subset, rec))
 
 
 def _area_size(direction: str) -> tuple[float, float]:
@@ -341,6 +356,7 @@ def _area_size(direction: str) -> tuple[float, float]:
 
 def _wipe(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
     placer = _Placer(rng)
+    rec: list[int] = []  # indices of the sentences drawn (the template id)
     direction = DIRECTIONS[k % 4]
     size = _area_size(direction)
     n = 7 if level >= 2 else 4
@@ -369,25 +385,25 @@ def _wipe(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
     target = areas[0]
     d = DIRECTION_TEXT[direction]
     if subset == "common_sense":
-        core = pick(rng, ("Wipe up the patch of {s} with the sponge, moving {d}.",
-                          "Some {s} was spilled; clean just that patch with the sponge, wiping {d}.")).format(
+        core = _tpick(rng, ("Wipe up the patch of {s} with the sponge, moving {d}.",
+                            "Some {s} was spilled; clean just that patch with the sponge, wiping {d}."), rec).format(
             s=pick(rng, SPILLS[target.colour]), d=DIRECTION_COMMON[direction])  # type: ignore[index]
     elif subset == "spatial":
         twin = areas[1]
         sides = [side for side in _SIDE if _extreme_pair(target, twin, side)]
         if not sides:
             raise _Retry("the two areas are not clearly apart")
-        core = pick(rng, ("Wipe {a} {d} using the sponge.", "With the sponge, wipe {a} {d}.")).format(
+        core = _tpick(rng, ("Wipe {a} {d} using the sponge.", "With the sponge, wipe {a} {d}."), rec).format(
             a=_AREA_SIDE[pick(rng, sides)].format(c=target.colour), d=d)
     else:
-        core = pick(rng, ("Wipe the {c} area {d} with the sponge.", "Use the sponge to wipe only the {c} area {d}.")
-                    ).format(c=target.colour, d=d)
-    instr = _finish(rng, subset, core, keep=_KEEP_WIPE)
+        core = _tpick(rng, ("Wipe the {c} area {d} with the sponge.", "Use the sponge to wipe only the {c} area {d}."),
+                      rec).format(c=target.colour, d=d)
+    instr = _finish(rng, subset, core, keep=_KEEP_WIPE, rec=rec)
     keep = tuple(a.id for a in areas[1:]) + tuple(o.id for o in others)
     variant = "wipe_table_relative" if subset == "spatial" else VARIANTS["wipe"]
     return _Draft(areas + [sponge] + others,
                   GoalSpec(family="wipe", target="sponge", area=target.id, direction=direction, keep_still=keep),
-                  instr, ("sponge", target.id), variant, f"wipe/{subset}/hard")
+                  instr, ("sponge", target.id), variant, _tid("wipe", subset, rec))
 
 
 def _extreme_pair(a: ObjectSpec, b: ObjectSpec, side: str, margin: float = 0.06) -> bool:

@@ -44,6 +44,7 @@ def test_hard_set_has_the_classic_subsets_and_leave_alone_goals(hard):
     for subset in SUBSET_COUNTS:
         instr = [t.instruction for t in hard if t.subset == subset]
         assert len(set(instr)) == len(instr)
+        assert len({t.metadata["template"] for t in hard if t.subset == subset}) >= 10  # the audit's floor
     # more candidates than the classic set: at least 5 loose shapes or 6 areas in every pick/sorter/wipe scene
     for t in hard:
         kinds = Counter(o["kind"] for o in t.metadata["objects"])
