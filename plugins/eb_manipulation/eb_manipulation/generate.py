@@ -75,8 +75,9 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
             folder), for ``eb run env=manipulation env.params.task_file=<file>``.
         difficulty: ``classic`` (the paper's scenes; the shipped classic file), ``medium`` or ``hard`` (or 0, 1,
             2): more objects, look-alikes in near shades, "only" conditions, multi-hop spatial references
-            (:mod:`eb_manipulation.hard`). The default ``out`` of ``hard`` is the shipped hard file. Progress goes
-            to stderr.
+            (:mod:`eb_manipulation.hard`). Without ``out``, ``hard`` with seed 0 rewrites the shipped hard file and
+            any other seed or level writes ``manipulation_<difficulty>_seed<N>.json`` in the current folder.
+            Progress goes to stderr.
     """
     level = _level(difficulty)
     if split != "test":
@@ -92,10 +93,14 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
         max_attempts = 40 if level == 0 else 300
     if out is not None:
         out_path = Path(out)
-    else:
+    elif level == 0:
+        out_path = DEFAULT_OUT
+    elif level == LEVELS["hard"] and seed == 0:
         from eb_manipulation.tasks import HARD_TASK_FILE
 
-        out_path = DEFAULT_OUT if level == 0 else HARD_TASK_FILE
+        out_path = HARD_TASK_FILE  # the shipped hard set is seed 0
+    else:  # a fresh form never overwrites the shipped file
+        out_path = Path.cwd() / f"manipulation_{difficulty}_seed{seed}.json"
     chosen = SUBSETS if subsets is None else ((subsets,) if isinstance(subsets, str) else tuple(subsets))
     unknown = [s for s in chosen if s not in SUBSETS]
     if unknown:
