@@ -34,7 +34,12 @@ class ManipulationParams(BaseModel):
     draw_axes: bool = True
     """Draw the red X/Y/Z frame at the robot base in the front image."""
     task_file: str | None = None
-    """Another task file made by ``eb tasks generate env=manipulation``; default: the shipped one."""
+    """Another task file (or a folder of them) made by ``eb tasks generate env=manipulation``; default: the shipped
+    file of the task set."""
+    task_dir: str | None = None
+    """Old spelling of ``task_file`` for a folder (accepted as an alias)."""
+    difficulty: Literal["classic", "medium", "hard"] | None = None
+    """Difficulty of the generated ``train``/``val`` splits (a curriculum); default: that of the task set."""
 
 
 class ManipulationEnv(Env):
@@ -55,20 +60,24 @@ class ManipulationEnv(Env):
 
     # --- tasks ------------------------------------------------------------------------------------------
     @classmethod
-    def load_tasks(cls, **params: Any) -> list[Task]:
+    def load_tasks(cls, taskset: str = "classic", **params: Any) -> list[Task]:
+        """The tasks of a task file, or of the shipped task set ``taskset`` (``classic`` or ``hard``)."""
         known = {k: v for k, v in params.items() if k in ManipulationParams.model_fields}
         p = ManipulationParams(**known)
-        return load_task_file(p.task_file)
+        return load_task_file(p.task_file or p.task_dir, taskset=taskset)
 
     splits = ("train", "val")
 
     @classmethod
-    def split_tasks(cls, split: str, start: int, count: int, **params: Any) -> list[Task]:
-        """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_manipulation.splits`)."""
+    def split_tasks(cls, split: str, start: int, count: int, taskset: str = "classic", **params: Any) -> list[Task]:
+        """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_manipulation.splits`); their
+        difficulty is ``params.difficulty``, else that of ``taskset``."""
         from eb_manipulation.splits import split_tasks
 
         known = {k: v for k, v in params.items() if k in ManipulationParams.model_fields}
-        return split_tasks(split, start, count, task_file=ManipulationParams(**known).task_file)
+        p = ManipulationParams(**known)
+        difficulty = p.difficulty or ("hard" if taskset == "hard" else "classic")
+        return split_tasks(split, start, count, task_file=p.task_file or p.task_dir, difficulty=difficulty)
 
     # --- episode ----------------------------------------------------------------------------------------
     def reset(self, task: Task, seed: int) -> Observation:
@@ -107,10 +116,12 @@ class ManipulationEnv(Env):
                               progress=progress, feedback=f"The action was not executed: {exc}. The arm did not move.",
                               info={**self._info(), "failure": FAILURES["invalid"]})
         before = {o: self._world.body_pos(o) for o in self._world.free_objects}
+        order_before = list(self._order)
         outcome = self._world.execute(parsed)
-        self._renumber()  # objects moved: the feedback already uses the numbers of the next object list
+        self._renumber()
         solved, progress = self._world.evaluate()
-        feedback = self._resolve(outcome.feedback, outcome.refs)
+        # objects are named by the list the action was chosen from; one that now has another number says so
+        feedback = self._resolve(outcome.feedback, outcome.refs, order_before)
         if solved:
             feedback += " The task is complete."
         return StepResult(observation=self._observe(), action_success=outcome.ok, feedback=feedback, done=solved,
@@ -136,7 +147,10 @@ class ManipulationEnv(Env):
         from eb_manipulation.prompts import example_set, prompt_parts
 
         family = self._scene.family if self._scene is not None else "pick"
-        return prompt_parts(family, example_set(self.params.detection_boxes, self.multi_view), self.multi_view)
+        sizes = [o.size for o in self._scene.objects if o.kind == "area" and o.size] if self._scene else []
+        kw = {"area_cm": (round(max(sizes[0]) * 100), round(min(sizes[0]) * 100))} if sizes else {}
+        return prompt_parts(family, example_set(self.params.detection_boxes, self.multi_view), self.multi_view,
+                            **kw)
 
     def expert_plan(self) -> list[Action] | None:
         """The scripted expert's plan from the current state (arm pose, gripper, held object, object poses).
@@ -182,11 +196,16 @@ class ManipulationEnv(Env):
     def _label(self, key: str) -> str:
         return f"object {self._order.index(key) + 1}" if key in self._order else key
 
-    def _resolve(self, text: str, refs: dict[str, str]) -> str:
+    def _resolve(self, text: str, refs: dict[str, str], order_before: list[str] | None = None) -> str:
+        """Fill ``{slot}`` references: ``object N`` in the numbering from before the action (the list the action
+        was chosen from), with ``(object M in the new list)`` when the action changed its number."""
         names = {}
+        before = order_before if order_before is not None else self._order
         for slot, key in refs.items():
-            if key in self._order:
-                names[slot] = self._label(key)
+            if key in before:
+                n_before, n_now = before.index(key) + 1, self._order.index(key) + 1
+                names[slot] = f"object {n_before}" + (f" (object {n_now} in the new list)" if n_now != n_before
+                                                      else "")
             elif self._scene is not None and any(o.id == key and o.kind == "sorter" for o in self._scene.objects):
                 names[slot] = "the shape sorter"
             else:

@@ -12,8 +12,9 @@ def eb_register_envs() -> list[EnvSpec]:
             name="manipulation",
             entry_point="eb_manipulation.env:ManipulationEnv",
             description="EB-Manipulation: 228 tabletop tasks for a Franka Panda in MuJoCo (pick & place, stacking, "
-                        "shape sorter, wiping); discrete 7-D gripper poses",
+                        "shape sorter, wiping; classic and hard sets); discrete 7-D gripper poses",
             subsets=dict(SUBSETS),
+            tasksets=("classic", "hard"),
             task_generator="eb_manipulation.generate:generate",
             audit_probes="eb_manipulation.audit:audit_probes",
             install_hint="pip install -e plugins/eb_manipulation",

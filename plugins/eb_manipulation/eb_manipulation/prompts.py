@@ -41,7 +41,7 @@ ROLE = (
     "object list after the instruction gives each numbered object's discrete coordinates."
 )
 
-ACTION_RULES = f"""The object list: "object k": [x, y, z] for every object, numbered by ascending y (object 1 is \
+_ACTION_RULES = f"""The object list: "object k": [x, y, z] for every object, numbered by ascending y (object 1 is \
 the leftmost in the front image). It is measured again before each of your turns, so numbers and coordinates can \
 change as things move.
 Objects can have these colours: {", ".join(COLOURS)}.
@@ -50,16 +50,27 @@ Each action is a list of seven integers [x, y, z, roll, pitch, yaw, gripper].
 object list: one step is 1 cm. Seen in the front image, x grows toward the camera, y grows to the right and z grows \
 upward. The table top is at z = 15, and a listed coordinate is an object's centre (for a container or a sorter \
 hole: the centre of its opening; for a marked area: its centre on the table). A red X/Y/Z frame at the robot's base \
-shows the axes.
+shows the axes. Every box and number tag is drawn in the same white with a dark edge: it says nothing about the \
+colour of the object it marks.
 - roll, pitch, yaw (0 to 120) set the gripper's orientation in steps of 3 degrees: value v means v*3 - 180 \
 degrees. roll 120 (or 0) with pitch 60 points the gripper straight down. yaw then turns it about the vertical: with \
-yaw 60 the fingers close along the y axis, with yaw 90 (or 30) they close along the x axis.
+yaw 60 the fingers close along the y axis, with yaw 90 (or 30) they close along the x axis. A larger yaw turns the \
+gripper counter-clockwise as seen from above (and in the front image): from yaw 60, each +1 turns it by 3 degrees \
+counter-clockwise, so at yaw 75 the fingers close along the diagonal from front-left to back-right.
 - gripper is 1 to open and 0 to close. The arm first moves to the pose, then opens or closes the gripper.
 - The arm plans its own path to the pose and avoids collisions. An action fails, and the arm stays where it was, \
 when a value is out of range, the pose cannot be reached, the gripper would end up inside the table or an object, \
 or every path would hit something.
 - An object is held only when both fingers touch it as the gripper closes. A held object moves with the gripper; \
 when the gripper opens, the object drops and comes to rest.
+- The shape sorter lets a shape through only the hole of its own shape; any other hole is closed for it, and a shape \
+dropped there stays on the lid.
+- A wipe counts when, in one continuous stroke, the held sponge stays pressed on the table (its bottom at most 1.2 \
+cm above the table top: hold it at the height where it lay) and moves in the asked direction from within 20 % of the \
+area's length of its start edge to within 20 % of its end edge, never more than 2 cm off the area's sides. A marked \
+area's listed coordinates are its centre; {{area_size}}
+- Feedback names objects by their numbers in the list from before that action, and adds the new number when the \
+action changed it.
 - Words like left, right, front and back in instructions mean the view of the front image: left/right = smaller/\
 larger y, front = nearer the camera (larger x), back = nearer the robot (smaller x)."""
 
@@ -74,7 +85,23 @@ GUIDELINES = (
     "To wipe, hold the sponge at the height where you picked it up so it touches the table, and sweep it across the "
     "whole marked area in the asked direction.",
     "Learn from the action history and the feedback: if an action failed, change the pose instead of repeating it.",
+    "When the instruction says to move only some objects and leave the others alone, the task fails for good as "
+    "soon as another object is grasped or moved by more than 2 cm, something lands in another container, or the "
+    "sponge touches another marked area.",
 )
+
+#: The size sentence of the wiping rule, per scene (marked areas of one scene all have the same size).
+AREA_SIZE = ("each marked area is {long} cm long in the direction it is to be wiped and {short} cm across (the "
+             "image shows its extent).")
+CLASSIC_AREA = (22, 12)
+
+
+def action_rules(area_cm: tuple[int, int] = CLASSIC_AREA) -> str:
+    """The action rules, with the size of this scene's marked areas (long side along the wiping direction)."""
+    return _ACTION_RULES.replace("{area_size}", AREA_SIZE.format(long=area_cm[0], short=area_cm[1]))
+
+
+ACTION_RULES = action_rules()
 
 OUTPUT_NOTES = (
     'Each item of "executable_plan" is {"action": [x, y, z, roll, pitch, yaw, gripper]} with seven integers. The '
@@ -109,11 +136,12 @@ def _visual(family: str) -> tuple[VisualExample, ...]:
 
 
 def prompt_parts(family: str, which: ExampleSet = "baseline", multi_view: bool = False,
-                 visual: bool = True) -> PromptParts:
-    """Prompt parts for an episode of ``family`` (pick, stack, sorter or wipe) under an example set."""
+                 visual: bool = True, area_cm: tuple[int, int] = CLASSIC_AREA) -> PromptParts:
+    """Prompt parts for an episode of ``family`` (pick, stack, sorter or wipe) under an example set;
+    ``area_cm``: (length, width) of the scene's marked areas in cm."""
     sets = _doc()["examples"].get(family, {})
     return PromptParts(
-        role=ROLE, action_rules=ACTION_RULES, guidelines=GUIDELINES, output_notes=OUTPUT_NOTES,
+        role=ROLE, action_rules=action_rules(area_cm), guidelines=GUIDELINES, output_notes=OUTPUT_NOTES,
         examples=tuple(sets.get(which, ())), examples_language_only=tuple(sets.get("language_only", ())),
         visual_examples=_visual(family) if visual else (), text_before_images=True,
         view_descriptions={"wrist": WRIST_VIEW} if multi_view else {},

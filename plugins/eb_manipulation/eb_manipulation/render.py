@@ -26,11 +26,10 @@ from eb_scenekit import pool  # noqa: E402 - imports MuJoCo
 
 __all__ = ["BOX_COLOURS", "SKY_HIDDEN", "SceneRenderer", "draw_axes", "draw_boxes", "project"]
 
-#: Box outline colours by object index (cycled); none of them is the axes' red.
-BOX_COLOURS = (
-    (255, 214, 0), (0, 190, 255), (255, 110, 200), (60, 220, 90), (255, 150, 30),
-    (170, 120, 255), (0, 235, 200), (250, 250, 250),
-)
+#: Box outline colours by object index (cycled). One neutral white for every box and tag, drawn with a thin dark
+#: edge: a tag of its own colour was read as the colour of the object it labels (issue 25).
+BOX_COLOURS = ((250, 250, 250),)
+BOX_EDGE = (20, 20, 20)
 SKY_HIDDEN = frozenset({"front"})
 """Cameras that never see the sky: the front camera looks down (the top of its view points about 23 degrees
 below the horizon) at the table, the floor and the back wall, which cover every pixel. Their colour images are
@@ -268,6 +267,7 @@ def draw_boxes(img: Image.Image, boxes: list[tuple[str, tuple[int, int, int, int
     font = _font(max(10, size // 34))
     for label, (x0, y0, x1, y1) in boxes:
         colour = BOX_COLOURS[(int(label) - 1) % len(BOX_COLOURS)] if label.isdigit() else BOX_COLOURS[0]
+        draw.rectangle([x0 - 1 - width, y0 - 1 - width, x1 + 1 + width, y1 + 1 + width], outline=BOX_EDGE, width=1)
         draw.rectangle([x0 - 1, y0 - 1, x1 + 1, y1 + 1], outline=colour, width=width)
         tb = draw.textbbox((0, 0), label, font=font)
         tw, th = tb[2] - tb[0], tb[3] - tb[1]
@@ -276,5 +276,5 @@ def draw_boxes(img: Image.Image, boxes: list[tuple[str, tuple[int, int, int, int
         ty0 = y0 - th - 2 * pad - 1
         if ty0 < 0:
             ty0 = y1 + 2
-        draw.rectangle([tx0, ty0, tx0 + tw + 2 * pad, ty0 + th + 2 * pad], fill=colour)
+        draw.rectangle([tx0, ty0, tx0 + tw + 2 * pad, ty0 + th + 2 * pad], fill=colour, outline=BOX_EDGE)
         draw.text((tx0 + pad - tb[0], ty0 + pad - tb[1]), label, fill=(0, 0, 0), font=font)

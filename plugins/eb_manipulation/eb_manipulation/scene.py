@@ -20,6 +20,7 @@ from eb_manipulation.spec import ObjectSpec, SceneSpec
 __all__ = [
     "CONTAINER",
     "ROBOT_BASE",
+    "SHAPE_BITS",
     "SORTER",
     "SPONGE",
     "TABLE_TOP",
@@ -74,6 +75,12 @@ class _Sorter:
 class _Sponge:
     size: tuple[float, float, float] = (0.062, 0.046, 0.035)
 
+
+#: A collision bit of its own per loose shape (beside the world's bit): the lid of the shape sorter closes each
+#: opening with an invisible plate that collides with every shape but the hole's own, so a shape passes only through
+#: its matching hole (MuJoCo cannot model the star- or moon-shaped cut-outs themselves). No other geom has these
+#: bits in its ``conaffinity``, so every other contact is as before.
+SHAPE_BITS = {"cube": 4, "cylinder": 8, "star": 16, "moon": 32, "triangle": 64}
 
 CONTAINER = _Container()
 SORTER = _Sorter()
@@ -190,7 +197,8 @@ def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) ->
                 z += SHAPES[scene.get(below).shape].height + 0.001  # type: ignore[index]
                 below = scene.get(below).on
             rgba = _rgba(obj.colour or "gray")
-            common = f'{world} rgba="{rgba}" friction="1.0 0.02 0.001" density="600" solref="0.004 1"'
+            shape_world = f'contype="{WORLD_CONTYPE | SHAPE_BITS[obj.shape]}" conaffinity="{WORLD_CONAFFINITY}"'
+            common = f'{shape_world} rgba="{rgba}" friction="1.0 0.02 0.001" density="600" solref="0.004 1"'
             if obj.shape == "cube":
                 geom = f'<geom name="{obj.id}#0" type="box" size="{CUBE_HALF} {CUBE_HALF} {CUBE_HALF}" {common}/>'
             elif obj.shape == "cylinder":
@@ -338,6 +346,11 @@ def _sorter_body(obj: ObjectSpec, quat, world: str, mesh_xml: list[str], shape_m
             shape_meshes.add(mname)
         g.append(f'<geom name="{obj.id}_hole{kk}#decal" type="mesh" mesh="{mname}" '
                  f'pos="0 {centres[kk]} {H + 0.0006}" rgba="0.08 0.07 0.06 1" contype="0" conaffinity="0" group="1"/>')
+    for kk, shape in enumerate(obj.holes):  # the plates that keep every other shape out of this hole
+        others = sum(bit for name, bit in SHAPE_BITS.items() if name != shape)
+        g.append(f'<geom name="{obj.id}#{k}" type="box" size="{_fmt((o, o, p / 2))}" pos="{_fmt((0, centres[kk], zc))}" '
+                 f'rgba="0 0 0 0" group="3" contype="0" conaffinity="{others}"/>')
+        k += 1
     return f'<body name="{obj.id}" pos="{obj.x} {obj.y} {TABLE_TOP}" quat="{_fmt(quat)}">' + "".join(g) + "</body>"
 
 

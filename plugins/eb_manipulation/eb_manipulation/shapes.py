@@ -34,14 +34,14 @@ COLOURS: dict[str, tuple[float, float, float]] = {
     "yellow": (0.98, 0.88, 0.05),
     "cyan": (0.05, 0.90, 0.92),
     "magenta": (0.92, 0.08, 0.85),
-    "silver": (0.78, 0.79, 0.82),
+    "silver": (0.60, 0.62, 0.67),  # 0.78 rendered almost white under the scene's lights
     "gray": (0.45, 0.45, 0.47),
     "olive": (0.48, 0.50, 0.06),
     "purple": (0.45, 0.05, 0.55),
     "teal": (0.02, 0.48, 0.48),
     "azure": (0.20, 0.60, 1.00),
     "violet": (0.60, 0.35, 0.98),
-    "rose": (1.00, 0.45, 0.62),
+    "rose": (0.95, 0.12, 0.45),  # the paper's rose is a deep pinkish red; 0.45 green rendered as plain pink
     "black": (0.04, 0.04, 0.04),
     "white": (0.97, 0.97, 0.97),
 }

@@ -76,6 +76,11 @@ class GoalSpec(BaseModel):
     area: str | None = None
     """wipe: the area to wipe."""
     direction: Literal["left_to_right", "right_to_left", "front_to_back", "back_to_front"] | None = None
+    keep_still: tuple[str, ...] = ()
+    """Objects the instruction says to leave alone ("only the red one"): a loose one must never be grasped nor
+    moved by more than 2 cm, a container must receive nothing, an area must not be touched by the sponge, nothing may
+    be left on the shape sorter's lid (a shape goes straight through its own hole). Once one
+    of them is disturbed the task can no longer succeed. Empty in the classic set (and then left out of files)."""
 
 
 class SceneSpec(BaseModel):
@@ -108,7 +113,7 @@ class SceneSpec(BaseModel):
         for o in self.objects:
             if o.on is not None and (o.on not in ids or self.get(o.on).shape != "cube" or o.shape != "cube"):
                 raise ValueError(f"{o.id} can only rest on another cube, not {o.on!r}")
-        for ref in [g.target, g.container, g.area, *g.order, *self.target_ids]:
+        for ref in [g.target, g.container, g.area, *g.order, *self.target_ids, *g.keep_still]:
             if ref is not None and ref not in ids:
                 raise ValueError(f"goal refers to unknown object {ref!r}")
         return self

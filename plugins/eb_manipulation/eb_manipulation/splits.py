@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import hashlib
 from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -31,7 +32,7 @@ MAX_ATTEMPTS = 200
 
 
 def _combos() -> tuple[tuple[str, str], ...]:
-    from eb_manipulation.generate import SUBSET_FAMILIES, SUBSETS
+    from eb_manipulation.families import SUBSET_FAMILIES, SUBSETS
 
     return tuple((s, f) for s in SUBSETS for f in SUBSET_FAMILIES[s])
 
@@ -50,29 +51,37 @@ def test_keys(task_file: str | None = None) -> tuple[frozenset[int], frozenset[A
     """Scene seeds, layouts and instructions of the shipped (or ``task_file``) test tasks."""
     from eb_manipulation.tasks import load_task_file
 
-    tasks = load_task_file(task_file)
+    if task_file == "hard":
+        from eb_manipulation.tasks import HARD_TASK_FILE
+
+        tasks = load_task_file(HARD_TASK_FILE) if HARD_TASK_FILE.exists() else []
+    else:
+        tasks = load_task_file(task_file)
     return (frozenset(int(t.metadata["scene_seed"]) for t in tasks), frozenset(layout_key(t.metadata) for t in tasks),
             frozenset(t.instruction for t in tasks))
 
 
-def _scene_seed(split: str, index: int, attempt: int) -> int:
-    digest = hashlib.sha256(f"eb-manipulation-split/{SPLIT_VERSION}/{split}/{index}/{attempt}".encode()).digest()
+def _scene_seed(split: str, index: int, attempt: int, level: int = 0) -> int:
+    level_part = f"/d{level}" if level else ""  # harder levels draw from their own namespace; classic as before
+    digest = hashlib.sha256(f"eb-manipulation-split/{SPLIT_VERSION}{level_part}/{split}/{index}/{attempt}"
+                            .encode()).digest()
     return int.from_bytes(digest[:4], "little")
 
 
-def _one(split: str, index: int, keys: tuple[frozenset[int], frozenset[Any], frozenset[str]]) -> Task:
-    from eb_manipulation.generate import _FAMILY_FN, _Retry, verify_task
+def _one(split: str, index: int, keys: tuple[frozenset[int], frozenset[Any], frozenset[str]], level: int = 0) -> Task:
+    from eb_manipulation.draw import draft_task, scene_metadata, verify_task
+    from eb_manipulation.families import _Retry
     from eb_manipulation.spec import SceneSpec
 
     seeds, layouts, instructions = keys
     subset, family = COMBOS[index % len(COMBOS)]
     k = index // len(COMBOS)
     for attempt in range(MAX_ATTEMPTS):
-        scene_seed = _scene_seed(split, index, attempt)
+        scene_seed = _scene_seed(split, index, attempt, level)
         if scene_seed in seeds:
             continue
         try:
-            draft = _FAMILY_FN[family](np.random.default_rng(scene_seed), subset, k)
+            draft = draft_task(np.random.default_rng(scene_seed), family, subset, k, level)
         except _Retry:
             continue
         if draft.instruction in instructions:
@@ -80,7 +89,7 @@ def _one(split: str, index: int, keys: tuple[frozenset[int], frozenset[Any], fro
         scene = SceneSpec(family=family, variant=draft.variant, scene_seed=scene_seed, objects=tuple(draft.objects),
                           goal=draft.goal, target_ids=draft.target_ids, template=draft.template)
         entry = {"id": f"{split}_{subset}_{family}_{index:06d}", "subset": subset, "instruction": draft.instruction,
-                 "metadata": scene.model_dump(mode="json")}
+                 "metadata": scene_metadata(scene)}
         if layout_key(entry["metadata"]) in layouts:
             continue
         ok, steps = verify_task(entry, closed_loop=True)
@@ -101,34 +110,44 @@ _recent = lru_cache(maxsize=512)(_one)
 of rollouts from one task, ``options={"task_id": ...}``) is a dictionary look-up. Callers get deep copies."""
 
 
-def split_tasks(split: str, start: int, count: int, task_file: str | None = None, **_: Any) -> list[Task]:
-    """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``)."""
+def split_tasks(split: str, start: int, count: int, task_file: str | None = None, difficulty: str | int = "classic",
+                **_: Any) -> list[Task]:
+    """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``) at a difficulty
+    (``classic``, ``medium``, ``hard``: a curriculum for trainers). Harder splits stay apart from both shipped sets."""
+    from eb_manipulation.draw import level_of
+
+    level = level_of(difficulty)
     if split not in SPLITS:
         raise ValueError(f"manipulation: unknown split {split!r}; generated splits are {', '.join(SPLITS)} "
                          f"('test' is the shipped task file). Use split=train or split=val.")
     if start < 0 or count < 0:
         raise ValueError(f"manipulation: split_tasks needs start >= 0 and count >= 0, got start={start}, "
                          f"count={count}")
-    keys = test_keys(task_file)
-    return [_recent(split, i, keys).model_copy(deep=True) for i in range(start, start + count)]
+    keys = test_keys(task_file) if level == 0 or task_file is not None else _union(test_keys(None), test_keys("hard"))
+    return [_recent(split, i, keys, level).model_copy(deep=True) for i in range(start, start + count)]
 
 
-def write_split(out: str, split: str, n: int, start: int = 0) -> str:
+def _union(a: tuple[frozenset, ...], b: tuple[frozenset, ...]) -> tuple[frozenset, ...]:
+    return tuple(x | y for x, y in zip(a, b))
+
+
+def write_split(out: str, split: str, n: int, start: int = 0, difficulty: str | int = "classic") -> list[Path]:
     """Write tasks ``start .. start + n - 1`` of ``split`` as one task file ``out`` (a ``.json`` path, or a folder
     that gets ``manipulation_<split>.json``), so that ``eb run env=manipulation env.params.task_file=<file>``
-    evaluates on them. Returns the path written."""
+    evaluates on them. Returns the paths written (one)."""
     import json
-    from pathlib import Path
 
     from eb_manipulation.spec import TASK_FORMAT
 
     path = Path(out)
     if path.suffix != ".json":
         path = path / f"manipulation_{split}.json"
-    tasks = split_tasks(split, start, n)
+    tasks = split_tasks(split, start, n, difficulty=difficulty)
     doc = {"format": TASK_FORMAT, "version": SPLIT_VERSION, "generator": "eb_manipulation.splits:write_split",
            "split": split, "start": start, "n": n, "verified": True, "count": len(tasks),
            "tasks": [t.model_dump() for t in tasks]}
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
-    return str(path)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
+    tmp.replace(path)
+    return [path]

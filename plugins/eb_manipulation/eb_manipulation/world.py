@@ -30,6 +30,8 @@ __all__ = ["ActionOutcome", "World", "WorldObject"]
 
 CONTACT_HEIGHT = 0.012
 """The sponge wipes the table while its bottom is at most this far above the table top (m)."""
+KEEP_MOVE = 0.02
+"""A loose object to be left alone counts as disturbed once it moved more than this from its start (m)."""
 SETTLE_MAX_STEPS = 900
 SETTLE_MIN_STEPS = 50
 
@@ -99,6 +101,9 @@ class World:
         """Sponge paths on the table: runs of (x, y) samples while held and touching the table."""
         self._stroke_open = False
         self.wiped_fraction = 0.0
+        self.disturbed: str | None = None
+        """The first of the goal's ``keep_still`` objects that was disturbed (the task can then not succeed)."""
+        self._start: dict[str, np.ndarray] = {}
         self.objects = self._list_objects()
         self.reset_state()
 
@@ -112,6 +117,8 @@ class World:
         self._set_area_alpha()
         mujoco.mj_forward(self.model, self.data)
         self.settle()
+        self.disturbed = None
+        self._start = {o: self.body_pos(o) for o in self.free_objects}
 
     def _list_objects(self) -> list[WorldObject]:
         out: list[WorldObject] = []
@@ -170,13 +177,19 @@ class World:
         res = self.arm.plan(p_goal, R_goal, self.held, self._place_held)
         if not res.ok:
             return self._failure(res.reason, res.blocker)
+        sponge_held = self.held is not None and self.held == self._sponge_id()
+        wiped: list[tuple[float, float]] = []
         for q in res.path:
             self.arm.set_q(q)
             self._place_held(q)
             if track:
-                self._track_sponge()
+                touched = self._track_sponge()
+                if touched is not None:
+                    wiped.append(touched)
         mujoco.mj_forward(self.model, self.data)
         parts = ["The arm reached the requested pose."]
+        if sponge_held and track:
+            parts.append(self._wipe_note(wiped))
         refs: dict[str, str] = {}
         grasped: str | None = None
         missed = False
@@ -199,6 +212,7 @@ class World:
                              + (f" ({note})." if note else "."))
         self._end_stroke_if_lifted()
         self.settle()
+        self._check_keep(grasped)
         if missed:  # executed as asked (as in the original), but the grasp it was for did not happen
             return ActionOutcome(ok=True, feedback=" ".join(parts), refs=refs, failure=FAILURES["empty_grasp"])
         return ActionOutcome(ok=True, feedback=" ".join(parts), refs=refs, grasped=grasped)
@@ -351,21 +365,82 @@ class World:
                 return o.id
         return None
 
-    def _track_sponge(self) -> None:
+    def _track_sponge(self) -> tuple[float, float] | None:
+        """Record the sponge's path while it is held and touches the table; returns the point it wiped, if any."""
         sid = self._sponge_id()
         if sid is None or self.held != sid:
-            return
+            return None
         mujoco.mj_kinematics(self.model, self.data)
         bottom = self._lowest_point(sid)
+        point = None
         if bottom - TABLE_TOP <= CONTACT_HEIGHT:
             pos = self.body_pos(sid)
             if not self._stroke_open:
                 self.strokes.append([])
                 self._stroke_open = True
-            self.strokes[-1].append((float(pos[0]), float(pos[1])))
+            point = (float(pos[0]), float(pos[1]))
+            self.strokes[-1].append(point)
+            self._check_keep_areas(point)
         else:
             self._stroke_open = False
         self._update_wiped()
+        return point
+
+    def _wipe_note(self, wiped: list[tuple[float, float]]) -> str:
+        """Feedback on a move with the sponge in hand: where it wiped the table, or that it did not touch it.
+        Says nothing about which area counts (a blind player would learn the target from it)."""
+        from eb_manipulation.actions import pos_to_bin
+
+        if not wiped:
+            sid = self._sponge_id()
+            gap = (self._lowest_point(sid) - TABLE_TOP) * 100 if sid is not None else 0.0
+            return (f"The sponge did not touch the table during this move (its bottom ended {gap:.1f} cm above the "
+                    f"table top; it wipes only while its bottom is at most {CONTACT_HEIGHT * 100:.1f} cm above it), "
+                    f"so nothing was wiped.")
+        (x0, y0), (x1, y1) = wiped[0], wiped[-1]
+        a = f"[{pos_to_bin(x0, 'x')}, {pos_to_bin(y0, 'y')}]"
+        b = f"[{pos_to_bin(x1, 'x')}, {pos_to_bin(y1, 'y')}]"
+        return f"The sponge was pressed on the table and wiped from (x, y) = {a} to {b} during this move."
+
+    # --- leave-alone conditions ---------------------------------------------------------------------------
+    def _check_keep(self, grasped: str | None) -> None:
+        """Mark the first disturbed ``keep_still`` object: grasped, moved by more than 2 cm, (a container) holding a
+        loose object, or (the shape sorter) with a loose object left on its lid."""
+        keep = self.scene.goal.keep_still
+        if not keep or self.disturbed is not None:
+            return
+        for obj in keep:
+            if obj == grasped:
+                self.disturbed = obj
+                return
+            if obj in self._start and float(np.linalg.norm(self.body_pos(obj) - self._start[obj])) > KEEP_MOVE:
+                self.disturbed = obj
+                return
+            spec = self.scene.get(obj)
+            if spec.kind == "container" and any(self.in_container(o, obj) for o in self.free_objects
+                                                if o != self.held):
+                self.disturbed = obj
+                return
+            if spec.kind == "sorter" and any(self.on_sorter_lid(o, spec) for o in self.free_objects if o != self.held):
+                self.disturbed = obj
+                return
+
+    def on_sorter_lid(self, obj: str, sorter: ObjectSpec) -> bool:
+        """``obj`` rests on the sorter's lid (e.g. dropped on a hole that is not its own)."""
+        p = self.body_pos(obj)
+        lx, ly = _to_local(sorter, p)
+        return (abs(lx) < SORTER.depth / 2 + 0.01 and abs(ly) < SORTER.length(len(sorter.holes)) / 2 + 0.01
+                and p[2] > TABLE_TOP + SORTER.height)
+
+    def _check_keep_areas(self, point: tuple[float, float]) -> None:
+        if self.disturbed is not None:
+            return
+        for obj in self.scene.goal.keep_still:
+            spec = self.scene.get(obj)
+            if spec.kind == "area" and spec.size is not None:
+                if abs(point[0] - spec.x) <= spec.size[0] / 2 and abs(point[1] - spec.y) <= spec.size[1] / 2:
+                    self.disturbed = obj
+                    return
 
     def _end_stroke_if_lifted(self) -> None:
         sid = self._sponge_id()
@@ -397,7 +472,14 @@ class World:
 
     # --- success ----------------------------------------------------------------------------------------
     def evaluate(self) -> tuple[bool, float]:
-        """(task solved, progress in [0, 1]) from the physical state."""
+        """(task solved, progress in [0, 1]) from the physical state; never solved once an object the instruction
+        says to leave alone was disturbed."""
+        if self.disturbed is not None:
+            return False, 0.0
+        return self._physical()
+
+    def _physical(self) -> tuple[bool, float]:
+        """The family's physical success check alone (without the leave-alone conditions)."""
         g = self.scene.goal
         if g.family == "pick":
             ok = self.held != g.target and self.in_container(g.target, g.container)  # type: ignore[arg-type]
@@ -437,8 +519,8 @@ class World:
         ``|t - s| + |s - S| + L`` (sponge not held), ``|s - S| + L`` (held, not wiping), ``|s - E|`` (held,
         touching the table) with ``S``/``E`` the start/end points.
         """
-        if self.evaluate()[0]:
-            return 0.0
+        if self._physical()[0]:
+            return 0.0  # (also once a leave-alone object was disturbed: nothing left to move, the task is lost)
         mujoco.mj_kinematics(self.model, self.data)
         tcp = self.arm.tcp()[0]
         g = self.scene.goal

@@ -1,0 +1,420 @@
+"""Scene builders of the harder task sets (``difficulty=medium`` and ``difficulty=hard``).
+
+Same four families, same success checks and protocol as the classic set; what changes is the scene and the
+instruction:
+
+* more objects (hard: 7 shapes for pick and the sorter, 6 cubes for stacking, 7 marked areas for wiping; medium:
+  5 / 5 / 4), so a guess has many candidates;
+* look-alikes: the target's shape again in a near shade (red / maroon, blue / navy, green / lime ...), the target's
+  colour again on another shape, containers and areas in near shades, all pairs a person tells apart in the image
+  (the visual subset's curated pairs);
+* "only" conditions stated in the instruction (``GoalSpec.keep_still``): every object the task does not need must
+  stay where it is, a container other than the named one must stay empty, the sponge must not touch another area.
+  A wrong guess ruins the episode, so a plan cannot queue guesses until one succeeds;
+* multi-hop spatial references on a jittered grid ("the star just behind the cube that is just left of the red
+  moon"), whose anchors are named by colour and shape, so coordinates alone never resolve them;
+* smaller marked areas (14 x 9 cm) packed closer together;
+* towers are built from scratch (a tower already begun shows in the list's heights).
+
+Heights in the object list still tell a shape from a container, but not which shape: all shapes stand 4-4.5 cm
+tall (z 17), and every role has several candidates.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from eb_manipulation.families import (
+    _SIDE,
+    _AREA_SIDE,
+    _Draft,
+    _neighbour,
+    _Placer,
+    _Retry,
+    _spatial_ref,
+)
+from eb_manipulation.shapes import COLOURS, SHAPES, colours_confusable
+from eb_manipulation.spec import DIRECTIONS, VARIANTS, GoalSpec, ObjectSpec
+from eb_manipulation.templates import (
+    _CONTEXT_BRIDGE,
+    _CONTEXT_OPEN,
+    COLOUR_COMMON,
+    COLOUR_VISUAL,
+    DIRECTION_COMMON,
+    DIRECTION_TEXT,
+    SHAPE_COMMON,
+    SHAPE_VISUAL,
+    SPILLS,
+    VISUAL_CONTRAST,
+    pick,
+)
+
+__all__ = ["build"]
+
+
+#: Where object centres may go in the harder sets (a little wider than the classic region; all reachable and in
+#: view of the front camera).
+REGION_X = (-0.04, 0.31)
+REGION_Y = (-0.32, 0.32)
+AREA_SIZE = (0.14, 0.09)  # long side along the wiping direction, short side across (m)
+
+_KEEP = (
+    "Leave everything else exactly where it is.",
+    "Do not touch any other object.",
+    "Move nothing else.",
+    "Everything else must stay where it is.",
+)
+_KEEP_WIPE = (
+    "Do not wipe any other area, and leave everything else where it is.",
+    "Keep the sponge off every other area.",
+    "No other area may be touched by the sponge.",
+)
+_KEEP_SORTER = (
+    "Drop it straight through its own hole: nothing may be left on the sorter's lid, and everything else stays "
+    "where it is.",
+    "Use its own hole at the first try, leave nothing on the lid, and move nothing else.",
+)
+_CLOSE = (
+    "Thanks, that will make the rest of my day easier.",
+    "Once that is done, the table is ready for the next session.",
+    "No need to rush, but please be careful.",
+)
+
+
+def _near_pair(rng: np.random.Generator) -> tuple[str, str]:
+    """Two near shades a person still tells apart (the visual subset's curated pairs), in random order."""
+    a, b = pick(rng, VISUAL_CONTRAST)
+    return (a, b) if rng.random() < 0.5 else (b, a)
+
+
+def _others(rng: np.random.Generator, n: int, avoid: list[str]) -> list[str]:
+    """``n`` colours, none confusable with ``avoid`` nor with each other."""
+    names = [str(c) for c in rng.permutation(list(COLOURS))]
+    out: list[str] = []
+    for c in names:
+        if len(out) == n:
+            break
+        if all(not colours_confusable(c, o) for o in [*avoid, *out]):
+            out.append(c)
+    if len(out) < n:
+        raise _Retry("not enough distinct colours")
+    return out
+
+
+def _grid(rng: np.random.Generator, placer: _Placer, n: int, region_x=REGION_X, region_y=REGION_Y,
+          ) -> list[tuple[float, float, float]]:
+    """``n`` shape poses on a jittered grid of 2-3 rows: every object has neighbours to refer by."""
+    for _ in range(60):
+        rows = 2 if n <= 6 else 3
+        cols = -(-n // rows)
+        dx, dy = float(rng.uniform(0.115, 0.13)), float(rng.uniform(0.12, 0.14))
+        x0 = float(rng.uniform(region_x[0], region_x[1] - dx * (rows - 1)))
+        y0 = float(rng.uniform(region_y[0], region_y[1] - dy * (cols - 1)))
+        cells = [(r, c) for r in range(rows) for c in range(cols)]
+        chosen = [cells[int(i)] for i in rng.permutation(len(cells))[:n]]
+        saved = list(placer.rects)
+        out = []
+        for r, c in chosen:
+            x = x0 + r * dx + float(rng.uniform(-0.012, 0.012))
+            y = y0 + c * dy + float(rng.uniform(-0.012, 0.012))
+            a = float(rng.uniform(-180, 180))
+            if not placer.put("shape", x, y, a):
+                break
+            out.append((round(x, 4), round(y, 4), round(a, 1)))
+        if len(out) == n:
+            return out
+        placer.rects = saved
+    raise _Retry("no room for a grid")
+
+
+def _place_shapes(rng, placer, shapes, colours, grid: bool, prefix: str = "obj") -> list[ObjectSpec]:
+    poses = _grid(rng, placer, len(shapes)) if grid else [
+        placer.add("shape", region_x=REGION_X, region_y=REGION_Y) for _ in shapes]
+    return [ObjectSpec(id=f"{prefix}{k}", kind="shape", shape=s, colour=c, x=p[0], y=p[1], yaw=p[2])
+            for k, (s, c, p) in enumerate(zip(shapes, colours, poses))]
+
+
+def _lookalike_shapes(rng: np.random.Generator, target_shape: str, n: int, shape_pool: list[str] | None = None,
+                      ) -> tuple[list[str], list[str]]:
+    """Shapes and colours of ``n`` loose objects, the target first: the target's shape in a near shade, the
+    target's colour on another shape, and others (shapes may repeat)."""
+    a, b = _near_pair(rng)
+    pool = shape_pool or list(SHAPES)
+    other_shape = str(pick(rng, [s for s in pool if s != target_shape]))
+    shapes = [target_shape, target_shape, other_shape]
+    colours = [a, b, a]
+    rest = _others(rng, n - 3, [a, b])
+    for c in rest:
+        shapes.append(str(pick(rng, pool)))
+        colours.append(c)
+    # no two loose objects with the same colour and shape
+    seen = set()
+    for s, c in zip(shapes, colours):
+        if (s, c) in seen:
+            raise _Retry("duplicate object")
+        seen.add((s, c))
+    return shapes, colours
+
+
+def _two_hop(objs: list[ObjectSpec], target: ObjectSpec, rng: np.random.Generator) -> str | None:
+    """"the <shape> just <side> of the <shape A> that is just <side> of the <colour shape B>": the anchor A is named
+    by its shape only, so both hops need the image; None when the layout has no such chain."""
+    named = {(o.colour, o.shape) for o in objs}
+    options = []
+    for a in objs:
+        if a is target:
+            continue
+        for s1 in _SIDE:
+            if _neighbour(objs, a, s1) is not target:
+                continue
+            for b in objs:
+                if b is a or b is target or len([o for o in objs if (o.colour, o.shape) == (b.colour, b.shape)]) > 1:
+                    continue
+                for s2 in _SIDE:
+                    if _neighbour(objs, b, s2) is a and (b.colour, b.shape) in named:
+                        options.append(f"the {target.shape} just {_REL[s1]} the {a.shape} that is just {_REL[s2]} "
+                                       f"the {b.colour} {b.shape}")
+    return pick(rng, options) if options else None
+
+
+_REL = {"left": "to the left of", "right": "to the right of", "front": "in front of", "back": "behind"}
+
+
+def _wrap(rng: np.random.Generator, core: str) -> str:
+    opening = list(_CONTEXT_OPEN)
+    first = pick(rng, opening)
+    opening.remove(first)
+    second = pick(rng, opening)
+    return f"{first} {second} {pick(rng, _CONTEXT_BRIDGE)} {core[0].lower()}{core[1:]} {pick(rng, _CLOSE)}"
+
+
+def _tpick(rng: np.random.Generator, options, rec: list[int]):
+    """``pick`` (the same draw) that also records the sentence's index for the task's template id."""
+    i = int(rng.integers(len(options)))
+    rec.append(i)
+    return options[i]
+
+
+def _tid(family: str, subset: str, rec: list[int], extra: str = "") -> str:
+    return f"{family}/{subset}/hard{extra}/" + ".".join(str(i) for i in rec)
+
+
+def _finish(rng: np.random.Generator, subset: str, core: str, keep: tuple[str, ...] = _KEEP,
+            rec: list[int] | None = None) -> str:
+    core = f"{core} {_tpick(rng, keep, rec if rec is not None else [])}"
+    return _wrap(rng, core) if subset == "complex" else core
+
+
+def _obj_text(subset: str, o: ObjectSpec, rng: np.random.Generator) -> str:
+    """How an instruction names a loose object by its looks (base/complex: colour and shape)."""
+    if subset == "common_sense":
+        return f"{pick(rng, SHAPE_COMMON[o.shape])} with the colour of {COLOUR_COMMON[o.colour]}"  # type: ignore
+    if subset == "visual":
+        return f"the {COLOUR_VISUAL[o.colour]} object {SHAPE_VISUAL[o.shape]}"  # type: ignore[index]
+    return f"the {o.colour} {o.shape}"
+
+
+def _cont_text(subset: str, c: str) -> str:
+    if subset == "common_sense":
+        return f"the container the colour of {COLOUR_COMMON[c]}"
+    if subset == "visual":
+        return f"the {COLOUR_VISUAL[c]} container"
+    return f"the {c} container"
+
+
+# --------------------------------------------------------------------------------------------------------
+def _pick(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
+    placer = _Placer(rng)
+    rec: list[int] = []  # indices of the sentences drawn (the template id)
+    n = 7 if level >= 2 else 5
+    n_cont = 3 if level >= 2 else 2
+    ca, cb = _near_pair(rng)
+    cont_cols = [ca, cb, *_others(rng, n_cont - 2, [ca, cb])]
+    conts = []
+    for j, c in enumerate(cont_cols):
+        x, y, yaw = placer.add("container", region_x=REGION_X, region_y=REGION_Y, yaw=float(rng.uniform(-30, 30)),
+                               tries=400)
+        conts.append(ObjectSpec(id=f"box{j}", kind="container", colour=c, x=x, y=y, yaw=yaw))
+    target_shape = str(pick(rng, list(SHAPES)))
+    shapes, colours = _lookalike_shapes(rng, target_shape, n)
+    objs = _place_shapes(rng, placer, shapes, colours, grid=False)
+    target, box = objs[0], conts[0]
+    if subset == "spatial":
+        ref = _two_hop(objs, target, rng)
+        if ref is None:
+            raise _Retry("no two-hop reference")
+        core = _tpick(rng, ("Put {o} into the {c} container.", "Move {o} into the {c} container.",
+                          "Pick up {o} and drop it into the {c} container."), rec).format(o=ref, c=box.colour)
+    else:
+        o, c = _obj_text(subset, target, rng), _cont_text(subset, box.colour)  # type: ignore[arg-type]
+        core = _tpick(rng, ("Put only {o} into {c}.", "Move {o}, and nothing else, into {c}.",
+                            "Pick up {o} and place it in {c}."), rec).format(o=o, c=c)
+    instr = _finish(rng, subset, core[0].upper() + core[1:], rec=rec)
+    keep = tuple(o.id for o in objs[1:]) + tuple(c.id for c in conts[1:])
+    variant = "pick_cube_relative" if subset == "spatial" else VARIANTS["pick"]
+    return _Draft(conts + objs, GoalSpec(family="pick", target=target.id, container=box.id, keep_still=keep), instr,
+                  (target.id, box.id), variant, _tid("pick", subset, rec))
+
+
+def _stack(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
+    placer = _Placer(rng)
+    rec: list[int] = []  # indices of the sentences drawn (the template id)
+    n = 6 if level >= 2 else 5
+    # towers start from scratch: a tower already begun would show itself in the list's heights (z 22 on top of a
+    # cube), leaving a blind player one cube to guess
+    mode = ("two", "three")[k % 2]
+    height = 2 if mode == "two" else 3
+    a, b = _near_pair(rng)
+    c2, d2 = _near_pair(rng)
+    if any(colours_confusable(x, y) and x != y for x in (a, b) for y in (c2, d2)) or {a, b} & {c2, d2}:
+        raise _Retry("pairs overlap")
+    colours = [a, b, c2, d2, *_others(rng, n - 4, [a, b, c2, d2])]
+    # the tower takes one of each near pair at least, so a look-alike of a tower cube stays on the table
+    order_idx = [0, 2] + ([int(pick(rng, [i for i in range(4, n)]))] if height == 3 else [])
+    order_idx = [int(i) for i in rng.permutation(order_idx)]
+    stacked: dict[int, int] = {}
+    if mode == "partial3":
+        stacked[order_idx[1]] = order_idx[0]
+    loose = [i for i in range(n) if i not in stacked]
+    poses = _grid(rng, placer, len(loose)) if subset == "spatial" else [
+        placer.add("shape", region_x=REGION_X, region_y=REGION_Y) for _ in loose]
+    where = dict(zip(loose, poses))
+    cubes = []
+    for i in range(n):
+        if i in stacked:
+            bx, by, byaw = where[stacked[i]]
+            cubes.append(ObjectSpec(id=f"cube{i}", kind="shape", shape="cube", colour=colours[i], x=bx, y=by,
+                                    yaw=round(byaw + float(rng.uniform(-8, 8)), 1), on=f"cube{stacked[i]}"))
+        else:
+            x, y, yaw = where[i]
+            cubes.append(ObjectSpec(id=f"cube{i}", kind="shape", shape="cube", colour=colours[i], x=x, y=y, yaw=yaw))
+    order = [cubes[i] for i in order_idx]
+    if subset == "spatial":
+        refs = []
+        for c in order:
+            r = _spatial_ref(rng, cubes, c, noun="cube")
+            if r is None:
+                raise _Retry("no unique spatial reference")
+            refs.append(r)
+    elif subset == "common_sense":
+        refs = [f"the cube the colour of {COLOUR_COMMON[c.colour]}" for c in order]  # type: ignore[index]
+    elif subset == "visual":
+        refs = [f"the {COLOUR_VISUAL[c.colour]} cube" for c in order]  # type: ignore[index]
+    else:
+        refs = [f"the {c.colour} cube" for c in order]
+    if height == 2:
+        core = _tpick(rng, ("Stack {1} on top of {0}.", "Put {1} onto {0}."), rec).format(*refs)
+    else:
+        core = _tpick(rng, ("Build a tower with {0} at the bottom, {1} in the middle and {2} on top.",
+                            "Stack these cubes from the bottom up: {0}, then {1}, then {2}."), rec).format(*refs)
+    instr = _finish(rng, subset, core[0].upper() + core[1:],
+                    keep=("Use only these cubes and leave the other cubes where they are.",
+                          "Do not move any other cube."), rec=rec)
+    keep = tuple(c.id for c in cubes if c not in order)
+    variant = "stack_cubes_relative" if subset == "spatial" else VARIANTS["stack"]
+    return _Draft(cubes, GoalSpec(family="stack", order=tuple(c.id for c in order), keep_still=keep), instr,
+                  tuple(c.id for c in order), variant, _tid("stack", subset, rec, f"/{mode}"))
+
+
+def _sorter(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
+    placer = _Placer(rng)
+    rec: list[int] = []  # indices of the sentences drawn (the template id)
+    holes = [str(s) for s in rng.permutation(list(SHAPES))[:3]]
+    yaw = float(rng.choice([0.0, 90.0])) + float(rng.uniform(-10, 10))
+    if abs(yaw) < 45:
+        sx, sy = float(rng.uniform(-0.03, 0.02)), float(rng.choice([-1, 1])) * float(rng.uniform(0.17, 0.22))
+    else:
+        sx, sy = float(rng.uniform(0.08, 0.14)), float(rng.choice([-1, 1])) * float(rng.uniform(0.22, 0.26))
+    if not placer.put("sorter", sx, sy, yaw, holes=3):
+        raise _Retry("sorter")
+    sorter = ObjectSpec(id="sorter", kind="sorter", x=round(sx, 4), y=round(sy, 4), yaw=round(yaw, 1),
+                        holes=tuple(holes))
+    n = 7 if level >= 2 else 5
+    target_shape = holes[int(rng.integers(3))]
+    shapes, colours = _lookalike_shapes(rng, target_shape, n, shape_pool=holes)
+    objs = _place_shapes(rng, placer, shapes, colours, grid=subset == "spatial")
+    target = objs[0]
+    if subset == "spatial":
+        ref = _two_hop(objs, target, rng)
+        if ref is None:
+            raise _Retry("no two-hop reference")
+    else:
+        ref = _obj_text(subset, target, rng)
+    core = _tpick(rng, ("Put {o} into the shape sorter.", "Slot {o} into its hole in the shape sorter.",
+                        "Drop {o}, and only that object, through its hole in the shape sorter."), rec).format(o=ref)
+    instr = _finish(rng, subset, core[0].upper() + core[1:], keep=_KEEP_SORTER, rec=rec)
+    keep = tuple(o.id for o in objs[1:]) + (sorter.id,)
+    variant = "place_into_shape_sorter_relative" if subset == "spatial" else VARIANTS["sorter"]
+    return _Draft([sorter] + objs, GoalSpec(family="sorter", target=target.id, keep_still=keep), instr,
+                  (target.id,), variant, _tid("sorter", subset, rec))
+
+
+def _area_size(direction: str) -> tuple[float, float]:
+    long, short = AREA_SIZE
+    return (short, long) if direction in ("left_to_right", "right_to_left") else (long, short)
+
+
+def _wipe(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
+    placer = _Placer(rng)
+    rec: list[int] = []  # indices of the sentences drawn (the template id)
+    direction = DIRECTIONS[k % 4]
+    size = _area_size(direction)
+    n = 7 if level >= 2 else 4
+    if subset == "common_sense":
+        spills = [c for c in SPILLS]
+        a = str(pick(rng, spills))
+        near = [c for c in spills if c != a and colours_confusable(a, c)] or [c for c in spills if c != a]
+        b = str(pick(rng, near))
+        rest = [c for c in rng.permutation(spills) if c not in (a, b)][: n - 2]
+        colours = [a, b, *[str(c) for c in rest]]
+    elif subset == "spatial":
+        a, b = _near_pair(rng)
+        colours = [a, a, b, *_others(rng, n - 3, [a, b])]
+    else:
+        a, b = _near_pair(rng)
+        colours = [a, b, *_others(rng, n - 2, [a, b])]
+    areas = []
+    for j, c in enumerate(colours):
+        x, y, _ = placer.add("area", region_x=(-0.05, 0.31), region_y=(-0.33, 0.33), yaw=0.0, size=size, tries=600)
+        areas.append(ObjectSpec(id=f"area{j}", kind="area", colour=c, x=x, y=y, size=size))
+    sx, sy, syaw = placer.add("sponge", region_x=REGION_X, region_y=REGION_Y, tries=400)
+    sponge = ObjectSpec(id="sponge", kind="sponge", x=sx, y=sy, yaw=syaw)
+    n_shapes = int(rng.integers(1, 3))
+    shapes = [str(s) for s in rng.choice(list(SHAPES), size=n_shapes)]
+    others = _place_shapes(rng, placer, shapes, _others(rng, n_shapes, []), grid=False)
+    target = areas[0]
+    d = DIRECTION_TEXT[direction]
+    if subset == "common_sense":
+        core = _tpick(rng, ("Wipe up the patch of {s} with the sponge, moving {d}.",
+                            "Some {s} was spilled; clean just that patch with the sponge, wiping {d}."), rec).format(
+            s=pick(rng, SPILLS[target.colour]), d=DIRECTION_COMMON[direction])  # type: ignore[index]
+    elif subset == "spatial":
+        twin = areas[1]
+        sides = [side for side in _SIDE if _extreme_pair(target, twin, side)]
+        if not sides:
+            raise _Retry("the two areas are not clearly apart")
+        core = _tpick(rng, ("Wipe {a} {d} using the sponge.", "With the sponge, wipe {a} {d}."), rec).format(
+            a=_AREA_SIDE[pick(rng, sides)].format(c=target.colour), d=d)
+    else:
+        core = _tpick(rng, ("Wipe the {c} area {d} with the sponge.", "Use the sponge to wipe only the {c} area {d}."),
+                      rec).format(c=target.colour, d=d)
+    instr = _finish(rng, subset, core, keep=_KEEP_WIPE, rec=rec)
+    keep = tuple(a.id for a in areas[1:]) + tuple(o.id for o in others)
+    variant = "wipe_table_relative" if subset == "spatial" else VARIANTS["wipe"]
+    return _Draft(areas + [sponge] + others,
+                  GoalSpec(family="wipe", target="sponge", area=target.id, direction=direction, keep_still=keep),
+                  instr, ("sponge", target.id), variant, _tid("wipe", subset, rec))
+
+
+def _extreme_pair(a: ObjectSpec, b: ObjectSpec, side: str, margin: float = 0.06) -> bool:
+    axis, sign = _SIDE[side]
+    va, vb = (a.y, b.y) if axis else (a.x, b.x)
+    return sign * (va - vb) >= margin
+
+
+_BUILDERS = {"pick": _pick, "stack": _stack, "sorter": _sorter, "wipe": _wipe}
+
+
+def build(family: str, rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
+    """A draft task of ``family`` at a difficulty ``level`` >= 1 (see :data:`LEVELS`)."""
+    return _BUILDERS[family](rng, subset, k, level)

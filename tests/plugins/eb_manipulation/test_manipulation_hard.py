@@ -1,0 +1,239 @@
+"""The hard task set and the classic-set fixes of issue 25 (sorter holes, leave-alone goals, wipe feedback)."""
+
+from __future__ import annotations
+
+import hashlib
+from collections import Counter
+
+import numpy as np
+import pytest
+
+from eb_core.taskfile import TaskFileError as CoreTaskFileError
+from eb_core.taskfile import task_set_digest
+from eb_manipulation.env import ManipulationEnv
+from eb_manipulation.generate import make_task, verify_task
+from eb_manipulation.scene import TABLE_TOP, SORTER
+from eb_manipulation.tasks import DEFAULT_TASK_FILE, HARD_TASK_FILE, SUBSET_COUNTS, TaskFileError, load_task_file
+
+CLASSIC_SHA256 = "316e66bb560a60e2185bd4b19f1040f9542f79ddf1a5d11b3d01bfb5a3d16ee4"
+
+
+def test_classic_task_file_is_unchanged():
+    assert hashlib.sha256(DEFAULT_TASK_FILE.read_bytes()).hexdigest() == CLASSIC_SHA256
+    tasks = load_task_file()
+    assert len(tasks) == 228 and task_set_digest(tasks) == task_set_digest(load_task_file(taskset="classic"))
+
+
+def test_task_file_error_is_the_cores():
+    assert TaskFileError is CoreTaskFileError
+
+
+@pytest.fixture(scope="module")
+def hard():
+    return ManipulationEnv.load_tasks(taskset="hard")
+
+
+def test_hard_set_has_the_classic_subsets_and_leave_alone_goals(hard):
+    assert Counter(t.subset for t in hard) == Counter(SUBSET_COUNTS)
+    assert HARD_TASK_FILE.is_file()
+    classic_instr = {t.instruction for t in load_task_file()}
+    for t in hard:
+        goal = t.metadata["goal"]
+        assert goal["keep_still"], t.id  # every hard task says "only": look-alikes must stay untouched
+        assert t.instruction not in classic_instr
+    for subset in SUBSET_COUNTS:
+        instr = [t.instruction for t in hard if t.subset == subset]
+        assert len(set(instr)) == len(instr)
+        assert len({t.metadata["template"] for t in hard if t.subset == subset}) >= 10  # the audit's floor
+    # more candidates than the classic set: at least 5 loose shapes or 6 areas in every pick/sorter/wipe scene
+    for t in hard:
+        kinds = Counter(o["kind"] for o in t.metadata["objects"])
+        fam = t.metadata["family"]
+        assert kinds["area"] >= 7 if fam == "wipe" else kinds["shape"] >= 6, (t.id, kinds)
+        if fam == "stack":  # towers start from scratch: no cube stands on another (heights would give it away)
+            assert not any(o["on"] for o in t.metadata["objects"]), t.id
+
+
+@pytest.mark.parametrize("subset", list(SUBSET_COUNTS))
+def test_expert_solves_a_hard_sample_open_and_closed_loop(hard, subset):
+    sample = [t for t in hard if t.subset == subset][::11]
+    for t in sample:
+        entry = t.model_dump()
+        assert verify_task(entry)[0], t.id
+        assert verify_task(entry, closed_loop=True)[0], t.id
+
+
+def _first(level: int) -> dict:
+    from eb_manipulation.generate import _Retry
+
+    for attempt in range(50):
+        try:
+            return make_task(0, "base", "pick", 0, attempt, level=level)
+        except _Retry:
+            continue
+    raise AssertionError("no draw")
+
+
+def test_difficulty_knob_draws_other_scenes_and_keeps_classic():
+    classic = _first(0)
+    shipped = {t.id: t for t in load_task_file()}["base_pick_00"]
+    assert make_task(0, "base", "pick", 0, shipped.metadata["attempt"])["instruction"] == shipped.instruction
+    assert "keep_still" not in classic["metadata"]["goal"]  # classic entries keep their old form
+    medium, hard = _first(1), _first(2)
+    n = [sum(o["kind"] == "shape" for o in m["metadata"]["objects"]) for m in (classic, medium, hard)]
+    assert n[1] == 5 and n[2] == 7 and medium["metadata"]["goal"]["keep_still"]
+
+
+def _sorter_case(env, tasks):
+    for t in tasks:
+        if t.metadata["family"] != "sorter":
+            continue
+        env.reset(t, 0)
+        sorter = next(o for o in env._scene.objects if o.kind == "sorter")
+        for o in env._scene.objects:
+            if o.kind == "shape" and o.shape not in sorter.holes:
+                return t, sorter, o
+    raise AssertionError("no classic sorter task with a shape that matches no hole")
+
+
+def test_a_shape_passes_only_through_its_own_hole(env, tasks):
+    """Issue 25: the sorter let any shape through any hole; now a wrong shape stays on the lid."""
+    from eb_manipulation.oracle import _clear_yaw, state_of_world
+    from eb_manipulation.actions import angle_to_bin, pos_to_bin
+    from eb_manipulation.scene import hole_centres
+
+    task, sorter, shape = _sorter_case(env, list(tasks.values()))
+    world = env._world
+    p = world.body_pos(shape.id)
+    yaw = _clear_yaw(env._scene, state_of_world(world), shape.id)
+    grab = [pos_to_bin(p[0], "x"), pos_to_bin(p[1], "y"), pos_to_bin(p[2], "z"), 120, 60, angle_to_bin(yaw)]
+    assert env.step(grab + [1]).action_success
+    r = env.step(grab + [0])
+    assert world.held == shape.id, r.feedback
+    hx, hy = hole_centres(sorter)[0]
+    above = [pos_to_bin(hx, "x"), pos_to_bin(hy, "y"), pos_to_bin(TABLE_TOP + SORTER.height + 0.06, "z"), 120, 60,
+             angle_to_bin(yaw)]
+    assert env.step(above + [0]).action_success
+    r = env.step(above + [1])
+    assert world.held is None
+    z = world.body_pos(shape.id)[2]
+    assert z > TABLE_TOP + SORTER.height, f"{shape.shape} fell through a {sorter.holes[0]} hole (z={z:.3f})"
+    assert not r.task_success
+
+
+@pytest.mark.parametrize("family", ["pick", "stack"])
+def test_grasping_a_look_alike_ruins_a_hard_task(env, hard, family):
+    from eb_manipulation.actions import angle_to_bin, pos_to_bin
+    from eb_manipulation.oracle import _clear_yaw, state_of_world
+
+    task = next(t for t in hard if t.metadata["family"] == family)
+    env.reset(task, 0)
+    world = env._world
+    from eb_manipulation.oracle import _holding
+
+    for other in [o for o in task.metadata["goal"]["keep_still"] if env._scene.get(o).kind == "shape"]:
+        acts, yaw, _, _ = _holding(env._scene, state_of_world(world), other)
+        for a in acts:
+            env.step(list(a))
+        if world.held == other:
+            break
+    else:
+        pytest.skip("no scripted grasp of a look-alike worked")
+    grab = list(acts[-1][:6])
+    env.step(grab + [1])  # put it straight back
+    assert world.disturbed == other
+    assert env.expert_plan() is not None  # the expert still plans; success can no longer happen
+    for _ in range(12):
+        plan = env.expert_plan()
+        if not plan:
+            break
+        r = env.step(plan[0])
+        assert not r.task_success
+        assert r.info["distance_to_goal"] >= 0.0  # defined all the way, also once the tower stands
+
+
+def test_wipe_feedback_says_whether_the_sponge_touched_the_table(env, tasks):
+    from eb_manipulation.actions import pos_to_bin
+
+    task = next(t for t in tasks.values() if t.metadata["family"] == "wipe")
+    env.reset(task, 0)
+    plan = env.expert_plan()
+    notes = []
+    for action in plan:
+        r = env.step(action)
+        notes.append(r.feedback)
+    assert any("did not touch the table" in f for f in notes[2:]) or any("wiped from" in f for f in notes)
+    assert any("was pressed on the table and wiped from (x, y) = [" in f for f in notes), notes
+    # lifting the sponge high and moving: the feedback says it wiped nothing
+    world = env._world
+    if world.held is not None:
+        p = world.body_pos(world.held)
+        env.step([pos_to_bin(p[0], "x"), pos_to_bin(p[1], "y"), pos_to_bin(p[2] + 0.1, "z"), 120, 60, 60, 0])
+        r = env.step([pos_to_bin(p[0], "x"), pos_to_bin(p[1] + 0.05, "y"), pos_to_bin(p[2] + 0.1, "z"), 120, 60, 60, 0])
+        if r.action_success:
+            assert "did not touch the table" in r.feedback
+
+
+def test_feedback_numbers_objects_by_the_list_before_the_action(env, tasks):
+    """A released object keeps the number it had when the action was chosen; a new number is given beside it."""
+    seen_change = False
+    for task in [t for t in tasks.values() if t.metadata["family"] in ("pick", "sorter")]:
+        if seen_change:
+            break
+        env.reset(task, 0)
+        before_list = env._observe().extra_prompt
+        for action in env.expert_plan() or []:
+            order = list(env._order)
+            r = env.step(action)
+            if "let go of object" in r.feedback:
+                target = env._scene.goal.target
+                n_before = order.index(target) + 1
+                assert f"let go of object {n_before}" in r.feedback
+                n_now = env._order.index(target) + 1
+                if n_now != n_before:
+                    assert f"(object {n_now} in the new list)" in r.feedback
+                    seen_change = True
+            if "holding object" in r.feedback:
+                assert f"holding object {order.index(env._world.held) + 1}" in r.feedback
+        assert before_list
+    assert seen_change
+
+
+def test_boxes_are_one_neutral_colour():
+    from eb_manipulation.render import BOX_COLOURS
+
+    assert len(set(BOX_COLOURS)) == 1 and len(set(BOX_COLOURS[0])) == 1  # a grey/white: no hue of its own
+    assert np.ptp(BOX_COLOURS[0]) == 0
+
+
+def test_a_hard_sorter_task_allows_one_hole_try(env, hard):
+    """Dropping the right shape on a wrong hole leaves it on the lid, and the hard task is lost for good."""
+    from eb_manipulation.actions import angle_to_bin, pos_to_bin
+    from eb_manipulation.oracle import _clear_yaw, state_of_world
+    from eb_manipulation.scene import hole_centres
+
+    task = next(t for t in hard if t.metadata["family"] == "sorter")
+    env.reset(task, 0)
+    world, scene = env._world, env._scene
+    sorter = next(o for o in scene.objects if o.kind == "sorter")
+    target = scene.get(scene.goal.target)
+    assert sorter.id in scene.goal.keep_still
+    wrong = next(k for k, h in enumerate(sorter.holes) if h != target.shape)
+    p = world.body_pos(target.id)
+    yaw = _clear_yaw(scene, state_of_world(world), target.id)
+    grab = [pos_to_bin(p[0], "x"), pos_to_bin(p[1], "y"), pos_to_bin(p[2], "z"), 120, 60, angle_to_bin(yaw)]
+    env.step(grab + [1])
+    env.step(grab + [0])
+    if world.held != target.id:
+        pytest.skip("the scripted grasp missed")
+    hx, hy = hole_centres(sorter)[wrong]
+    above = [pos_to_bin(hx, "x"), pos_to_bin(hy, "y"), pos_to_bin(TABLE_TOP + SORTER.height + 0.06, "z"), 120, 60,
+             angle_to_bin(yaw)]
+    assert env.step(above + [0]).action_success
+    env.step(above + [1])
+    assert world.on_sorter_lid(target.id, sorter) and world.disturbed == sorter.id
+    for _ in range(10):
+        plan = env.expert_plan()
+        if not plan:
+            break
+        assert not env.step(plan[0]).task_success
