@@ -59,8 +59,16 @@ _FIELD_HELP = {
 _VECTOR_PLAN_HELP = ("The actions to execute now, in order, each a list of integers in the action format. Never "
                      "an empty list while the task is unfinished.")
 
-#: The worlds whose plugins ship visual in-context examples (the original had them for these two).
-VISUAL_ICL_WORLDS = ("navigation", "manipulation")
+
+def _worlds_with_visual_examples() -> str:
+    """The installed worlds whose specs say they ship visual in-context examples (for an error message)."""
+    try:
+        from eb_core.plugins import Registry
+
+        names = [n for n, spec in Registry.create().envs.items() if spec.visual_examples]
+    except Exception:  # noqa: BLE001 - only a hint in an error message
+        names = []
+    return ", ".join(names) or "none installed"
 
 
 @runtime_checkable
@@ -221,7 +229,7 @@ class VLMPlanner:
         if self.visual_icl and not parts.visual_examples:
             raise PlannerConfigError(
                 f"ablation visual_icl needs visual in-context examples, and env {self.env_config.name!r} ships "
-                f"none; worlds with visual examples: {', '.join(VISUAL_ICL_WORLDS)} (env=...), or pick another "
+                f"none; worlds with visual examples: {_worlds_with_visual_examples()} (env=...), or pick another "
                 f"ablation")
         self.task, self.parts, self.space = task, parts, space
         self.history.clear()

@@ -77,6 +77,11 @@ class EnvSpec(ComponentSpec):
 
     subsets: dict[str, int] = Field(default_factory=dict)
     """Subset name -> number of shipped tasks (shown by ``eb list`` without loading anything)."""
+    display_name: str = ""
+    """How the world is spelled in titles and Gymnasium ids (``ALFRED`` -> ``EB/ALFRED-v0``); default: the name
+    with a capital letter."""
+    visual_examples: bool = False
+    """The world ships visual in-context examples (``ablation=visual_icl``)."""
     tasksets: tuple[str, ...] = ("classic",)
     """Shipped task sets (``taskset=``); ``classic`` is the paper's. Another set is passed to
     :meth:`eb_core.env.Env.load_tasks` (and ``split_tasks``) as the keyword ``taskset``."""

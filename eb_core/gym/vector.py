@@ -43,7 +43,7 @@ _START_ATTEMPTS = 3
 
 def _resolve(world: str) -> str:
     """Accept ``EB/Navigation-v0``, ``eb_core.gym:EB/Navigation-v0`` or the env name ``navigation``."""
-    from eb_core.gym import gym_id, registered_ids
+    from eb_core.gym.ids import gym_id, registered_ids
 
     if ":" in world:
         world = world.split(":", 1)[1]
@@ -64,10 +64,10 @@ class _MakeEnv:
         self.gid, self.world, self.kwargs = gid, world, kwargs
 
     def __call__(self) -> gymnasium.Env:
-        import eb_core.gym as ebgym
+        from eb_core.gym.ids import register_worlds
 
         if self.gid not in gymnasium.registry:
-            ebgym.register_worlds()
+            register_worlds()
         if self.gid not in gymnasium.registry:  # a world from a plugin the worker cannot see under that id
             gymnasium.register(self.gid, entry_point="eb_core.gym.env:EBEnv", kwargs={"world": self.world},
                                disable_env_checker=True)
@@ -379,7 +379,7 @@ def make_vector_env(world: str | None, num_envs: int, *, workers: int | None = N
         if world is None:
             raise ValueError("make_vector_env needs a world (an id such as 'EB/Navigation-v0' or an env name) "
                              "or env_fns")
-        from eb_core.gym import registered_ids
+        from eb_core.gym.ids import registered_ids
 
         gid = _resolve(world)
         from eb_core.gym.env import _compose

@@ -18,7 +18,7 @@ SUBSETS = {
 def eb_register_envs() -> list[EnvSpec]:
     return [
         EnvSpec(
-            name="alfred",
+            name="alfred", display_name="ALFRED",
             entry_point="eb_alfred.env:AlfredEnv",
             description="EB-ALFRED: household tasks with 8 high-level skills over a symbolic AI2-THOR-style world",
             subsets=dict(SUBSETS),

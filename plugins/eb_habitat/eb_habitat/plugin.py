@@ -18,7 +18,7 @@ SUBSETS = {
 def eb_register_envs() -> list[EnvSpec]:
     return [
         EnvSpec(
-            name="habitat",
+            name="habitat", display_name="Habitat",
             entry_point="eb_habitat.env:HabitatEnv",
             description="EB-Habitat: rearrange small objects in an apartment with 70 fixed high-level skills "
             "(navigate to receptacles only, pick, place, open, close); 300 tasks in 6 subsets",

@@ -9,7 +9,7 @@ SUBSETS = {"base": 48, "common_sense": 48, "complex": 48, "spatial": 48, "visual
 def eb_register_envs() -> list[EnvSpec]:
     return [
         EnvSpec(
-            name="manipulation",
+            name="manipulation", display_name="Manipulation", visual_examples=True,
             entry_point="eb_manipulation.env:ManipulationEnv",
             description="EB-Manipulation: 228 tabletop tasks for a Franka Panda in MuJoCo (pick & place, stacking, "
                         "shape sorter, wiping; classic and hard sets); discrete 7-D gripper poses",

@@ -17,7 +17,7 @@ SUBSETS = {
 def eb_register_envs() -> list[EnvSpec]:
     return [
         EnvSpec(
-            name="navigation",
+            name="navigation", display_name="Navigation", visual_examples=True,
             entry_point="eb_navigation.env:NavigationEnv",
             description="EB-Navigation: walk to a named object in procedurally furnished MuJoCo rooms with 8 "
             "low-level moves (step, turn, tilt); 300 tasks in 5 subsets, success within 1 m",
