@@ -34,7 +34,8 @@ def _ci_cell(block: dict[str, Any], key: str) -> str:
     bar = (f"<span class=ci title='95% interval {100 * lo:.1f} to {100 * hi:.1f}'>"
            f"<span class=span style='left:{160 * lo:.0f}px;width:{max(1.0, 160 * (hi - lo)):.0f}px'></span>"
            f"<span class=pt style='left:{min(158.0, 160 * value):.0f}px'></span></span>")
-    return f"<td class=num>{100 * value:.1f} <span class=muted>[{100 * lo:.1f}, {100 * hi:.1f}]</span></td><td>{bar}</td>"
+    return (f"<td class=num>{100 * value:.1f} <span class=muted>[{100 * lo:.1f}, {100 * hi:.1f}]</span></td>"
+            f"<td>{bar}</td>")
 
 
 def _error_summary_html(block: dict[str, Any]) -> str:
@@ -168,7 +169,8 @@ def write_html(run_dir: str | Path, *, registry: Any = None) -> Path:
     banner = _incomplete_banner(meta, n_records, measured)
     rate, method, errors = _headline(overall, measured)
     reps = f" · {repeats} repeats per task" if repeats > 1 else ""
-    body = (f"<h1>{_e(title)}</h1>{banner}<p class=muted>{_e(root)} · {n_records} episode{'' if n_records == 1 else 's'}{reps} · {rate} · "
+    body = (f"<h1>{_e(title)}</h1>{banner}<p class=muted>{_e(root)} · {n_records} "
+            f"episode{'' if n_records == 1 else 's'}{reps} · {rate} · "
             f"{errors} · cost "
             f"${meta.get('total_cost_usd', overall.get('cost_usd', 0)):.4f}</p>"
             "<h2>Subsets</h2><table><tr><th>subset</th><th>episodes</th><th>success % [95% CI]</th><th></th>"

@@ -163,9 +163,9 @@ def episode_page(run_title: str, rec: dict[str, Any], ep_dir: Path, conf: dict[s
 
 def _walk_svg(steps: list[Any]) -> str:
     """A small map of the agent's walk (recorded ``position`` per action) and its distance to the target."""
-    pts = [(a.model_extra or {}).get("position") for s in steps for a in s.actions]
+    recorded = [(a.model_extra or {}).get("position") for s in steps for a in s.actions]
     dist = [a.distance_to_goal for s in steps for a in s.actions]
-    pts = [p for p in pts if isinstance(p, (list, tuple)) and len(p) == 2]
+    pts: list[Any] = [p for p in recorded if isinstance(p, (list, tuple)) and len(p) == 2]
     out = []
     if len(pts) >= 2:
         xs, ys = [float(p[0]) for p in pts], [float(p[1]) for p in pts]
@@ -182,7 +182,8 @@ def _walk_svg(steps: list[Any]) -> str:
             f"<circle cx='{xy(xs[0], ys[0]).split(',')[0]}' cy='{xy(xs[0], ys[0]).split(',')[1]}' r='5' "
             "fill='#0a7a2f'></circle>"
             f"<circle cx='{xy(xs[-1], ys[-1]).split(',')[0]}' cy='{xy(xs[-1], ys[-1]).split(',')[1]}' r='5' "
-            "fill='#b42318'></circle></svg><figcaption class=muted>The walk seen from above (north up): green after the "
+            "fill='#b42318'></circle></svg><figcaption class=muted>The walk seen from above (north up): green after "
+            "the "
             f"first action, red at the end; {span:.1f} m across.</figcaption></figure>")
     known = [d for d in dist if d is not None]
     if known:
@@ -191,7 +192,8 @@ def _walk_svg(steps: list[Any]) -> str:
         line = " ".join(f"{i * w:.1f},{110 - 100 * d / top:.1f}" for i, d in enumerate(dist) if d is not None)
         out.append(
             "<figure style='margin:0'><svg width=270 height=120 style='background:#fff;border:1px solid #dde1e6'>"
-            f"<polyline points='{line}' fill='none' stroke='#a15c00' stroke-width='2'></polyline></svg><figcaption class=muted>"
+            f"<polyline points='{line}' fill='none' stroke='#a15c00' stroke-width='2'></polyline></svg>"
+            "<figcaption class=muted>"
             f"Distance to the target after each action: {known[0]:.2f} m to {known[-1]:.2f} m (top of the chart "
             f"{top:.1f} m).</figcaption></figure>")
     return "".join(out)

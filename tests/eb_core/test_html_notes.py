@@ -4,6 +4,7 @@ import re
 
 import fixture_plugin
 from eb_core_testutil import make_config
+
 from eb_core import EnvSpec, hookimpl
 from eb_core.html import write_compare, write_html
 from eb_core.plugins import Registry, get_plugin_manager
