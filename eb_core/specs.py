@@ -90,6 +90,8 @@ class EnvSpec(ComponentSpec):
     audit_probes: str | None = None
     """Optional ``"module:function"`` returning the world's own ``eb audit`` probes
     (``list[eb_core.audit.contract.AuditProbe]``), imported only when an audit runs."""
+    notes: str = ""
+    """What a reader of this world's episodes should know (plain text), shown on the viewer's episode pages."""
 
     @field_validator("task_generator", "audit_probes")
     @classmethod

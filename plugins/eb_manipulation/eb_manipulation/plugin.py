@@ -18,6 +18,12 @@ def eb_register_envs() -> list[EnvSpec]:
             task_generator="eb_manipulation.generate:generate",
             audit_probes="eb_manipulation.audit:audit_probes",
             install_hint="pip install -e plugins/eb_manipulation",
+            notes="Objects are numbered afresh by their position (left to right in the front image) after every "
+                  "action, and each planner call gets the new list, so \"object 3\" in one call need not be "
+                  "\"object 3\" in the next. An action's feedback uses the numbering from just before that action "
+                  "and adds \"(object M in the new list)\" when the action changed a number; earlier actions of the "
+                  "same plan may already have renumbered things (an object grasped as object 4 may be let go of as "
+                  "object 3 once carried).",
         )
     ]
 
