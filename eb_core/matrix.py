@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import csv
 import json
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -36,7 +37,7 @@ def run_label(run_dir: Path, cfg: dict[str, Any]) -> str:
     return f"{model}/{ablation or 'none'}/{cfg.get('experiment', 'default')}"
 
 
-def write_matrix(run_dirs: list[str | Path], out: str | Path, *, overwrite: bool = False) -> list[Path]:
+def write_matrix(run_dirs: Sequence[str | Path], out: str | Path, *, overwrite: bool = False) -> list[Path]:
     """Write the task x run matrix of ``run_dirs`` into the folder ``out``; return the files written."""
     from eb_core.records import RunFiles
 

@@ -66,7 +66,7 @@ def _worlds_with_visual_examples() -> str:
         from eb_core.plugins import Registry
 
         names = [n for n, spec in Registry.create().envs.items() if spec.visual_examples]
-    except Exception:  # noqa: BLE001 - only a hint in an error message
+    except Exception:
         names = []
     return ", ".join(names) or "none installed"
 

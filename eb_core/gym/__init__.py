@@ -13,8 +13,8 @@ docs/training.md describes observations, actions, rewards, splits and the vector
 
 from __future__ import annotations
 
-from eb_core.gym.ids import gym_id, register_worlds, registered_ids
 from eb_core.gym.env import CHARSET, IMAGE_PLACEHOLDER, EBEnv, request_observation
+from eb_core.gym.ids import gym_id, register_worlds, registered_ids
 from eb_core.gym.rewards import PRESETS, TERMS, reward_weights
 from eb_core.gym.vector import EBVectorEnv, make_vector_env
 

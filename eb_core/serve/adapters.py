@@ -55,7 +55,7 @@ class BatchService:
 
         from eb_core.gym import IMAGE_PLACEHOLDER
 
-        pngs = obs.get("images") if "images" in obs else [obs["image"]]
+        pngs: list[str] = list(obs.get("images") or []) if "images" in obs else [obs["image"]]
         images = [Image.open(io.BytesIO(base64.b64decode(p))).convert("RGB") for p in pngs]
         text = obs.get("prompt", obs.get("text", ""))
         return {"obs_str": text.replace(IMAGE_PLACEHOLDER, "<image>"), "multi_modal_data": {"<image>": images}}

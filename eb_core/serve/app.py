@@ -133,8 +133,8 @@ def create_app(pool: SessionPool, *, token: str | None = None, world: str = "", 
 
     @app.get("/v1/health", response_model=Health, response_model_by_alias=True)
     def health() -> Health:
-        return Health(status="ok", world=cfg.world, obs_mode=cfg.obs_mode, split=cfg.split, taskset=cfg.taskset,
-                      capacity=pool.capacity, free=pool.free(), workers=len(pool.vec.workers))
+        return Health(status="ok", schema=SCHEMA, world=cfg.world, obs_mode=cfg.obs_mode, split=cfg.split,
+                      taskset=cfg.taskset, capacity=pool.capacity, free=pool.free(), workers=len(pool.vec.workers))
 
     @app.get("/v1/stats", response_model=Stats)
     def stats() -> Stats:
@@ -143,7 +143,7 @@ def create_app(pool: SessionPool, *, token: str | None = None, world: str = "", 
     @app.post("/v1/sessions", response_model=SessionInfo, response_model_by_alias=True, status_code=201)
     def create(body: CreateSession) -> SessionInfo:
         s = pool.create(body.num_envs, body.autoreset)
-        return SessionInfo(session=s.id, num_envs=len(s.slots), world=cfg.world, obs_mode=cfg.obs_mode,
+        return SessionInfo(session=s.id, num_envs=len(s.slots), schema=SCHEMA, world=cfg.world, obs_mode=cfg.obs_mode,
                            split=cfg.split, taskset=cfg.taskset,
                            observation_space=describe(pool.single_observation_space),
                            action_space=describe(pool.single_action_space),

@@ -47,7 +47,7 @@ def _to_json(value: Any) -> Any:
     return value
 
 
-class RemoteVectorEnv(VectorEnv):  # type: ignore[type-arg]
+class RemoteVectorEnv(VectorEnv):
     """``num_envs`` environments leased from an ``eb serve`` server (see the module docstring).
 
     Args:
@@ -142,8 +142,8 @@ class RemoteVectorEnv(VectorEnv):  # type: ignore[type-arg]
         if self.images == "png":
             return tuple(self._last_obs)
         obs = [o if o is not None else self.single_observation_space.sample() for o in self._last_obs]
-        return concatenate(self.single_observation_space, obs,
-                           create_empty_array(self.single_observation_space, self.num_envs))
+        out: Any = create_empty_array(self.single_observation_space, self.num_envs)
+        return concatenate(self.single_observation_space, obs, out)
 
     # -- gymnasium API -------------------------------------------------------------------------------
 

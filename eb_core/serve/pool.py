@@ -38,7 +38,7 @@ class PoolError(Exception):
         self.status = status
 
 
-class PngObservations(gymnasium.Wrapper):  # type: ignore[type-arg]
+class PngObservations(gymnasium.Wrapper):
     """Runs in the worker: every image of an observation leaves the worker as PNG bytes, so the server process
     only base64-encodes (the encoding work is spread over the workers)."""
 
@@ -67,7 +67,7 @@ class _ServedEnv:
     def __init__(self, make: Any) -> None:
         self.make = make
 
-    def __call__(self) -> gymnasium.Env:  # type: ignore[type-arg]
+    def __call__(self) -> gymnasium.Env:
         return PngObservations(self.make())
 
 
@@ -146,7 +146,8 @@ class _Batcher:
             item = self.q.get()
             if item is None:
                 return
-            batch, used, deferred = [item], set(item[0]), []
+            batch, used = [item], set(item[0])
+            deferred: list[tuple[dict[int, Any], Future[Any]] | None] = []
             while True:
                 try:
                     more = self.q.get_nowait()
