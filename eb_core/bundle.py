@@ -97,19 +97,12 @@ def _expected_episodes(world: str, run: dict[str, Any]) -> int | None:
     return sum(spec.subsets.values()) * int(run.get("repeats") or 1)
 
 
-def write_bundle(run_dirs: Sequence[str | Path], out: str | Path, *,
-                 verify: Callable[[Path], tuple[bool | None, str]] | None = None) -> Path:
-    """Write the site for ``run_dirs`` into ``out`` and return ``out/index.html``.
-
-    ``verify(run_dir) -> (ok, one line)`` checks each run (``None``: not checked); by default ``eb verify``'s
-    replay when it is installed."""
-    from eb_core.html import write_compare, write_html
+def _collect(run_dirs: Sequence[str | Path], out: Path,
+             verify: Callable[[Path], tuple[bool | None, str]]) -> list[dict[str, Any]]:
+    """Copy each run into the site, write its viewer, verify it and note whether it is partial."""
+    from eb_core.html import write_html
     from eb_core.report import load_run
 
-    out = Path(out)
-    if out.exists() and any(out.iterdir()):
-        raise FileExistsError(f"{out} exists and is not empty; choose a new folder for the bundle")
-    verify = verify if verify is not None else _default_verify
     taken: set[str] = set()
     entries: list[dict[str, Any]] = []
     for rd in map(Path, run_dirs):
@@ -127,6 +120,13 @@ def write_bundle(run_dirs: Sequence[str | Path], out: str | Path, *,
         partial = (not run["complete"]) or (expected is not None and n < expected)
         entries.append({"run": run, "slug": slug, "taskset": taskset, "verified": ok, "why": why, "partial": partial,
                         "episodes": n, "expected": expected, "copy": copy})
+    return entries
+
+
+def _compares(entries: list[dict[str, Any]], out: Path) -> dict[str, str]:
+    """A task-by-task comparison per world with several runs (worlds whose runs share no task get none)."""
+    from eb_core.html import write_compare
+
     by_world: dict[str, list[dict[str, Any]]] = {}
     for e in entries:
         by_world.setdefault(e["run"]["env"], []).append(e)
@@ -138,6 +138,24 @@ def write_bundle(run_dirs: Sequence[str | Path], out: str | Path, *,
                 compares[world] = f"compare/{world}/index.html"
             except ValueError:
                 pass  # the runs share no task
+    return compares
+
+
+def write_bundle(run_dirs: Sequence[str | Path], out: str | Path, *,
+                 verify: Callable[[Path], tuple[bool | None, str]] | None = None) -> Path:
+    """Write the site for ``run_dirs`` into ``out`` and return ``out/index.html``.
+
+    ``verify(run_dir) -> (ok, one line)`` checks each run (``None``: not checked); by default ``eb verify``'s
+    replay when it is installed."""
+    out = Path(out)
+    if out.exists() and any(out.iterdir()):
+        raise FileExistsError(f"{out} exists and is not empty; choose a new folder for the bundle")
+    verify = verify if verify is not None else _default_verify
+    entries = _collect(run_dirs, out, verify)
+    compares = _compares(entries, out)
+    by_world: dict[str, list[dict[str, Any]]] = {}
+    for e in entries:
+        by_world.setdefault(e["run"]["env"], []).append(e)
     sections = []
     for world, group in sorted(by_world.items()):
         subsets = list(dict.fromkeys(s for g in group for s in g["run"]["subsets"]))
