@@ -35,9 +35,10 @@ def _rooms():
     cache: dict[tuple, Any] = {}
 
     def get(spec):
-        key = (spec.scene.kind, spec.scene.seed, spec.extra_objects)
+        key = (spec.scene.kind, spec.scene.seed, spec.scene.clutter, spec.extra_objects)
         if key not in cache:
-            cache[key] = NavRoom(spec.scene.kind, spec.scene.seed, [e.spec() for e in spec.extra_objects])
+            cache[key] = NavRoom(spec.scene.kind, spec.scene.seed, [e.spec() for e in spec.extra_objects],
+                                 spec.scene.clutter)
         return cache[key]
 
     return get

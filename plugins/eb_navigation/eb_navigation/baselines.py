@@ -22,8 +22,8 @@ import numpy as np
 from eb_core.audit.contract import BlindPolicy
 from eb_navigation.geometry import SUCCESS_DISTANCE, AgentState, FreeSpace, _move_delta
 
-__all__ = ["BLIND_POLICIES", "BlindPolicy", "MAX_STEPS", "RULE_AGENTS", "blind_policy", "blind_successes",
-           "plan_lengths", "policy_name", "rule_agent_successes"]
+__all__ = ["BLIND_POLICIES", "BlindPolicy", "HARD_RULE_AGENTS", "MAX_STEPS", "RULE_AGENTS", "blind_policy",
+           "blind_successes", "plan_lengths", "policy_name", "rule_agent_successes"]
 
 MAX_STEPS = 20
 """The env's step budget (``max_steps`` in ``conf/env/navigation.yaml``)."""
@@ -217,12 +217,69 @@ RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
 """Feedback-only agents: what a model told only the instruction and the success of each action could do."""
 
 
+def _turn_first(turns: tuple[int, ...], then: Callable[[], RuleAgent]) -> Callable[[], RuleAgent]:
+    """Turn ``turns`` first (blind), then behave like ``then``."""
+    def make() -> RuleAgent:
+        inner = then()
+
+        def act(ok: bool | None, mem: dict) -> int:
+            k = mem.setdefault("k", 0)
+            mem["k"] = k + 1
+            if k < len(turns):
+                return turns[k]
+            if k == len(turns):
+                mem["last"] = None
+                return inner(None, mem)
+            return inner(ok, mem)
+        return act
+    return make
+
+
+def _forward_turn_around() -> RuleAgent:
+    def act(ok: bool | None, mem: dict) -> int:
+        pending = mem.setdefault("pending", [])
+        if pending:
+            return pending.pop()
+        if ok is False and mem.get("last") == 0:
+            pending.append(4)
+            return 4
+        return 0
+    return act
+
+
+def _forward_dodge() -> RuleAgent:
+    """Forward; on a bump step to one side, and when that fails too, to the other side."""
+    def act(ok: bool | None, mem: dict) -> int:
+        last = mem.get("last")
+        if ok is False and last == 0:
+            return 2
+        if ok is False and last == 2:
+            return 3
+        if ok is False and last == 3:
+            return 4
+        return 0
+    return act
+
+
+HARD_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
+    **RULE_AGENTS,
+    "forward, turn around on a bump": _forward_turn_around,
+    "forward, on a bump step right, then left, then turn": _forward_dodge,
+    "turn right once, then forward, step right on a bump": _turn_first((4,), lambda: _forward_sidestep(2)),
+    "turn left once, then forward, step left on a bump": _turn_first((5,), lambda: _forward_sidestep(3)),
+    "turn around, then forward, turn left on a bump": _turn_first((4, 4), lambda: _forward_turn(5)),
+}
+"""The rule agents the harder levels are checked against: the classic five plus agents that turn first (the
+target's direction is unknown) and that react to a bump by turning round or dodging to both sides."""
+
+
 def rule_agent_successes(free: FreeSpace, start: AgentState, target_xy: tuple[float, float],
-                         max_steps: int = MAX_STEPS) -> dict[str, bool]:
-    """Whether each rule agent reaches the target within ``max_steps`` from ``start``."""
+                         max_steps: int = MAX_STEPS, agents: dict[str, Callable[[], RuleAgent]] | None = None
+                         ) -> dict[str, bool]:
+    """Whether each rule agent (default :data:`RULE_AGENTS`) reaches the target within ``max_steps``."""
     goal = free.goal_cells(target_xy, SUCCESS_DISTANCE)
     out = {}
-    for name, make in RULE_AGENTS.items():
+    for name, make in (RULE_AGENTS if agents is None else agents).items():
         agent = make()
         mem: dict = {}
         s, ok, solved = start, None, False
@@ -250,7 +307,7 @@ def blind_table(task_file: str | None = None) -> str:
     blind: dict[str, list[np.ndarray]] = defaultdict(list)
     rules: dict[str, list[np.ndarray]] = defaultdict(list)
     for t in tf.tasks:
-        key = (t.scene.kind, t.scene.seed, t.extra_objects)
+        key = (t.scene.kind, t.scene.seed, t.scene.clutter, t.extra_objects)
         room = rooms.get(key) or rooms.setdefault(key, build_room(t))
         free = room.free_space(room.extra_ids)  # type: ignore[attr-defined]
         s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)

@@ -259,7 +259,7 @@ def _extra_dict(e: ExtraSpec) -> dict[str, Any]:
 def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_distance: float = 3.5,
              out: str | None = None, max_oracle_steps: int = 15, blind_cap: int | None = None,
              rule_cap: int | None = None, progress: bool = False, split: str = "test", n: int | None = None,
-             start: int = 0, slots: Sequence[int] | None = None) -> str:
+             start: int = 0, slots: Sequence[int] | None = None, difficulty: str = "classic") -> str:
     """Write a navigation task file with ``5 * scenes`` tasks; return a one-line summary.
 
     ``split=train|val n=N [start=K] out=PATH`` writes tasks ``K .. K+N-1`` of a generated training split instead
@@ -279,7 +279,14 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
         progress: print one line per finished room.
         slots: make only these scene slots of ``0 .. scenes-1`` (their kinds and target types as in the full
             file; rooms and starts are drawn afresh), e.g. an even spread for ``eb audit``'s fresh form.
+        difficulty: ``classic`` (this generator), ``medium`` or ``hard`` (:mod:`eb_navigation.hard`: small
+            targets with look-alikes in cluttered rooms; ``out`` is then a folder of per-subset files, progress
+            goes to stderr). With ``split=train|val`` it sets the difficulty of the split's tasks.
     """
+    from eb_navigation.hard import DIFFICULTIES
+
+    if difficulty not in DIFFICULTIES:
+        raise ValueError(f"unknown difficulty {difficulty!r}; allowed: {', '.join(DIFFICULTIES)}")
     if split != "test":
         from eb_navigation.splits import SPLITS, write_split
 
@@ -290,7 +297,13 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
                              f"file holds the test split only)")
         if int(start) < 0:
             raise ValueError(f"start must be >= 0, got {start}")
-        return write_split(str(out), split, int(n), int(start))
+        paths = write_split(str(out), split, int(n), int(start), difficulty=difficulty)
+        level = "" if difficulty == "classic" else f"{difficulty} "
+        return f"wrote {int(n)} {level}{split} tasks ({int(start)}..{int(start) + int(n) - 1}) to {paths[0]}"
+    if difficulty != "classic":
+        from eb_navigation.hard import generate_level
+
+        return generate_level(difficulty, seed=int(seed), scenes=int(scenes), out=out, progress=True)
     seed, scenes = int(seed), int(scenes)
     lo, hi = float(min_distance), float(max_distance)
     if scenes < 1:
