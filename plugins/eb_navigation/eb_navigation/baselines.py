@@ -247,24 +247,33 @@ def _forward_turn_around() -> RuleAgent:
     return act
 
 
-def _forward_dodge() -> RuleAgent:
-    """Forward; on a bump step to one side, and when that fails too, to the other side."""
-    def act(ok: bool | None, mem: dict) -> int:
-        last = mem.get("last")
-        if ok is False and last == 0:
-            return 2
-        if ok is False and last == 2:
-            return 3
-        if ok is False and last == 3:
-            return 4
-        return 0
-    return act
+def _forward_dodge(first: int = 2) -> Callable[[], RuleAgent]:
+    """Forward; on a bump step to one side, and when that fails too, to the other side, then turn."""
+    second = 3 if first == 2 else 2
+
+    def make() -> RuleAgent:
+        def act(ok: bool | None, mem: dict) -> int:
+            last = mem.get("last")
+            if ok is False and last == 0:
+                return first
+            if ok is False and last == first:
+                return second
+            if ok is False and last == second:
+                return 4 if first == 2 else 5
+            return 0
+        return act
+    return make
 
 
 HARD_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
     **RULE_AGENTS,
     "forward, turn around on a bump": _forward_turn_around,
-    "forward, on a bump step right, then left, then turn": _forward_dodge,
+    "forward, on a bump step right, then left, then turn": _forward_dodge(2),
+    "forward, on a bump step left, then right, then turn": _forward_dodge(3),
+    "step right once, then forward, step right on a bump": _turn_first((2,), lambda: _forward_sidestep(2)),
+    "step left once, then forward, step left on a bump": _turn_first((3,), lambda: _forward_sidestep(3)),
+    "step right twice, then forward, step right on a bump": _turn_first((2, 2), lambda: _forward_sidestep(2)),
+    "step left twice, then forward, step left on a bump": _turn_first((3, 3), lambda: _forward_sidestep(3)),
     "turn right once, then forward, step right on a bump": _turn_first((4,), lambda: _forward_sidestep(2)),
     "turn left once, then forward, step left on a bump": _turn_first((5,), lambda: _forward_sidestep(3)),
     "turn around, then forward, turn left on a bump": _turn_first((4, 4), lambda: _forward_turn(5)),

@@ -54,8 +54,7 @@ ROLE_LANGUAGE_ONLY = (
 ACTION_RULES_LANGUAGE_ONLY = ACTION_RULES.replace(
     "- Tilting (ids 6-7) points the camera 30 degrees up or down (at most 60 down and 30 up) to see things near the "
     "floor or high up.",
-    "- Tilting (ids 6-7) changes only where a camera would look (30 degrees up or down, at most 60 down and 30 up): "
-    "it neither moves nor turns you.")
+    "- Tilting (ids 6-7) only changes the view you are not given: it neither moves nor turns you.")
 GUIDELINES_LANGUAGE_ONLY = (
     "You cannot see where the target is: reason from the instruction and from which of your moves worked or "
     "failed, and explore the room in a way that covers new ground instead of going back and forth.",
