@@ -213,3 +213,33 @@ def test_language_only_prompt_speaks_of_no_camera_or_image() -> None:
     assert "camera" in head(texts[False]).lower() and "image" in head(texts[False]).lower()
     for text in texts.values():  # both say how success is measured and that a failure drops the plan
         assert "centre of your body to the centre of the target" in text and "the rest of your plan is dropped" in text
+
+
+@pytest.mark.parametrize("level", ["medium", "hard"])
+def test_levels_draw_scenes_with_their_knobs(level: str) -> None:
+    """One room per level on the geometry (no rendering): the level's clutter, look-alikes and start rules."""
+    from eb_navigation.hard import Tally, draw_scene
+
+    lv = LEVELS[level]
+    rng = np.random.default_rng(3)
+    sc = None
+    for k in range(40):
+        sc = draw_scene("living_room", 900_000 + k, "GarbageCan", lv, rng,
+                        {p: Tally(None) for p in ("plain", "visual_appearance", "long_horizon")}, None, "left")
+        if sc is not None:
+            break
+    assert sc is not None and sc.room.clutter == lv.clutter
+    assert lv.lookalikes[0] <= len(sc.lookalikes)
+    assert all(colour_distance(o.colour, sc.target.colour) >= MIN_COLOUR_DISTANCE for o in sc.lookalikes)
+    free = sc.room.free_space(sc.room.extra_ids)
+    lh = sc.starts["long_horizon"]
+    assert 0 < bearing_to(lh.state, (sc.target.x, sc.target.y)) <= 135  # "left" asked for
+    assert lh.plan >= sc.starts["plain"].plan + 2 and lh.plan <= lv.lh_max_plan
+    assert all(not_in_pocket(free, st.state) for st in sc.starts.values())
+
+
+def test_generate_rejects_an_unknown_difficulty(tmp_path) -> None:
+    from eb_navigation.generate import generate
+
+    with pytest.raises(ValueError, match="unknown difficulty 'extreme'; allowed: classic, medium, hard"):
+        generate(difficulty="extreme", out=str(tmp_path / "x"))
