@@ -233,9 +233,11 @@ def _sector_ok(b: float, sector: str, min_bearing: float) -> bool:
     return abs(b) >= min_bearing  # "any"
 
 
-def _starts(room: NavRoom, target: NavObject, lo: float, hi: float, min_plan: int, max_plan: int, sector: str,
-            level: Level, tally: Tally, rng: np.random.Generator, limit: int = 60) -> list[_Start]:
-    """Admissible starts in random order (at most ``limit`` checked against the blind baselines)."""
+def _pick(room: NavRoom, target: NavObject, lo: float, hi: float, min_plan: int, max_plan: int, sector: str,
+          level: Level, tally: Tally, rng: np.random.Generator, accept: Any, limit: int = 48,
+          avoid: AgentState | None = None) -> _Start | None:
+    """An admissible start that ``accept`` (the rendered check) takes: candidates in random order, checked one by
+    one against the blind baselines; the first that no baseline solves wins, else the first admissible one."""
     free = room.free_space(room.extra_ids)
     xy = (target.x, target.y)
     states = []
@@ -245,18 +247,26 @@ def _starts(room: NavRoom, target: NavObject, lo: float, hi: float, min_plan: in
         if not lo - 1e-9 <= math.hypot(i * STEP - xy[0], j * STEP - xy[1]) <= hi + 1e-9:
             continue
         s = AgentState(i, j, h)
-        if _sector_ok(bearing_to(s, xy), sector, level.lh_min_bearing) and not_in_pocket(free, s):
+        if s != avoid and _sector_ok(bearing_to(s, xy), sector, level.lh_min_bearing) and not_in_pocket(free, s):
             states.append((s, n))
-    out = []
+    fallback, tried = None, 0
     for k in rng.permutation(len(states))[:limit]:
         s, n = states[int(k)]
         st = _Start(s, n, blind_successes(free, s, xy),
                     np.array(list(rule_agent_successes(free, s, xy, agents=HARD_RULE_AGENTS).values()), dtype=bool))
-        if tally.admits(st):
-            out.append(st)
-    # fewest blind successes first, then longer plans (a harder walk), order otherwise random
-    out.sort(key=lambda st: (int(st.rules.sum()) + int(st.blind.any()), -st.plan))
-    return out
+        if not tally.admits(st):
+            continue
+        clean = not (st.blind.any() or st.rules.any())
+        if not clean and fallback is not None:
+            continue
+        tried += 1
+        if tried > _VIS_TRIES:
+            break
+        if accept(st):
+            if clean:
+                return st
+            fallback = st
+    return fallback
 
 
 def _visible(room: NavRoom, st: _Start, target_id: str, looks: list[str], level: Level, vis: Any | None) -> bool:
@@ -298,14 +308,12 @@ def draw_scene(kind: str, seed: int, type_name: str, level: Level, rng: np.rando
     for part in parts:
         if part == "long_horizon":
             min_plan = starts["plain"].plan + 2 if "plain" in starts else 8
-            cands = _starts(room, target, lo, hi + 1.0, min_plan, level.lh_max_plan, sector, level,
-                            tallies[part], rng)
-            pick = next((c for c in cands[:_VIS_TRIES] if _hidden(room, c, target_id, vis)), None)
+            pick = _pick(room, target, lo, hi + 1.0, min_plan, level.lh_max_plan, sector, level, tallies[part], rng,
+                         lambda c: _hidden(room, c, target_id, vis))
         else:
-            cands = _starts(room, target, lo, hi, 6, level.max_plan, "ahead", level, tallies[part], rng)
-            if part == "visual_appearance" and "plain" in starts:
-                cands = [c for c in cands if c.state != starts["plain"].state] or cands
-            pick = next((c for c in cands[:_VIS_TRIES] if _visible(room, c, target_id, look_ids, level, vis)), None)
+            avoid = starts["plain"].state if part == "visual_appearance" and "plain" in starts else None
+            pick = _pick(room, target, lo, hi, 6, level.max_plan, "ahead", level, tallies[part], rng,
+                         lambda c: _visible(room, c, target_id, look_ids, level, vis), avoid=avoid)
         if pick is None:
             return None
         starts[part] = pick
@@ -362,7 +370,11 @@ def generate_level(level: str = "hard", seed: int = 0, scenes: int = 60, out: st
             type_name = HARD_TYPES[(slot // 3) % len(HARD_TYPES)]
             sector = _SECTORS[slot % len(_SECTORS)]
             sc = None
-            for attempt in range(200):
+            for attempt in range(400):
+                if attempt and attempt % 40 == 0:  # this type runs dry here: the next one
+                    type_name = HARD_TYPES[(HARD_TYPES.index(type_name) + 1) % len(HARD_TYPES)]
+                if attempt and attempt % 120 == 0:
+                    kind = KINDS[(KINDS.index(kind) + 1) % 3]
                 room_seed = SEED_BASE + int(rng.integers(0, 100_000))
                 sc = draw_scene(kind, room_seed, type_name, lv, rng, tallies, vis, sector)
                 if sc is not None:
