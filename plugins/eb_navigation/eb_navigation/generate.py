@@ -404,10 +404,15 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
             f"oracle steps {min(steps_all)}-{max(steps_all)}, mean {np.mean(steps_all):.1f}")
 
 
-def audit_form(out: str, seed: int, per_subset: int) -> str:
+def audit_form(out: str, seed: int, per_subset: int, difficulty: str = "classic") -> str:
     """A fresh form of ``per_subset`` tasks per subset for ``eb audit``'s parallel-forms probe: the scene slots
     at an even spread of the shipped file's 60 (so kinds and target types are spread as there), with the blind
-    and rule-agent caps scaled to the smaller file. Written as one task file at ``out``."""
+    and rule-agent caps scaled to the smaller file. Written as one task file at ``out`` (a harder ``difficulty``:
+    a folder of per-subset files, ``per_subset`` scenes of that level)."""
+    if difficulty != "classic":
+        from eb_navigation.hard import generate_level
+
+        return generate_level(difficulty, seed=int(seed), scenes=max(1, int(per_subset)), out=out, progress=False)
     full = 60
     k = max(1, min(int(per_subset), full))
     return generate(seed=seed, scenes=full, out=out, slots=[(i * full) // k for i in range(k)],
