@@ -22,7 +22,8 @@ import numpy as np
 from eb_core.audit.contract import BlindPolicy
 from eb_navigation.geometry import SUCCESS_DISTANCE, AgentState, FreeSpace, _move_delta
 
-__all__ = ["BLIND_POLICIES", "BlindPolicy", "HARD_RULE_AGENTS", "MAX_STEPS", "RULE_AGENTS", "blind_policy",
+__all__ = ["BLIND_POLICIES", "BlindPolicy", "HARD_RULE_AGENTS", "MAX_STEPS", "RULE_AGENTS", "SIDESTEP_RULE_AGENTS",
+           "blind_policy",
            "blind_successes", "plan_lengths", "policy_name", "rule_agent_successes"]
 
 MAX_STEPS = 20
@@ -280,6 +281,18 @@ HARD_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
 }
 """The rule agents the harder levels are checked against: the classic five plus agents that turn first (the
 target's direction is unknown) and that react to a bump by turning round or dodging to both sides."""
+
+
+SIDESTEP_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
+    **{f"step {name} {k} times, then forward, step {name} on a bump":
+       _turn_first((side,) * k, lambda side=side: _forward_sidestep(side))
+       for k in (3, 4, 5, 6) for side, name in ((2, "right"), (3, "left"))},
+    **{f"step {name} {k} times, then forward, turn {name} on a bump":
+       _turn_first((side,) * k, lambda turn=turn: _forward_turn(turn))
+       for k in (1, 2, 3, 4) for side, name, turn in ((2, "right", 4), (3, "left", 5))},
+}
+"""Side-step-first agents: a blind guess that the target is ahead and a little to one side. The hard generator
+repairs every start that would lift one of them above its cap (:func:`eb_navigation.hard.repair`)."""
 
 
 def rule_agent_successes(free: FreeSpace, start: AgentState, target_xy: tuple[float, float],

@@ -31,7 +31,13 @@ from typing import Any
 import numpy as np
 from eb_scenekit.objects import get_type
 
-from eb_navigation.baselines import HARD_RULE_AGENTS, blind_successes, plan_lengths, rule_agent_successes
+from eb_navigation.baselines import (
+    HARD_RULE_AGENTS,
+    SIDESTEP_RULE_AGENTS,
+    blind_successes,
+    plan_lengths,
+    rule_agent_successes,
+)
 from eb_navigation.geometry import HEADING_VECTORS, STEP, AgentState, FreeSpace, _move_delta, bearing_to
 from eb_navigation.hard_words import HARD_COMMON_SENSE, HARD_SHAPES, hard_instruction
 from eb_navigation.room import KINDS, ExtraSpec, NavObject, NavRoom, colour_distance, probe
@@ -224,6 +230,8 @@ class Tally:
 def _sector_ok(b: float, sector: str, min_bearing: float) -> bool:
     if sector == "ahead":
         return abs(b) <= 35.0
+    if sector == "wide":  # a repaired in-view start: the target may stand nearer the image's edge
+        return abs(b) <= 45.0
     if sector == "left":
         return min_bearing <= b <= 135.0
     if sector == "right":
@@ -235,7 +243,7 @@ def _sector_ok(b: float, sector: str, min_bearing: float) -> bool:
 
 def _pick(room: NavRoom, target: NavObject, lo: float, hi: float, min_plan: int, max_plan: int, sector: str,
           level: Level, tally: Tally, rng: np.random.Generator, accept: Any, limit: int = 48,
-          avoid: AgentState | None = None) -> _Start | None:
+          avoid: AgentState | None = None, agents: dict[str, Any] | None = None) -> _Start | None:
     """An admissible start that ``accept`` (the rendered check) takes: candidates in random order, checked one by
     one against the blind baselines; the first that no baseline solves wins, else the first admissible one."""
     free = room.free_space(room.extra_ids)
@@ -253,7 +261,8 @@ def _pick(room: NavRoom, target: NavObject, lo: float, hi: float, min_plan: int,
     for k in rng.permutation(len(states))[:limit]:
         s, n = states[int(k)]
         st = _Start(s, n, blind_successes(free, s, xy),
-                    np.array(list(rule_agent_successes(free, s, xy, agents=HARD_RULE_AGENTS).values()), dtype=bool))
+                    np.array(list(rule_agent_successes(free, s, xy, agents=agents or HARD_RULE_AGENTS).values()),
+                             dtype=bool))
         if not tally.admits(st):
             continue
         clean = not (st.blind.any() or st.rules.any())
@@ -343,6 +352,91 @@ def scene_tasks(sc: Scene, slot: int, rng: np.random.Generator, wording: dict[st
     return out
 
 
+CHECK_AGENTS = {**HARD_RULE_AGENTS, **SIDESTEP_RULE_AGENTS}
+"""Every feedback-only agent a finished hard set is held to (the generator's first pass uses the cheaper
+:data:`~eb_navigation.baselines.HARD_RULE_AGENTS`; :func:`repair` moves the starts the rest would solve)."""
+
+
+def _start_of(room: NavRoom, entry: dict[str, Any], agents: dict[str, Any]) -> _Start:
+    free = room.free_space(room.extra_ids)
+    s = AgentState.from_pose(entry["start"]["x"], entry["start"]["y"], entry["start"]["yaw"])
+    xy = (float(entry["target"]["position"][0]), float(entry["target"]["position"][1]))
+    return _Start(s, int(entry["oracle_steps"]), blind_successes(free, s, xy),
+                  np.array(list(rule_agent_successes(free, s, xy, agents=agents).values()), dtype=bool))
+
+
+def repair(tasks: list[dict[str, Any]], level: Level, cap: int, rng: np.random.Generator, vis: Any | None,
+           progress: bool = False) -> list[dict[str, Any]]:
+    """Move the starts that would lift a blind policy or any of :data:`CHECK_AGENTS` above ``cap`` tasks of their
+    subset (at least 5 % of the subset's tasks: the goal the set is held to); the rooms, targets and wording stay,
+    a repaired in-view start may have the target up to 45 degrees off, 2-4.5 m away. Returns the entries."""
+    from eb_navigation.tasks import NavTaskSpec
+
+    cap = max(cap, int(0.05 * sum(t["subset"] == "base" for t in tasks) + 1e-9))
+    rooms: dict[int, NavRoom] = {}
+    groups = {"plain": "base", "visual_appearance": "visual_appearance", "long_horizon": "long_horizon"}
+    by_id = {t["id"]: t for t in tasks}
+    for part, subset in groups.items():
+        entries = [t for t in tasks if t["subset"] == subset]
+        starts = []
+        for e in entries:
+            key = int(e["scene"]["seed"])
+            if key not in rooms:
+                from eb_navigation.env import build_room
+
+                rooms[key] = build_room(NavTaskSpec.model_validate(e))
+            starts.append(_start_of(rooms[key], e, CHECK_AGENTS))
+        stuck: set[int] = set()
+        for _round in range(2 * len(entries)):
+            blind = np.sum([s.blind for s in starts], axis=0)
+            rules = np.sum([s.rules for s in starts], axis=0)
+            over_b, over_r = blind > cap, rules > cap
+            bad = [k for k, s in enumerate(starts) if ((s.blind & over_b).any() or (s.rules & over_r).any())
+                   and k not in stuck]
+            if not bad:
+                break
+            k = bad[0]
+            e, room = entries[k], rooms[int(entries[k]["scene"]["seed"])]
+            tally = Tally(cap)
+            others = [s for j, s in enumerate(starts) if j != k]
+            tally.blind = np.sum([s.blind for s in others], axis=0).astype(np.int32)
+            tally.rules = np.sum([s.rules for s in others], axis=0).astype(np.int32)
+            target = room.get(e["target"]["id"])
+            looks = [o.id for o in room.objects if o.type == target.type and o.id != target.id]
+            lo, hi = level.distance
+            slot = e["id"].rsplit("_", 1)[1]
+            if part == "long_horizon":
+                base_plan = by_id[f"base_{slot}"]["oracle_steps"]
+                b = bearing_to(starts[k].state, (target.x, target.y))
+                sector = "behind" if abs(b) > 135 else "left" if b > 0 else "right"
+                pick = _pick(room, target, lo, hi + 1.0, base_plan + 2, level.lh_max_plan, sector, level, tally, rng,
+                             lambda c: _hidden(room, c, target.id, vis), limit=400, agents=CHECK_AGENTS)
+            else:
+                lh_plan = by_id[f"long_horizon_{slot}"]["oracle_steps"]
+                avoid = None
+                if part == "visual_appearance":
+                    p = by_id[f"base_{slot}"]["start"]
+                    avoid = AgentState.from_pose(p["x"], p["y"], p["yaw"])
+                top = level.max_plan if part == "visual_appearance" else max(min(level.max_plan, lh_plan - 2), 12)
+                pick = _pick(room, target, lo - 0.5, hi + 1.0, 6, top, "wide", level, tally, rng,
+                             lambda c: _visible(room, c, target.id, looks, level, vis), limit=400, avoid=avoid,
+                             agents=CHECK_AGENTS)
+            if pick is None:
+                if progress:
+                    print(f"repair: no admissible start for {e['id']}", file=sys.stderr, flush=True)
+                stuck.add(k)
+                continue
+            starts[k] = pick
+            new = {"x": pick.state.x, "y": pick.state.y, "yaw": pick.state.yaw_deg, "tilt": 0}
+            names = [e["id"]] if part != "plain" else [f"{s}_{slot}" for s in
+                                                       ("base", "common_sense", "complex_instruction")]
+            for name in names:
+                by_id[name]["start"], by_id[name]["oracle_steps"] = dict(new), pick.plan
+            if progress:
+                print(f"repair: moved the start of {', '.join(names)}", file=sys.stderr, flush=True)
+    return tasks
+
+
 _SECTORS = ("left", "behind", "right")
 
 
@@ -387,6 +481,11 @@ def generate_level(level: str = "hard", seed: int = 0, scenes: int = 60, out: st
             if progress:
                 print(f"{level} slot {slot + 1}/{scenes}: {kind} seed {sc.room.seed}, {sc.target.colour} "
                       f"{sc.target.type} after {attempt + 1} room(s)", file=sys.stderr, flush=True)
+    finally:
+        vis.close()
+    try:
+        tasks = repair(tasks, lv, cap, np.random.default_rng([int(seed), 0x4A4D, DIFFICULTIES.index(level), 1]),
+                       vis, progress)
     finally:
         vis.close()
     gen = {"function": "eb_navigation.generate:generate", "difficulty": level, "seed": int(seed),
