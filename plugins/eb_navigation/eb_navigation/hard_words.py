@@ -58,6 +58,8 @@ _BASE = (
 
 _COMMON_SENSE_FRAMES = (
     "Go to {desc}.",
+    "I would like you beside {desc}.",
+    "Bring yourself close to {desc}.",
     "Find {desc} and move close to it.",
     "Please walk over to {desc}.",
     "Navigate to {desc}.",
@@ -77,12 +79,14 @@ _COMPLEX = (
     "and stay there.",
     "My brother keeps moving the {other_colour} {name} around, which drives me mad, but leave it. What I want is "
     "for you to get close to the {colour} {name}.",
-    "Before the guests arrive I want to check the {colour} {name}. Go there first; the {other_colour} {name} can "
-    "wait until tomorrow.",
+    "Before the guests arrive I want to check the {colour} {name}. Go there first; the {other_colour} {name} is "
+    "for tomorrow.",
+    "Whatever you do, keep away from the {other_colour} {name}. Walk over to the {colour} {name} and wait there.",
+    "I keep mixing them up, but today I need the {colour} {name}, not the {other_colour} one. Please go to it.",
     "The cat knocked over the {other_colour} {name} last night, but that is sorted now. Make your way to the "
     "{colour} {name} and wait for me.",
     "Someone said the {other_colour} {name} was the one I meant. It is not: walk to the {colour} {name}.",
-    "There is a {name} in {other_colour} and one in {colour}. The {colour} one is where I need you; go there.",
+    "There is one {name} in {other_colour} and one in {colour}. The {colour} one is where I need you; go there.",
 )
 
 _VISUAL = (
@@ -94,6 +98,8 @@ _VISUAL = (
     "Make your way to the {colour} {shape}, not to the ones in other colours.",
     "Of the look-alike pieces here, get close to the {colour} {shape}.",
     "Navigate to the {shape} in {colour}.",
+    "Walk over to the {colour} one: the {shape}.",
+    "Head toward the {shape} coloured {colour}.",
 )
 
 HARD_TEMPLATES: dict[str, tuple[str, ...]] = {
