@@ -382,9 +382,9 @@ def repair(tasks: list[dict[str, Any]], level: Level, cap: int, rng: np.random.G
         for e in entries:
             key = int(e["scene"]["seed"])
             if key not in rooms:
-                from eb_navigation.env import build_room
-
-                rooms[key] = build_room(NavTaskSpec.model_validate(e))
+                spec = NavTaskSpec.model_validate(e)
+                rooms[key] = NavRoom(spec.scene.kind, spec.scene.seed, [x.spec() for x in spec.extra_objects],
+                                     spec.scene.clutter)
             starts.append(_start_of(rooms[key], e, CHECK_AGENTS))
         stuck: set[int] = set()
         for _round in range(2 * len(entries)):

@@ -76,7 +76,7 @@ def _expert_solves(free: Any, state: Any, xy: tuple[float, float], budget: int) 
 
 def _one(split: str, index: int, rooms: frozenset[tuple[str, int]], instructions: frozenset[str]) -> Task:
     from eb_navigation.baselines import blind_successes, plan_lengths
-    from eb_navigation.generate import (
+    from eb_navigation.placement import (
         LONG_HORIZON_EXTRA,
         LONG_HORIZON_MAX_DISTANCE,
         MAX_START_BEARING,
@@ -242,7 +242,7 @@ def write_split(out: str, split: str, n: int, start: int = 0, difficulty: str = 
     """Write tasks ``start .. start + n - 1`` of ``split`` as one task file at ``out`` (a ``.json`` path, or a
     folder that gets ``navigation_<split>.json``), so that ``eb run env=navigation env.params.task_file=<file>``
     evaluates on them. Returns a one-line summary."""
-    from eb_navigation.generate import GENERATOR_VERSION
+    from eb_navigation.placement import GENERATOR_VERSION
     from eb_navigation.tasks import TASK_FILE_FORMAT, TASK_FILE_VERSION, TaskFile
 
     path = Path(out)
