@@ -22,7 +22,7 @@ import numpy as np
 from eb_core.audit.contract import BlindPolicy
 from eb_navigation.geometry import SUCCESS_DISTANCE, AgentState, FreeSpace, _move_delta
 
-__all__ = ["BLIND_POLICIES", "BlindPolicy", "HARD_RULE_AGENTS", "MAX_STEPS", "RULE_AGENTS", "SIDESTEP_RULE_AGENTS",
+__all__ = ["BLIND_POLICIES", "BlindPolicy", "HARD_RULE_AGENTS", "MAX_STEPS", "REACTIVE_RULE_AGENTS", "RULE_AGENTS", "SIDESTEP_RULE_AGENTS",
            "blind_policy",
            "blind_successes", "plan_lengths", "policy_name", "rule_agent_successes"]
 
@@ -281,6 +281,25 @@ HARD_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
 }
 """The rule agents the harder levels are checked against: the classic five plus agents that turn first (the
 target's direction is unknown) and that react to a bump by turning round or dodging to both sides."""
+
+
+def _reactive(on_fail: tuple[int, ...]) -> Callable[[], RuleAgent]:
+    """Forward; after ``k`` failures in a row play ``on_fail[k - 1]`` (the last repeats): the core audit's
+    feedback policies (:class:`eb_core.audit.blind.ReactivePolicy`)."""
+    def make() -> RuleAgent:
+        def act(ok: bool | None, mem: dict) -> int:
+            mem["fails"] = mem.get("fails", 0) + 1 if ok is False else 0
+            return on_fail[min(mem["fails"], len(on_fail)) - 1] if mem["fails"] else 0
+        return act
+    return make
+
+
+_WORD = {2: "step right", 3: "step left", 4: "turn right", 5: "turn left"}
+REACTIVE_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
+    **{f"forward; after a failure {_WORD[r]}": _reactive((r,)) for r in (4, 5, 2, 3)},
+    **{f"forward; after a failure {_WORD[s]}, after two {_WORD[t]}": _reactive((s, t)) for s in (2, 3) for t in (4, 5)},
+}
+"""The core audit's ``feedback_policies`` for navigation, on the geometry."""
 
 
 SIDESTEP_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {

@@ -33,6 +33,7 @@ from eb_scenekit.objects import get_type
 
 from eb_navigation.baselines import (
     HARD_RULE_AGENTS,
+    REACTIVE_RULE_AGENTS,
     SIDESTEP_RULE_AGENTS,
     blind_successes,
     plan_lengths,
@@ -352,7 +353,7 @@ def scene_tasks(sc: Scene, slot: int, rng: np.random.Generator, wording: dict[st
     return out
 
 
-CHECK_AGENTS = {**HARD_RULE_AGENTS, **SIDESTEP_RULE_AGENTS}
+CHECK_AGENTS = {**HARD_RULE_AGENTS, **SIDESTEP_RULE_AGENTS, **REACTIVE_RULE_AGENTS}
 """Every feedback-only agent a finished hard set is held to (the generator's first pass uses the cheaper
 :data:`~eb_navigation.baselines.HARD_RULE_AGENTS`; :func:`repair` moves the starts the rest would solve)."""
 
