@@ -295,6 +295,12 @@ class PromptParts(BaseModel):
     """Extra notes on the answer format for this world (e.g. how to write a 7-D action)."""
     examples_language_only: tuple[str, ...] | None = None
     """Examples used instead of ``examples`` under ``language_only`` (the original switches sets; None = same)."""
+    role_language_only: str | None = None
+    """``role`` under ``language_only`` (no image: a blind prompt should not speak of a camera); None = same."""
+    action_rules_language_only: str | None = None
+    """``action_rules`` under ``language_only``; None = same."""
+    guidelines_language_only: tuple[str, ...] | None = None
+    """``guidelines`` under ``language_only`` (no "find the target in the image first"); None = same."""
     visual_examples: tuple[VisualExample, ...] = ()
     """Examples with images for ``ablation=visual_icl`` (the paper's visual in-context learning)."""
     first_step_guidance: str = ""

@@ -303,7 +303,8 @@ class VLMPlanner:
 
     def _guidelines(self) -> list[str]:
         assert self.parts is not None
-        lines = list(self.parts.guidelines)
+        blind = self.parts.guidelines_language_only if self.language_only else None
+        lines = list(blind if blind is not None else self.parts.guidelines)
         lines.append(f"A plan holds at most {self.config.max_plan_length} actions; longer plans are cut.")
         if not isinstance(self.space, VectorActionSpace):
             lines.append("Use only action ids that appear in the action list, with their exact names.")
@@ -357,9 +358,13 @@ class VLMPlanner:
         p = self.parts
         sections: list[str] = []
         if full:
-            sections.append(p.role.strip())
-            if p.action_rules:
-                sections.append("## How the actions work\n" + p.action_rules.strip())
+            blind = self.language_only
+            role = p.role_language_only if blind and p.role_language_only is not None else p.role
+            rules = p.action_rules_language_only if blind and p.action_rules_language_only is not None \
+                else p.action_rules
+            sections.append(role.strip())
+            if rules:
+                sections.append("## How the actions work\n" + rules.strip())
             sections.append("## Action list\n" + self.space.describe())
             examples = self._examples()
             if examples:

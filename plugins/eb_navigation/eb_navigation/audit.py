@@ -35,9 +35,10 @@ def _rooms():
     cache: dict[tuple, Any] = {}
 
     def get(spec):
-        key = (spec.scene.kind, spec.scene.seed, spec.extra_objects)
+        key = (spec.scene.kind, spec.scene.seed, spec.scene.clutter, spec.extra_objects)
         if key not in cache:
-            cache[key] = NavRoom(spec.scene.kind, spec.scene.seed, [e.spec() for e in spec.extra_objects])
+            cache[key] = NavRoom(spec.scene.kind, spec.scene.seed, [e.spec() for e in spec.extra_objects],
+                                 spec.scene.clutter)
         return cache[key]
 
     return get
@@ -80,6 +81,7 @@ def text_only_rule_agent_probe(tasks: list[Task], env_params: dict[str, Any]) ->
 def target_visible_probe(tasks: list[Task], env_params: dict[str, Any]) -> ProbeResult:
     """Target pixels at the start: enough where the subset promises the target in view, none in long_horizon."""
     from eb_navigation.generate import MIN_VISIBLE_PIXELS
+    from eb_navigation.hard import LEVELS
     from eb_navigation.geometry import AgentState
     from eb_navigation.tasks import spec_of
     from eb_navigation.visibility import VIS_SIZE, Visibility
@@ -97,7 +99,9 @@ def target_visible_probe(tasks: list[Task], env_params: dict[str, Any]) -> Probe
             start = AgentState.from_pose(spec.start.x, spec.start.y, spec.start.yaw, spec.start.tilt)
             px = vis.pixels(room, start, spec.target.id)
             per_subset[spec.subset].append(px)
-            if (px < MIN_VISIBLE_PIXELS) if spec.subset in PROMISED_VISIBLE else (px > 0):
+            least = next((lv.min_target_pixels for lv in LEVELS.values() if lv.clutter == spec.scene.clutter),
+                         MIN_VISIBLE_PIXELS)  # a harder level promises a smaller (partly hidden) target
+            if (px < least) if spec.subset in PROMISED_VISIBLE else (px > 0):
                 failing.append(task.id)
     finally:
         vis.close()
@@ -105,7 +109,8 @@ def target_visible_probe(tasks: list[Task], env_params: dict[str, Any]) -> Probe
              "promise": "in view" if s in PROMISED_VISIBLE else "out of view"} for s, v in per_subset.items()]
     return ProbeResult(name="target_visible_at_start", passed=not failing,
                        value=f"{len(failing)} task(s) break their subset's promise",
-                       threshold=(f">= {MIN_VISIBLE_PIXELS} target pixels of {VIS_SIZE} x {VIS_SIZE} at the start "
+                       threshold=(f">= {MIN_VISIBLE_PIXELS} target pixels of {VIS_SIZE} x {VIS_SIZE} (hard set: "
+                                  f"{LEVELS['hard'].min_target_pixels}) at the start "
                                   f"({', '.join(PROMISED_VISIBLE)}); 0 in long_horizon"),
                        failing_tasks=failing[:40], rows=rows)
 

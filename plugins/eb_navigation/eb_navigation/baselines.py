@@ -22,8 +22,9 @@ import numpy as np
 from eb_core.audit.contract import BlindPolicy
 from eb_navigation.geometry import SUCCESS_DISTANCE, AgentState, FreeSpace, _move_delta
 
-__all__ = ["BLIND_POLICIES", "BlindPolicy", "MAX_STEPS", "RULE_AGENTS", "blind_policy", "blind_successes",
-           "plan_lengths", "policy_name", "rule_agent_successes"]
+__all__ = ["BLIND_POLICIES", "BlindPolicy", "HARD_RULE_AGENTS", "MAX_STEPS", "REACTIVE_RULE_AGENTS", "RULE_AGENTS", "SIDESTEP_RULE_AGENTS",
+           "blind_policy",
+           "blind_successes", "plan_lengths", "policy_name", "rule_agent_successes"]
 
 MAX_STEPS = 20
 """The env's step budget (``max_steps`` in ``conf/env/navigation.yaml``)."""
@@ -217,12 +218,109 @@ RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
 """Feedback-only agents: what a model told only the instruction and the success of each action could do."""
 
 
+def _turn_first(turns: tuple[int, ...], then: Callable[[], RuleAgent]) -> Callable[[], RuleAgent]:
+    """Turn ``turns`` first (blind), then behave like ``then``."""
+    def make() -> RuleAgent:
+        inner = then()
+
+        def act(ok: bool | None, mem: dict) -> int:
+            k = mem.setdefault("k", 0)
+            mem["k"] = k + 1
+            if k < len(turns):
+                return turns[k]
+            if k == len(turns):
+                mem["last"] = None
+                return inner(None, mem)
+            return inner(ok, mem)
+        return act
+    return make
+
+
+def _forward_turn_around() -> RuleAgent:
+    def act(ok: bool | None, mem: dict) -> int:
+        pending = mem.setdefault("pending", [])
+        if pending:
+            return pending.pop()
+        if ok is False and mem.get("last") == 0:
+            pending.append(4)
+            return 4
+        return 0
+    return act
+
+
+def _forward_dodge(first: int = 2) -> Callable[[], RuleAgent]:
+    """Forward; on a bump step to one side, and when that fails too, to the other side, then turn."""
+    second = 3 if first == 2 else 2
+
+    def make() -> RuleAgent:
+        def act(ok: bool | None, mem: dict) -> int:
+            last = mem.get("last")
+            if ok is False and last == 0:
+                return first
+            if ok is False and last == first:
+                return second
+            if ok is False and last == second:
+                return 4 if first == 2 else 5
+            return 0
+        return act
+    return make
+
+
+HARD_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
+    **RULE_AGENTS,
+    "forward, turn around on a bump": _forward_turn_around,
+    "forward, on a bump step right, then left, then turn": _forward_dodge(2),
+    "forward, on a bump step left, then right, then turn": _forward_dodge(3),
+    "step right once, then forward, step right on a bump": _turn_first((2,), lambda: _forward_sidestep(2)),
+    "step left once, then forward, step left on a bump": _turn_first((3,), lambda: _forward_sidestep(3)),
+    "step right twice, then forward, step right on a bump": _turn_first((2, 2), lambda: _forward_sidestep(2)),
+    "step left twice, then forward, step left on a bump": _turn_first((3, 3), lambda: _forward_sidestep(3)),
+    "turn right once, then forward, step right on a bump": _turn_first((4,), lambda: _forward_sidestep(2)),
+    "turn left once, then forward, step left on a bump": _turn_first((5,), lambda: _forward_sidestep(3)),
+    "turn around, then forward, turn left on a bump": _turn_first((4, 4), lambda: _forward_turn(5)),
+}
+"""The rule agents the harder levels are checked against: the classic five plus agents that turn first (the
+target's direction is unknown) and that react to a bump by turning round or dodging to both sides."""
+
+
+def _reactive(on_fail: tuple[int, ...]) -> Callable[[], RuleAgent]:
+    """Forward; after ``k`` failures in a row play ``on_fail[k - 1]`` (the last repeats): the core audit's
+    feedback policies (:class:`eb_core.audit.blind.ReactivePolicy`)."""
+    def make() -> RuleAgent:
+        def act(ok: bool | None, mem: dict) -> int:
+            mem["fails"] = mem.get("fails", 0) + 1 if ok is False else 0
+            return on_fail[min(mem["fails"], len(on_fail)) - 1] if mem["fails"] else 0
+        return act
+    return make
+
+
+_WORD = {2: "step right", 3: "step left", 4: "turn right", 5: "turn left"}
+REACTIVE_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
+    **{f"forward; after a failure {_WORD[r]}": _reactive((r,)) for r in (4, 5, 2, 3)},
+    **{f"forward; after a failure {_WORD[s]}, after two {_WORD[t]}": _reactive((s, t)) for s in (2, 3) for t in (4, 5)},
+}
+"""The core audit's ``feedback_policies`` for navigation, on the geometry."""
+
+
+SIDESTEP_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
+    **{f"step {name} {k} times, then forward, step {name} on a bump":
+       _turn_first((side,) * k, lambda side=side: _forward_sidestep(side))
+       for k in (3, 4, 5, 6) for side, name in ((2, "right"), (3, "left"))},
+    **{f"step {name} {k} times, then forward, turn {name} on a bump":
+       _turn_first((side,) * k, lambda turn=turn: _forward_turn(turn))
+       for k in (1, 2, 3, 4) for side, name, turn in ((2, "right", 4), (3, "left", 5))},
+}
+"""Side-step-first agents: a blind guess that the target is ahead and a little to one side. The hard generator
+repairs every start that would lift one of them above its cap (:func:`eb_navigation.hard.repair`)."""
+
+
 def rule_agent_successes(free: FreeSpace, start: AgentState, target_xy: tuple[float, float],
-                         max_steps: int = MAX_STEPS) -> dict[str, bool]:
-    """Whether each rule agent reaches the target within ``max_steps`` from ``start``."""
+                         max_steps: int = MAX_STEPS, agents: dict[str, Callable[[], RuleAgent]] | None = None
+                         ) -> dict[str, bool]:
+    """Whether each rule agent (default :data:`RULE_AGENTS`) reaches the target within ``max_steps``."""
     goal = free.goal_cells(target_xy, SUCCESS_DISTANCE)
     out = {}
-    for name, make in RULE_AGENTS.items():
+    for name, make in (RULE_AGENTS if agents is None else agents).items():
         agent = make()
         mem: dict = {}
         s, ok, solved = start, None, False
@@ -242,30 +340,35 @@ def blind_table(task_file: str | None = None) -> str:
     best rule agent and a seeded random agent, measured on the geometry of ``task_file`` (None: the shipped)."""
     from collections import defaultdict
 
-    from eb_navigation.env import NavigationEnv, build_room
+    from eb_navigation.geometry import distance_to
+    from eb_navigation.room import NavRoom
     from eb_navigation.tasks import SUBSETS, load_task_file
+
+    def build_room(t):  # the task's room (no import of the env: baselines stays below it)
+        return NavRoom(t.scene.kind, t.scene.seed, [e.spec() for e in t.extra_objects], t.scene.clutter)
 
     tf = load_task_file(task_file)
     rooms: dict[tuple, object] = {}
     blind: dict[str, list[np.ndarray]] = defaultdict(list)
     rules: dict[str, list[np.ndarray]] = defaultdict(list)
     for t in tf.tasks:
-        key = (t.scene.kind, t.scene.seed, t.extra_objects)
+        key = (t.scene.kind, t.scene.seed, t.scene.clutter, t.extra_objects)
         room = rooms.get(key) or rooms.setdefault(key, build_room(t))
         free = room.free_space(room.extra_ids)  # type: ignore[attr-defined]
         s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
         blind[t.subset].append(blind_successes(free, s, t.target.position[:2]))
         rules[t.subset].append(np.array(list(rule_agent_successes(free, s, t.target.position[:2]).values())))
-    env = NavigationEnv(render=False, task_file=task_file)
     rng = np.random.default_rng(0)
     random_wins: dict[str, int] = defaultdict(int)
-    for task in NavigationEnv.load_tasks(task_file=task_file):
-        env.reset(task, 0)
+    for t in tf.tasks:  # a seeded random agent, stepped on the same free space the env uses
+        room = rooms[(t.scene.kind, t.scene.seed, t.scene.clutter, t.extra_objects)]
+        free = room.free_space(room.extra_ids)  # type: ignore[attr-defined]
+        s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw, t.start.tilt)
         for _ in range(MAX_STEPS):
-            if env.step(int(rng.integers(8))).done:
-                random_wins[task.subset] += 1
+            s, _, _ = free.apply(s, int(rng.integers(8)))
+            if distance_to(s, t.target.position[:2]) <= SUCCESS_DISTANCE + 1e-9:
+                random_wins[t.subset] += 1
                 break
-    env.close()
     fwd = BLIND_POLICIES.index(blind_policy((), (0,)))
     turn_fwd = [BLIND_POLICIES.index(blind_policy((t,), (0,))) for t in (4, 5)]
     rule_names = list(RULE_AGENTS)

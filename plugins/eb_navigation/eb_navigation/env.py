@@ -12,7 +12,7 @@ the oracle over all 300 tasks in seconds.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, ValidationError
@@ -34,7 +34,7 @@ from eb_navigation.instructions import colour_word, display_name, with_article
 from eb_navigation.prompts import prompt_parts
 from eb_navigation.room import NavObject, NavRoom
 from eb_navigation.splits import take_room
-from eb_navigation.tasks import NavTaskSpec, TaskFileError, load_task_file, spec_of
+from eb_navigation.tasks import NavTaskSpec, TaskFileError, load_task_file, load_taskset, spec_of
 
 __all__ = ["FAILURES", "NavigationEnv", "NavigationParams", "build_room", "check_target"]
 
@@ -64,6 +64,8 @@ class NavigationParams(BaseModel):
     """Path of a task file made by ``eb tasks generate env=navigation``; None = the shipped one."""
     render: bool = True
     """False: no images at all (geometry only, text observations), for fast oracle checks."""
+    difficulty: Literal["classic", "medium", "hard"] | None = None
+    """Difficulty of generated ``train``/``val`` tasks (a curriculum); None = that of the task set."""
 
 
 def _params(params: dict[str, Any]) -> NavigationParams:
@@ -94,7 +96,7 @@ def check_target(room: NavRoom, spec: NavTaskSpec) -> NavObject:
 
 def build_room(spec: NavTaskSpec) -> NavRoom:
     """The room of a task (the kit's room plus the task's extra objects), checked against the file."""
-    room = NavRoom(spec.scene.kind, spec.scene.seed, [e.spec() for e in spec.extra_objects])
+    room = NavRoom(spec.scene.kind, spec.scene.seed, [e.spec() for e in spec.extra_objects], spec.scene.clutter)
     check_target(room, spec)
     return room
 
@@ -148,18 +150,23 @@ class NavigationEnv(Env):
     # -- contract --------------------------------------------------------------------------------
 
     @classmethod
-    def load_tasks(cls, **params: Any) -> list[Task]:
+    def load_tasks(cls, taskset: str = "classic", **params: Any) -> list[Task]:
+        """The shipped ``classic`` or ``hard`` set, or ``env.params.task_file`` (a classic-style file or a folder
+        of per-subset files)."""
         p = _params(params)
-        return [t.to_task() for t in load_task_file(p.task_file).tasks]
+        return [t.to_task() for t in load_taskset(taskset, p.task_file)]
 
     splits = ("train", "val")
 
     @classmethod
-    def split_tasks(cls, split: str, start: int, count: int, **params: Any) -> list[Task]:
-        """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_navigation.splits`)."""
+    def split_tasks(cls, split: str, start: int, count: int, taskset: str = "classic", **params: Any) -> list[Task]:
+        """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_navigation.splits`); ``taskset=hard``
+        (or ``env.params.difficulty``) draws them at that difficulty."""
         from eb_navigation.splits import split_tasks
 
-        return split_tasks(split, start, count, task_file=_params(params).task_file)
+        p = _params(params)
+        difficulty = p.difficulty or ("hard" if taskset == "hard" else "classic")
+        return split_tasks(split, start, count, task_file=p.task_file, difficulty=difficulty)
 
     def action_space(self) -> DiscreteActionSpace:
         return self._space
@@ -188,7 +195,7 @@ class NavigationEnv(Env):
             raise RuntimeError("NavigationEnv.reset() after close()")
         spec = spec_of(task)
         extras = self._extras_of_scene(spec)
-        key = (spec.scene.kind, spec.scene.seed, extras)
+        key = (spec.scene.kind, spec.scene.seed, spec.scene.clutter, extras)
         previous = None
         try:
             if key != self._world_key or self._world is None:
@@ -196,8 +203,8 @@ class NavigationEnv(Env):
                 # process keeps its GL context across the switch instead of making a new one
                 previous, self._world, self._world_key = self._world, None, None
                 wanted = tuple(e.spec() for e in extras)
-                room = take_room(spec.scene.kind, spec.scene.seed, wanted) or NavRoom(spec.scene.kind, spec.scene.seed,
-                                                                                     list(wanted))
+                room = (take_room(spec.scene.kind, spec.scene.seed, wanted, spec.scene.clutter)
+                        or NavRoom(spec.scene.kind, spec.scene.seed, list(wanted), spec.scene.clutter))
                 self._world = _World(room, self.params.render, self.resolution)
                 self._world_key = key
             return self._start(spec)

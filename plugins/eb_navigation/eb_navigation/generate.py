@@ -42,78 +42,26 @@ from eb_navigation.visibility import Visibility
 
 __all__ = ["GENERATOR_VERSION", "TARGETS_BY_KIND", "audit_form", "generate"]
 
-GENERATOR_VERSION = 3
-
-#: Target types per room kind (scene kit names), in the order slots of that kind cycle through them.
-TARGETS_BY_KIND: dict[str, tuple[str, ...]] = {
-    "kitchen": ("Fridge", "Microwave", "Stove", "Sink", "GarbageCan", "DiningTable"),
-    "living_room": ("Television", "Sofa", "ArmChair", "FloorLamp", "HousePlant", "Bookshelf"),
-    "bedroom": ("Desk", "Dresser", "FloorLamp", "Bookshelf", "GarbageCan", "HousePlant"),
-    "bathroom": ("Toilet", "Bathtub", "WashingMachine", "Sink", "GarbageCan", "HousePlant"),
-}
-MIN_VISIBLE_PIXELS = 80
-"""Target pixels (in a 128 x 128 segmentation of the first view) for the target to count as clearly visible."""
-MIN_DISTRACTOR_PIXELS = 40
-MAX_START_BEARING = 40.0
-"""The target's centre must be within this many degrees of straight ahead at a start where it is promised in view."""
-MIN_BEHIND_BEARING = 100.0
-"""A long_horizon start has the target at least this far from straight ahead (and out of view in the render)."""
-LONG_HORIZON_EXTRA = 2
-"""A long_horizon oracle plan is at least this many actions longer than the base plan of the same room."""
-LONG_HORIZON_MAX_DISTANCE = 1.0
-"""A long_horizon start may be up to this much farther than ``max_distance``."""
-MIN_COLOUR_DISTANCE = 0.62
-"""Look-alikes differ from the target (and each other) by at least this much in RGB: black vs white or silver,
-grey vs white, red vs beige... never white vs stainless steel or cream (which look alike in a render)."""
-MIN_DISTRACTOR_DISTANCE = 1.8
-"""Distractor centres stand at least this far from the target's centre (metres)."""
-KIND_ATTEMPTS = 150
-"""Rooms of one kind tried for a slot before the slot moves on to the next kind (small bathrooms run dry first:
-their few starts are open floor that blind policies solve)."""
-_VIS_TRIES = 12
-"""Best-scoring candidates whose visibility is rendered before the room is given up."""
-
-
-def _wall_pose(room: NavRoom, type_name: str, rng: np.random.Generator, taken: list, keep_clear: list
-               ) -> tuple[float, float, float] | None:
-    """A pose with the object's back against a wall, clear of furniture, the door, windows and ``keep_clear``."""
-    shell = room.layout.room
-    t = get_type(type_name)
-    hx, hy = room.size[0] / 2, room.size[1] / 2
-    d = shell.door
-    c, along, normal = shell.wall_frame(d.wall)
-    p = c + along * d.offset + normal * 0.5
-    door = probe(type_name, float(p[0]), float(p[1]), math.degrees(math.atan2(normal[1], normal[0])))
-    door = replace(door, half_extents=(0.55, d.width / 2 + 0.3))
-    windows = []
-    if t.height > 1.1:
-        for w in shell.windows:
-            c, along, normal = shell.wall_frame(w.wall)
-            p = c + along * w.offset + normal * 0.3
-            win = probe(type_name, float(p[0]), float(p[1]), math.degrees(math.atan2(normal[1], normal[0])))
-            windows.append(replace(win, half_extents=(0.3, w.width / 2)))
-    walls = ("north", "south", "east", "west")
-    for _ in range(40):
-        wall = walls[int(rng.integers(4))]
-        c, along, normal = shell.wall_frame(wall)
-        lim = shell.wall_length(wall) / 2 - t.half_extents[1] - 0.05
-        if lim <= 0:
-            continue
-        off = float(rng.uniform(-lim, lim))
-        p = c + along * off + normal * (t.half_extents[0] + 0.03)
-        x, y = round(float(p[0]), 3), round(float(p[1]), 3)
-        yaw = round(math.degrees(math.atan2(normal[1], normal[0])), 1)
-        cand = probe(type_name, x, y, yaw)
-        x0, y0, x1, y1 = cand.aabb()
-        if x0 < -hx or x1 > hx or y0 < -hy or y1 > hy:
-            continue
-        if cand.overlaps(door) or any(cand.overlaps(w) for w in windows):
-            continue
-        if any(cand.overlaps(o, 0.05) for o in taken) or any(cand.overlaps(k) for k in keep_clear):
-            continue
-        return x, y, yaw
-    return None
-
+from eb_navigation.placement import (  # noqa: F401  (re-exported: the generator's rules and pieces)
+    GENERATOR_VERSION,
+    TARGETS_BY_KIND,
+    MIN_VISIBLE_PIXELS,
+    MIN_DISTRACTOR_PIXELS,
+    MAX_START_BEARING,
+    MIN_BEHIND_BEARING,
+    LONG_HORIZON_EXTRA,
+    LONG_HORIZON_MAX_DISTANCE,
+    MIN_COLOUR_DISTANCE,
+    MIN_DISTRACTOR_DISTANCE,
+    KIND_ATTEMPTS,
+    _VIS_TRIES,
+    _wall_pose,
+    _twin_colours,
+    _place_lookalikes,
+    _pose_dict,
+    _target_dict,
+    _extra_dict,
+)
 
 
 @dataclass
@@ -194,35 +142,6 @@ def _pick_hidden(room: NavRoom, target: NavObject, cands: Sequence[_Candidate], 
     return None
 
 
-def _twin_colours(target: NavObject) -> list[str]:
-    t = get_type(target.type)
-    return [c for c in t.colors if colour_distance(c, target.colour) >= MIN_COLOUR_DISTANCE]
-
-
-def _place_lookalikes(room: NavRoom, target: NavObject, rng: np.random.Generator) -> list[ExtraSpec] | None:
-    """One or two same-type objects in clearly different colours against the walls, away from the target."""
-    others = _twin_colours(target)
-    if not others or target.type not in SHAPES or not target.on_floor:
-        return None
-    floor = [o for o in room.layout.objects if o.parent is None and o.mount != "wall"]
-    keep_clear = [replace(probe(target.type, target.x, target.y, 0.0), half_extents=(1.3, 1.3))]
-    for _attempt in range(8):
-        n = 2 if rng.random() < 0.5 and len(others) > 1 else 1
-        order = [others[int(k)] for k in rng.permutation(len(others))]
-        colours = [order[0]] + [c for c in order[1:] if colour_distance(c, order[0]) >= MIN_COLOUR_DISTANCE][: n - 1]
-        extras: list[ExtraSpec] = []
-        taken = list(floor)
-        for k, colour in enumerate(colours):
-            pose = _wall_pose(room, target.type, rng, taken, keep_clear)
-            if pose is None or math.hypot(pose[0] - target.x, pose[1] - target.y) < MIN_DISTRACTOR_DISTANCE:
-                break
-            extras.append(ExtraSpec(f"{target.type}_{k + 2}", target.type, colour, *pose))
-            taken.append(probe(target.type, *pose))
-        if len(extras) == len(colours):
-            return extras
-    return None
-
-
 def _visual_task(room: NavRoom, base_target: NavObject, lo: float, hi: float, max_steps: int, vis: Visibility,
                  rng: np.random.Generator, tally: _Tally, blind_cap: int, rule_cap: int
                  ) -> tuple[NavObject, _Candidate, list[ExtraSpec]] | None:
@@ -244,22 +163,10 @@ def _visual_task(room: NavRoom, base_target: NavObject, lo: float, hi: float, ma
     return None
 
 
-def _pose_dict(s: AgentState) -> dict[str, Any]:
-    return {"x": s.x, "y": s.y, "yaw": s.yaw_deg, "tilt": s.tilt}
-
-
-def _target_dict(t: NavObject) -> dict[str, Any]:
-    return {"id": t.id, "type": t.type, "colour": t.colour, "position": [round(v, 4) for v in t.centre]}
-
-
-def _extra_dict(e: ExtraSpec) -> dict[str, Any]:
-    return {"id": e.id, "type": e.type, "colour": e.colour, "x": e.x, "y": e.y, "yaw": e.yaw}
-
-
 def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_distance: float = 3.5,
              out: str | None = None, max_oracle_steps: int = 15, blind_cap: int | None = None,
              rule_cap: int | None = None, progress: bool = False, split: str = "test", n: int | None = None,
-             start: int = 0, slots: Sequence[int] | None = None) -> str:
+             start: int = 0, slots: Sequence[int] | None = None, difficulty: str = "classic") -> str:
     """Write a navigation task file with ``5 * scenes`` tasks; return a one-line summary.
 
     ``split=train|val n=N [start=K] out=PATH`` writes tasks ``K .. K+N-1`` of a generated training split instead
@@ -279,7 +186,14 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
         progress: print one line per finished room.
         slots: make only these scene slots of ``0 .. scenes-1`` (their kinds and target types as in the full
             file; rooms and starts are drawn afresh), e.g. an even spread for ``eb audit``'s fresh form.
+        difficulty: ``classic`` (this generator), ``medium`` or ``hard`` (:mod:`eb_navigation.hard`: small
+            targets with look-alikes in cluttered rooms; ``out`` is then a folder of per-subset files, progress
+            goes to stderr). With ``split=train|val`` it sets the difficulty of the split's tasks.
     """
+    from eb_navigation.hard import DIFFICULTIES
+
+    if difficulty not in DIFFICULTIES:
+        raise ValueError(f"unknown difficulty {difficulty!r}; allowed: {', '.join(DIFFICULTIES)}")
     if split != "test":
         from eb_navigation.splits import SPLITS, write_split
 
@@ -290,7 +204,13 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
                              f"file holds the test split only)")
         if int(start) < 0:
             raise ValueError(f"start must be >= 0, got {start}")
-        return write_split(str(out), split, int(n), int(start))
+        paths = write_split(str(out), split, int(n), int(start), difficulty=difficulty)
+        level = "" if difficulty == "classic" else f"{difficulty} "
+        return f"wrote {int(n)} {level}{split} tasks ({int(start)}..{int(start) + int(n) - 1}) to {paths[0]}"
+    if difficulty != "classic":
+        from eb_navigation.hard import generate_level
+
+        return generate_level(difficulty, seed=int(seed), scenes=int(scenes), out=out, progress=True)
     seed, scenes = int(seed), int(scenes)
     lo, hi = float(min_distance), float(max_distance)
     if scenes < 1:
@@ -391,10 +311,15 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
             f"oracle steps {min(steps_all)}-{max(steps_all)}, mean {np.mean(steps_all):.1f}")
 
 
-def audit_form(out: str, seed: int, per_subset: int) -> str:
+def audit_form(out: str, seed: int, per_subset: int, difficulty: str = "classic") -> str:
     """A fresh form of ``per_subset`` tasks per subset for ``eb audit``'s parallel-forms probe: the scene slots
     at an even spread of the shipped file's 60 (so kinds and target types are spread as there), with the blind
-    and rule-agent caps scaled to the smaller file. Written as one task file at ``out``."""
+    and rule-agent caps scaled to the smaller file. Written as one task file at ``out`` (a harder ``difficulty``:
+    a folder of per-subset files, ``per_subset`` scenes of that level)."""
+    if difficulty != "classic":
+        from eb_navigation.hard import generate_level
+
+        return generate_level(difficulty, seed=int(seed), scenes=max(1, int(per_subset)), out=out, progress=False)
     full = 60
     k = max(1, min(int(per_subset), full))
     return generate(seed=seed, scenes=full, out=out, slots=[(i * full) // k for i in range(k)],

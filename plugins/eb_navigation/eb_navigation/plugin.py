@@ -24,6 +24,7 @@ def eb_register_envs() -> list[EnvSpec]:
             subsets=dict(SUBSETS),
             task_generator="eb_navigation.generate:generate",
             audit_probes="eb_navigation.audit:audit_probes",
+            tasksets=("classic", "hard"),
             install_hint="pip install -e plugins/eb_navigation",
         )
     ]

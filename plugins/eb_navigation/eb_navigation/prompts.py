@@ -12,8 +12,8 @@ from __future__ import annotations
 
 from eb_core import PromptParts
 
-__all__ = ["EXAMPLES", "FIRST_STEP_GUIDANCE", "GUIDELINES", "LATER_STEP_GUIDANCE", "ROLE", "VIEW_DESCRIPTIONS",
-           "prompt_parts"]
+__all__ = ["ACTION_RULES_LANGUAGE_ONLY", "EXAMPLES", "FIRST_STEP_GUIDANCE", "GUIDELINES", "GUIDELINES_LANGUAGE_ONLY",
+           "LATER_STEP_GUIDANCE", "ROLE", "ROLE_LANGUAGE_ONLY", "VIEW_DESCRIPTIONS", "prompt_parts"]
 
 ROLE = (
     "You are a robot moving around a furnished room of a home. A camera at a person's eye height shows you what "
@@ -27,7 +27,8 @@ ACTION_RULES = """\
 - Turning (ids 4-5) rotates you on the spot by 90 degrees to the right or to the left: the view changes, your position does not.
 - Tilting (ids 6-7) points the camera 30 degrees up or down (at most 60 down and 30 up) to see things near the floor or high up.
 - A move into a wall or a piece of furniture fails and you stay where you were. After each action you learn only whether it worked.
-- The episode ends by itself, as a success, once you are within about 1 metre of the target object."""
+- When an action fails, the rest of your plan is dropped: nothing after it is carried out, and you are asked for a new plan from where you stand.
+- Success is measured from the centre of your body to the centre of the target object, along the floor: the episode ends by itself, as a success, once that distance is 1 metre (4 moves) or less. Beside a large object, such as the long side of a table or a sofa, its centre can still be more than 1 metre away, so keep moving toward the middle of the object until the episode ends."""
 
 GUIDELINES = (
     "Find the target in the image first and say where it is relative to you (ahead, front left, far right...) "
@@ -40,6 +41,25 @@ GUIDELINES = (
     "Turn only when the target is not in the image. Then plan a single 90-degree turn and nothing else, look "
     "again, and repeat until the target shows up; once it is in view, go back to moving and stop turning.",
     "Do not settle for 'near enough': keep closing in until the episode ends.",
+    "Never answer with an empty plan.",
+)
+
+#: Under ``ablation=language_only`` (no image, no scene text) the prompt speaks of no camera and no image.
+ROLE_LANGUAGE_ONLY = (
+    "You are a robot moving around a furnished room of a home. You are given no picture and no description of "
+    "the room: you know only the instruction, which points to one object in the room, and whether each of your "
+    "actions worked. Your job is to move until you stand as close to that object as you can. You act by choosing "
+    "actions from a fixed list, several at a time if you like."
+)
+ACTION_RULES_LANGUAGE_ONLY = ACTION_RULES.replace(
+    "- Tilting (ids 6-7) points the camera 30 degrees up or down (at most 60 down and 30 up) to see things near the "
+    "floor or high up.",
+    "- Tilting (ids 6-7) only changes the view you are not given: it neither moves nor turns you.")
+GUIDELINES_LANGUAGE_ONLY = (
+    "You cannot see where the target is: reason from the instruction and from which of your moves worked or "
+    "failed, and explore the room in a way that covers new ground instead of going back and forth.",
+    "A failed move tells you a wall or a piece of furniture is that way: try another direction.",
+    "Do not settle for 'near enough': keep moving until the episode ends.",
     "Never answer with an empty plan.",
 )
 
@@ -103,4 +123,6 @@ def prompt_parts(subset: str | None = None) -> PromptParts:
 
     return PromptParts(role=ROLE, action_rules=ACTION_RULES, guidelines=GUIDELINES, examples=EXAMPLES,
                        first_step_guidance=FIRST_STEP_GUIDANCE, later_step_guidance=LATER_STEP_GUIDANCE,
-                       view_descriptions=dict(VIEW_DESCRIPTIONS), visual_examples=visual_examples())
+                       view_descriptions=dict(VIEW_DESCRIPTIONS), visual_examples=visual_examples(),
+                       role_language_only=ROLE_LANGUAGE_ONLY, action_rules_language_only=ACTION_RULES_LANGUAGE_ONLY,
+                       guidelines_language_only=GUIDELINES_LANGUAGE_ONLY)

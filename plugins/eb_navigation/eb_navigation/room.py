@@ -74,17 +74,18 @@ def colour_distance(a: str, b: str) -> float:
 
 
 class NavRoom:
-    """The kit room of ``(kind, seed)`` with ``extras`` added.
+    """The kit room of ``(kind, seed)`` with ``extras`` added (``clutter``: small things the kit puts on the
+    furniture; the classic tasks use :data:`CLUTTER`, the hard ones more).
 
     One room (and one compiled model) serves every task of a scene: the tasks without extras see the room with
     the extras hidden (:meth:`free_space` and :meth:`visible_objects` leave them out too).
     """
 
-    def __init__(self, kind: str, seed: int, extras: Sequence[ExtraSpec] = ()) -> None:
+    def __init__(self, kind: str, seed: int, extras: Sequence[ExtraSpec] = (), clutter: int = CLUTTER) -> None:
         if kind not in KINDS:
             raise ValueError(f"unknown room kind {kind!r}; available: {', '.join(KINDS)}")
-        self.kind, self.seed = kind, int(seed)
-        self.layout: RoomLayout = generate_room(kind, self.seed, clutter=CLUTTER, antialias=ANTIALIAS)
+        self.kind, self.seed, self.clutter = kind, int(seed), int(clutter)
+        self.layout: RoomLayout = generate_room(kind, self.seed, clutter=self.clutter, antialias=ANTIALIAS)
         self._base_grid = self.layout.free_space(GRID_RESOLUTION, AGENT_RADIUS)
         self.extras: tuple[ExtraSpec, ...] = tuple(extras)
         for e in self.extras:

@@ -76,7 +76,7 @@ def _expert_solves(free: Any, state: Any, xy: tuple[float, float], budget: int) 
 
 def _one(split: str, index: int, rooms: frozenset[tuple[str, int]], instructions: frozenset[str]) -> Task:
     from eb_navigation.baselines import blind_successes, plan_lengths
-    from eb_navigation.generate import (
+    from eb_navigation.placement import (
         LONG_HORIZON_EXTRA,
         LONG_HORIZON_MAX_DISTANCE,
         MAX_START_BEARING,
@@ -166,51 +166,96 @@ ROOMS_KEPT = 4
 
 
 def _keep_room(room: Any) -> None:
-    _ROOMS[(room.kind, room.seed, tuple(room.extras))] = room
+    _ROOMS[(room.kind, room.seed, tuple(room.extras), room.clutter)] = room
     while len(_ROOMS) > ROOMS_KEPT:
         _ROOMS.popitem(last=False)
 
 
-def take_room(kind: str, seed: int, extras: tuple[Any, ...]) -> Any:
+def take_room(kind: str, seed: int, extras: tuple[Any, ...], clutter: int | None = None) -> Any:
     """The room the generator just built and checked a task in, if it is the room ``(kind, seed, extras)``; each
     room is handed out once (the env then owns it), else None. A train reset right after drawing its task then
     skips laying out the same room a second time."""
-    return _ROOMS.pop((kind, int(seed), tuple(extras)), None)
+    from eb_navigation.room import CLUTTER
+
+    return _ROOMS.pop((kind, int(seed), tuple(extras), CLUTTER if clutter is None else int(clutter)), None)
+
+
+def _one_level(split: str, index: int, difficulty: str, rooms: frozenset[tuple[str, int]]) -> Task:
+    """Task ``index`` of a generated split at a harder level (:mod:`eb_navigation.hard`): the level's rooms,
+    targets, look-alikes and start rules, without the rendered visibility check (bearing only) and without the
+    per-file blind caps; checked closed loop like the classic split tasks."""
+    from eb_navigation.hard import HARD_TYPES, LEVELS, Tally, draw_scene, scene_tasks
+    from eb_navigation.geometry import AgentState
+    from eb_navigation.room import KINDS
+    from eb_navigation.tasks import SUBSETS, NavTaskSpec
+
+    subset = SUBSETS[index % len(SUBSETS)]
+    part = {"visual_appearance": "visual_appearance", "long_horizon": "long_horizon"}.get(subset, "plain")
+    rng = _stream(f"{split}:{difficulty}", index)
+    level = LEVELS[difficulty]
+    for _ in range(MAX_TRIES):
+        kind = KINDS[int(rng.integers(3))]
+        seed = int(rng.integers(*SEED_RANGE))
+        if (kind, seed) in rooms:
+            continue
+        type_name = HARD_TYPES[int(rng.integers(len(HARD_TYPES)))]
+        sector = ("left", "behind", "right")[int(rng.integers(3))]
+        sc = draw_scene(kind, seed, type_name, level, rng, {part: Tally(None)}, None, sector, parts=(part,))
+        if sc is None:
+            continue
+        st = sc.starts[part]
+        if not _expert_solves(sc.room.free_space(sc.room.extra_ids), st.state, (sc.target.x, sc.target.y),
+                              st.plan + 2):
+            continue
+        entry = scene_tasks(sc, index, rng, {}, subsets=(subset,), id_prefix=f"{split}_{difficulty}_")[0]
+        entry["id"] = f"{split}_{difficulty}_{subset}_{index:06d}"
+        _keep_room(sc.room)
+        assert isinstance(st.state, AgentState)
+        return NavTaskSpec.model_validate(entry).to_task()
+    raise RuntimeError(f"navigation {difficulty} {split} task {index}: no valid draw in {MAX_TRIES} tries")
 
 
 _recent = lru_cache(maxsize=512)(_one)
+_recent_level = lru_cache(maxsize=512)(_one_level)
 """The last 512 tasks made in this process: drawing and checking a task again (a reset of the same seed, a group
 of rollouts from one task, ``options={"task_id": ...}``) is a dictionary look-up. Callers get deep copies."""
 
 
-def split_tasks(split: str, start: int, count: int, task_file: str | None = None, **_: Any) -> list[Task]:
-    """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``)."""
+def split_tasks(split: str, start: int, count: int, task_file: str | None = None, difficulty: str = "classic",
+                **_: Any) -> list[Task]:
+    """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``) at ``difficulty``
+    (``classic``, ``medium`` or ``hard``: a curriculum for trainers)."""
     if split not in SPLITS:
         raise ValueError(f"navigation: unknown split {split!r}; generated splits are {', '.join(SPLITS)} "
                          f"('test' is the shipped task file: load_tasks())")
     if start < 0 or count < 0:
         raise ValueError(f"navigation: split_tasks needs start >= 0 and count >= 0, got start={start}, count={count}")
+    if difficulty not in ("classic", "medium", "hard"):
+        raise ValueError(f"navigation: unknown difficulty {difficulty!r}; allowed: classic, medium, hard")
     rooms, instructions = test_keys(task_file)
+    if difficulty != "classic":
+        return [_recent_level(split, i, difficulty, rooms).model_copy(deep=True) for i in range(start, start + count)]
     return [_recent(split, i, rooms, instructions).model_copy(deep=True) for i in range(start, start + count)]
 
 
-def write_split(out: str, split: str, n: int, start: int = 0) -> str:
+def write_split(out: str, split: str, n: int, start: int = 0, difficulty: str = "classic") -> list[Path]:
     """Write tasks ``start .. start + n - 1`` of ``split`` as one task file at ``out`` (a ``.json`` path, or a
     folder that gets ``navigation_<split>.json``), so that ``eb run env=navigation env.params.task_file=<file>``
     evaluates on them. Returns a one-line summary."""
-    from eb_navigation.generate import GENERATOR_VERSION
+    from eb_navigation.placement import GENERATOR_VERSION
     from eb_navigation.tasks import TASK_FILE_FORMAT, TASK_FILE_VERSION, TaskFile
 
     path = Path(out)
     if path.suffix != ".json":
         path = path / f"navigation_{split}.json"
     tasks = [{"id": t.id, "subset": t.subset, "instruction": t.instruction, **t.metadata}
-             for t in split_tasks(split, start, n)]
+             for t in split_tasks(split, start, n, difficulty=difficulty)]
     doc = {"format": TASK_FILE_FORMAT, "version": TASK_FILE_VERSION,
            "generator": {"function": "eb_navigation.splits:split_tasks", "generator_version": GENERATOR_VERSION,
-                         "split": split, "start": start, "n": n},
+                         "split": split, "start": start, "n": n,
+                         **({"difficulty": difficulty} if difficulty != "classic" else {})},
            "tasks": tasks}
     TaskFile.model_validate(doc)
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
-    return f"wrote {len(tasks)} {split} tasks ({start}..{start + n - 1}) to {path}"
+    return [path]

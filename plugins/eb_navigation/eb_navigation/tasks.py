@@ -23,16 +23,19 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_serializer, model_validator
 
 from eb_core import Task
+from eb_core.taskfile import TaskFileError as _CoreTaskFileError
+from eb_core.taskfile import TaskFileFormat
 from eb_scenekit.objects import CATALOGUE
 
 from eb_navigation.geometry import STEP
-from eb_navigation.room import KINDS, ExtraSpec
+from eb_navigation.room import CLUTTER, KINDS, ExtraSpec
 
-__all__ = ["DEFAULT_TASK_FILE", "SUBSETS", "TASK_FILE_FORMAT", "TASK_FILE_VERSION", "TaskFileError", "NavTaskSpec",
-           "load_task_file", "spec_of", "task_file_path"]
+__all__ = ["DEFAULT_TASK_FILE", "FORMAT", "HARD_DIR", "SUBSETS", "TASKSETS", "TASK_FILE_FORMAT", "TASK_FILE_VERSION",
+           "TaskFileError", "NavTaskSpec", "load_task_file", "load_taskset", "spec_of", "task_file_path",
+           "write_subset_files"]
 
 TASK_FILE_FORMAT = "eb-navigation-tasks"
 SUBSETS: tuple[str, ...] = ("base", "common_sense", "complex_instruction", "visual_appearance", "long_horizon")
@@ -40,8 +43,13 @@ TASK_FILE_VERSION = 3
 DEFAULT_TASK_FILE = Path(__file__).parent / "tasks" / f"navigation_v{TASK_FILE_VERSION}.json"
 
 
-class TaskFileError(ValueError):
-    """The task file is malformed; the message is one line naming file, task and field."""
+TaskFileError = _CoreTaskFileError
+"""The one task-file error of the project (:class:`eb_core.taskfile.TaskFileError`): one line naming file, task and
+field."""
+
+TASKSETS: tuple[str, ...] = ("classic", "hard")
+"""The shipped task sets: ``classic`` (the paper's protocol, one file) and ``hard`` (one file per subset)."""
+HARD_DIR = Path(__file__).parent / "tasks" / "hard"
 
 
 class _Strict(BaseModel):
@@ -51,6 +59,16 @@ class _Strict(BaseModel):
 class SceneRef(_Strict):
     kind: Literal["kitchen", "living_room", "bedroom", "bathroom"]
     seed: int = Field(ge=0)
+    clutter: int = Field(default=CLUTTER, ge=0, le=60)
+    """Small objects the kit puts on the furniture; left out of the file when it is the classic
+    :data:`~eb_navigation.room.CLUTTER` (so the classic file and its tasks read and dump exactly as before)."""
+
+    @model_serializer(mode="wrap")
+    def _omit_classic_clutter(self, handler: Any) -> dict[str, Any]:
+        out = handler(self)
+        if out.get("clutter") == CLUTTER:
+            out.pop("clutter")
+        return out
 
 
 class StartPose(_Strict):
@@ -230,6 +248,41 @@ def spec_of(task: Task) -> NavTaskSpec:
         err = exc.errors()[0]
         field = ".".join(str(p) for p in err["loc"])
         raise TaskFileError(f"task {task.id!r}: field {field}: {err['msg']}") from None
+
+
+FORMAT: TaskFileFormat[NavTaskSpec] = TaskFileFormat("navigation", TASK_FILE_FORMAT, TASK_FILE_VERSION, NavTaskSpec,
+                                                     subsets=SUBSETS)
+"""The core's task-file mechanism for navigation's per-subset files (the hard set, generated levels)."""
+
+
+def _subset_files(folder: Path) -> list[Path]:
+    files = [folder / f"{s}.json" for s in SUBSETS if (folder / f"{s}.json").is_file()]
+    if not files:
+        raise TaskFileError(f"{folder}: no task files (expected {', '.join(s + '.json' for s in SUBSETS)}). Fix: "
+                            f"give a folder written by `eb tasks generate env=navigation difficulty=hard out=...`")
+    return files
+
+
+def load_taskset(taskset: str = "classic", task_file: str | Path | None = None) -> list[NavTaskSpec]:
+    """The tasks of a shipped set, or of ``task_file``: a classic file, or a folder of per-subset files."""
+    if taskset not in TASKSETS:
+        raise ValueError(f"navigation: unknown taskset {taskset!r}; available: {', '.join(TASKSETS)}. Fix: "
+                         f"taskset=classic or taskset=hard")
+    if task_file is not None and Path(task_file).expanduser().is_dir():
+        return FORMAT.read_many(_subset_files(Path(task_file).expanduser()))
+    if taskset == "hard" and task_file is None:
+        return FORMAT.read_many(_subset_files(HARD_DIR))
+    return list(load_task_file(task_file).tasks)
+
+
+def write_subset_files(folder: Path, tasks: list[dict[str, Any]], generator: dict[str, Any]) -> list[Path]:
+    """Write ``<folder>/<subset>.json`` per subset (core envelope, atomically); returns the paths."""
+    out = []
+    for s in SUBSETS:
+        mine = [t for t in tasks if t["subset"] == s]
+        if mine:
+            out.append(FORMAT.write(Path(folder) / f"{s}.json", mine, generator=generator, subset=s))
+    return out
 
 
 assert set(KINDS) == {"kitchen", "living_room", "bedroom", "bathroom"}

@@ -15,12 +15,13 @@ __all__ = ["contact_sheet", "subsets_sheet"]
 
 
 def contact_sheet(task_ids: list[str] | None = None, out: str | Path = "navigation_views.png", cell: int = 400,
-                  cols: int = 4, multi_view: bool = False, task_file: str | None = None) -> Path:
+                  cols: int = 4, multi_view: bool = False, task_file: str | None = None,
+                  taskset: str = "classic") -> Path:
     from PIL import Image, ImageDraw, ImageFont
 
     from eb_navigation.env import NavigationEnv
 
-    tasks = {t.id: t for t in NavigationEnv.load_tasks(task_file=task_file)}
+    tasks = {t.id: t for t in NavigationEnv.load_tasks(taskset=taskset, task_file=task_file)}
     if not task_ids:
         task_ids = [f"base_{n:03d}" for n in range(12)]
     env = NavigationEnv(resolution=500, multi_view=multi_view, task_file=task_file)
@@ -92,7 +93,9 @@ def subsets_sheet(numbers: tuple[int, ...] = (1, 6, 9), out: str | Path = "navig
 
 if __name__ == "__main__":  # pragma: no cover
     args = sys.argv[1:]
-    if args[:1] == ["--subsets"]:
+    if args[:1] == ["--hard"]:  # python -m eb_navigation.views --hard out.png [task ids]
+        print(contact_sheet(args[2:] or None, args[1] if len(args) > 1 else "navigation_hard.png", taskset="hard"))
+    elif args[:1] == ["--subsets"]:
         print(subsets_sheet(out=args[1] if len(args) > 1 else "navigation_subsets.png"))
     else:
         print(contact_sheet(args[1:] or None, args[0] if args else "navigation_views.png"))

@@ -1,0 +1,502 @@
+"""The harder task levels of EB-Navigation: ``eb tasks generate env=navigation difficulty=hard seed=N``.
+
+Same protocol as the classic set (8 actions, 20 steps, success within 1 m of the target's centre); other scenes
+and instructions. Per scene slot one room (seeds from :data:`SEED_BASE`, apart from every other task source) with:
+
+* more small things on the furniture (the kit's ``clutter``) and a few extra things standing on the floor;
+* a small target standing on the floor (a vase, a watering can, a teddy bear, a bin, a potted plant, a footstool,
+  a laundry hamper) and look-alikes of the same type in clearly different colours at least
+  :data:`MIN_LOOKALIKE_GAP` metres away: walking up to a look-alike never succeeds, and only the colour named in
+  the instruction tells the target apart (the names in the feedback never do: navigation's feedback names nothing);
+* base / common_sense / complex_instruction: one start with the target AND a look-alike in view, the target at
+  least ``min_target_pixels`` of a 128 x 128 segmentation (it may be partly hidden behind furniture);
+* visual_appearance: its own start, the same rule, the target named by colour and shape only;
+* long_horizon: a start with the target out of view in a random direction (to the left, to the right or behind,
+  in turn over the slots), so the direction must be found by looking, not assumed.
+
+No start sits in a pocket: from every start at least 1 m (4 moves) is clear straight ahead or to one side. Every
+start is checked on the geometry (:mod:`eb_navigation.baselines`) against all 10,948 blind constant-action
+policies and the feedback-only rule agents; a start that would lift any of them above ``cap`` tasks of its subset
+(default 3.4 % of the scenes, at least 1) is refused.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from eb_scenekit.objects import get_type
+
+from eb_navigation.baselines import (
+    HARD_RULE_AGENTS,
+    REACTIVE_RULE_AGENTS,
+    SIDESTEP_RULE_AGENTS,
+    blind_successes,
+    plan_lengths,
+    rule_agent_successes,
+)
+from eb_navigation.geometry import HEADING_VECTORS, STEP, AgentState, FreeSpace, _move_delta, bearing_to
+from eb_navigation.hard_words import HARD_COMMON_SENSE, HARD_SHAPES, hard_instruction
+from eb_navigation.room import KINDS, ExtraSpec, NavObject, NavRoom, colour_distance, probe
+from eb_navigation.tasks import SUBSETS
+
+__all__ = ["DIFFICULTIES", "LEVELS", "Level", "MIN_LOOKALIKE_GAP", "SEED_BASE", "draw_scene", "generate_level"]
+
+DIFFICULTIES = ("classic", "medium", "hard")
+"""The generator's difficulty knob: ``classic`` is the shipped classic generator (:mod:`eb_navigation.generate`)."""
+SEED_BASE = 200_000
+"""Room seeds of the harder levels start here (classic tests 0..99,999, visual examples 100,000+, splits 10^7+)."""
+MIN_LOOKALIKE_GAP = 2.1
+"""Metres between the centres of the target and of every look-alike: within 1 m of one is never within 1 m of
+the other."""
+MIN_COLOUR_DISTANCE = 0.62
+"""RGB distance between the target's colour and every look-alike's (black vs white, red vs blue, brown vs pink)."""
+MIN_LOOKALIKE_PIXELS = 12
+"""Pixels (of 128 x 128) a look-alike shows at a start that promises the target and a look-alike in view."""
+MIN_FREE_RUN = 4
+"""Moves (1 m) that are clear straight ahead or to one side of every start: no start in a pocket."""
+HARD_TYPES: tuple[str, ...] = ("Vase", "WateringCan", "TeddyBear", "GarbageCan", "HousePlant", "Ottoman",
+                               "LaundryHamper")
+FLOOR_CLUTTER: tuple[str, ...] = ("Box", "Basket", "BasketBall", "Chair", "SideTable", "LaundryHamper",
+                                  "WateringCan", "Vase", "TeddyBear", "GarbageCan", "HousePlant", "Ottoman")
+_VIS_TRIES = 14
+
+
+@dataclass(frozen=True)
+class Level:
+    """One difficulty level of the generator."""
+
+    name: str
+    clutter: int
+    """Small things on the furniture (the classic rooms have 8)."""
+    floor_clutter: tuple[int, int]
+    """Other things added on the floor (min, max)."""
+    lookalikes: tuple[int, int]
+    """Same-type objects in other colours (min, max), counting those the room already has."""
+    min_target_pixels: int
+    """Target pixels of a 128 x 128 segmentation at a start that promises the target in view."""
+    distance: tuple[float, float]
+    """Start-to-target distance (metres) of the in-view starts; long_horizon up to 1 m more."""
+    max_plan: int
+    lh_max_plan: int
+    lh_min_bearing: float
+    """A long_horizon start has the target at least this many degrees off straight ahead (and out of view)."""
+
+
+LEVELS: dict[str, Level] = {
+    "medium": Level("medium", 12, (1, 2), (1, 1), 50, (2.5, 3.5), 15, 17, 100.0),
+    "hard": Level("hard", 20, (3, 5), (2, 3), 15, (2.5, 3.5), 16, 18, 60.0),
+}
+
+
+# -- the room -----------------------------------------------------------------------------------------------------
+
+def _door_probe(room: NavRoom) -> Any:
+    shell = room.layout.room
+    d = shell.door
+    c, along, normal = shell.wall_frame(d.wall)
+    p = c + along * d.offset + normal * 0.5
+    return replace(probe("Box", float(p[0]), float(p[1]), 0.0), half_extents=(0.75, d.width / 2 + 0.4))
+
+
+def _floor_spot(room: NavRoom, type_name: str, rng: np.random.Generator, taken: list, door: Any,
+                far_from: list[tuple[float, float]], gap: float) -> tuple[float, float, float] | None:
+    """A floor pose for ``type_name`` clear of everything on the floor (with room to walk past) and the door."""
+    t = get_type(type_name)
+    hx, hy = room.size[0] / 2, room.size[1] / 2
+    r = max(t.half_extents) + 0.05
+    for _ in range(250):
+        x = round(float(rng.uniform(-hx + r, hx - r)), 3)
+        y = round(float(rng.uniform(-hy + r, hy - r)), 3)
+        yaw = float(int(rng.integers(4)) * 90 + round(float(rng.uniform(-20, 20))))
+        if any(math.hypot(x - a, y - b) < gap for a, b in far_from):
+            continue
+        cand = probe(type_name, x, y, yaw)
+        if cand.overlaps(door) or any(cand.overlaps(o, 0.12) for o in taken):
+            continue
+        return x, y, yaw
+    return None
+
+
+def _target_colour(type_name: str, existing: list[str], n_look: int, rng: np.random.Generator
+                   ) -> tuple[str, list[str]] | None:
+    """The target's colour and the look-alikes' colours (all clearly different from the target's)."""
+    colours = list(get_type(type_name).colors)
+    for c in [colours[int(k)] for k in rng.permutation(len(colours))]:
+        if any(colour_distance(c, e) < MIN_COLOUR_DISTANCE for e in existing):
+            continue
+        others = [o for o in colours if colour_distance(o, c) >= MIN_COLOUR_DISTANCE]
+        if not others:
+            continue
+        need = max(0, n_look - len(existing))
+        if not existing:
+            need = max(1, need)
+        return c, [others[int(rng.integers(len(others)))] for _ in range(need)]
+    return None
+
+
+def _furnish(kind: str, seed: int, level: Level, type_name: str, rng: np.random.Generator
+             ) -> tuple[NavRoom, str, list[str]] | None:
+    """The room with the target, its look-alikes and the floor clutter added; (room, target id, look-alike ids)."""
+    plain = NavRoom(kind, seed, (), level.clutter)
+    existing = [o for o in plain.objects if o.type == type_name]
+    n_look = int(rng.integers(level.lookalikes[0], level.lookalikes[1] + 1))
+    picked = _target_colour(type_name, [o.colour for o in existing], n_look, rng)
+    if picked is None:
+        return None
+    colour, look_colours = picked
+    door = _door_probe(plain)
+    taken = [o for o in plain.layout.objects if o.parent is None and o.mount != "wall"]
+    spots: list[tuple[float, float]] = [(o.x, o.y) for o in existing]
+    extras: list[ExtraSpec] = []
+    ids = [f"{type_name}_{k}" for k in rng.permutation(np.arange(11, 11 + 1 + len(look_colours)))]
+    for k, c in enumerate([colour, *look_colours]):
+        pose = _floor_spot(plain, type_name, rng, taken, door, spots, MIN_LOOKALIKE_GAP)
+        if pose is None:
+            if k == 0:
+                return None
+            continue
+        extras.append(ExtraSpec(str(ids[k]), type_name, c, *pose))
+        taken.append(probe(type_name, *pose))
+        spots.append(pose[:2])
+    if len(extras) - 1 + len(existing) < level.lookalikes[0]:
+        return None
+    pool = [t for t in FLOOR_CLUTTER if t != type_name]
+    for n in range(int(rng.integers(level.floor_clutter[0], level.floor_clutter[1] + 1))):
+        typ = pool[int(rng.integers(len(pool)))]
+        pose = _floor_spot(plain, typ, rng, taken, door, [], 0.0)
+        if pose is None:
+            continue
+        cols = get_type(typ).colors
+        extras.append(ExtraSpec(f"{typ}_{31 + n}", typ, list(cols)[int(rng.integers(len(cols)))], *pose))
+        taken.append(probe(typ, *pose))
+    room = NavRoom(kind, seed, extras, level.clutter)
+    look_ids = [e.id for e in extras[1:] if e.type == type_name] + [o.id for o in existing]
+    return room, str(ids[0]), look_ids
+
+
+# -- starts -------------------------------------------------------------------------------------------------------
+
+def free_run(free: FreeSpace, s: AgentState, action: int, limit: int = MIN_FREE_RUN) -> int:
+    """How many moves of ``action`` (0 forward, 2 right, 3 left) in a row are clear from ``s`` (up to ``limit``)."""
+    di, dj = _move_delta(s.heading, action)
+    n, i, j = 0, s.i, s.j
+    while n < limit and free.can_move(i, j, di, dj):
+        i, j, n = i + di, j + dj, n + 1
+    return n
+
+
+def not_in_pocket(free: FreeSpace, s: AgentState) -> bool:
+    """At least :data:`MIN_FREE_RUN` moves clear straight ahead or to one side."""
+    return any(free_run(free, s, a) >= MIN_FREE_RUN for a in (0, 2, 3))
+
+
+@dataclass
+class _Start:
+    state: AgentState
+    plan: int
+    blind: np.ndarray
+    rules: np.ndarray
+
+
+class Tally:
+    """How many tasks of one subset each blind policy and rule agent solves so far (None caps: no check)."""
+
+    def __init__(self, cap: int | None) -> None:
+        self.cap = cap
+        self.blind: np.ndarray | None = None
+        self.rules: np.ndarray | None = None
+
+    def admits(self, st: _Start) -> bool:
+        if self.cap is None:
+            return True
+        blind = self.blind if self.blind is not None else np.zeros(st.blind.shape, dtype=np.int32)
+        rules = self.rules if self.rules is not None else np.zeros(st.rules.shape, dtype=np.int32)
+        worst = max(int(blind[st.blind].max()) if st.blind.any() else -1,
+                    int(rules[st.rules].max()) if st.rules.any() else -1)
+        return worst + 1 <= self.cap
+
+    def add(self, st: _Start) -> None:
+        if self.blind is None or self.rules is None:
+            self.blind = np.zeros(st.blind.shape, dtype=np.int32)
+            self.rules = np.zeros(st.rules.shape, dtype=np.int32)
+        self.blind += st.blind
+        self.rules += st.rules
+
+
+def _sector_ok(b: float, sector: str, min_bearing: float) -> bool:
+    if sector == "ahead":
+        return abs(b) <= 35.0
+    if sector == "wide":  # a repaired in-view start: the target may stand nearer the image's edge
+        return abs(b) <= 45.0
+    if sector == "left":
+        return min_bearing <= b <= 135.0
+    if sector == "right":
+        return -135.0 <= b <= -min_bearing
+    if sector == "behind":
+        return abs(b) > 135.0
+    return abs(b) >= min_bearing  # "any"
+
+
+def _pick(room: NavRoom, target: NavObject, lo: float, hi: float, min_plan: int, max_plan: int, sector: str,
+          level: Level, tally: Tally, rng: np.random.Generator, accept: Any, limit: int = 48,
+          avoid: AgentState | None = None, agents: dict[str, Any] | None = None) -> _Start | None:
+    """An admissible start that ``accept`` (the rendered check) takes: candidates in random order, checked one by
+    one against the blind baselines; the first that no baseline solves wins, else the first admissible one."""
+    free = room.free_space(room.extra_ids)
+    xy = (target.x, target.y)
+    states = []
+    for (i, j, h), n in sorted(plan_lengths(free, xy).items()):
+        if not min_plan <= n <= max_plan:
+            continue
+        if not lo - 1e-9 <= math.hypot(i * STEP - xy[0], j * STEP - xy[1]) <= hi + 1e-9:
+            continue
+        s = AgentState(i, j, h)
+        if s != avoid and _sector_ok(bearing_to(s, xy), sector, level.lh_min_bearing) and not_in_pocket(free, s):
+            states.append((s, n))
+    fallback, tried = None, 0
+    for k in rng.permutation(len(states))[:limit]:
+        s, n = states[int(k)]
+        st = _Start(s, n, blind_successes(free, s, xy),
+                    np.array(list(rule_agent_successes(free, s, xy, agents=agents or HARD_RULE_AGENTS).values()),
+                             dtype=bool))
+        if not tally.admits(st):
+            continue
+        clean = not (st.blind.any() or st.rules.any())
+        if not clean and fallback is not None:
+            continue
+        tried += 1
+        if tried > _VIS_TRIES:
+            break
+        if accept(st):
+            if clean:
+                return st
+            fallback = st
+    return fallback
+
+
+def _visible(room: NavRoom, st: _Start, target_id: str, looks: list[str], level: Level, vis: Any | None) -> bool:
+    if vis is None:
+        return True
+    if vis.pixels(room, st.state, target_id) < level.min_target_pixels:
+        return False
+    return any(vis.pixels(room, st.state, d) >= MIN_LOOKALIKE_PIXELS for d in looks)
+
+
+def _hidden(room: NavRoom, st: _Start, target_id: str, vis: Any | None) -> bool:
+    return vis is None or vis.pixels(room, st.state, target_id) == 0
+
+
+# -- one scene ----------------------------------------------------------------------------------------------------
+
+@dataclass
+class Scene:
+    """One room's five tasks (before wording)."""
+
+    room: NavRoom
+    target: NavObject
+    lookalikes: list[NavObject]
+    starts: dict[str, _Start]
+    """``plain`` (base, common_sense, complex_instruction), ``visual_appearance``, ``long_horizon``."""
+
+
+def draw_scene(kind: str, seed: int, type_name: str, level: Level, rng: np.random.Generator,
+               tallies: dict[str, Tally], vis: Any | None, sector: str,
+               parts: tuple[str, ...] = ("plain", "visual_appearance", "long_horizon")) -> Scene | None:
+    """The tasks of one room, or None when this room cannot give them (the caller draws another)."""
+    made = _furnish(kind, seed, level, type_name, rng)
+    if made is None:
+        return None
+    room, target_id, look_ids = made
+    target = room.get(target_id)
+    lo, hi = level.distance
+    starts: dict[str, _Start] = {}
+    for part in parts:
+        if part == "long_horizon":
+            min_plan = starts["plain"].plan + 2 if "plain" in starts else 8
+            pick = _pick(room, target, lo, hi + 1.0, min_plan, level.lh_max_plan, sector, level, tallies[part], rng,
+                         lambda c: _hidden(room, c, target_id, vis))
+        else:
+            avoid = starts["plain"].state if part == "visual_appearance" and "plain" in starts else None
+            pick = _pick(room, target, lo, hi, 6, level.max_plan, "ahead", level, tallies[part], rng,
+                         lambda c: _visible(room, c, target_id, look_ids, level, vis), avoid=avoid)
+        if pick is None:
+            return None
+        starts[part] = pick
+    return Scene(room, target, [room.get(i) for i in look_ids], starts)
+
+
+def _extra_dict(e: ExtraSpec) -> dict[str, Any]:
+    return {"id": e.id, "type": e.type, "colour": e.colour, "x": e.x, "y": e.y, "yaw": e.yaw}
+
+
+def scene_tasks(sc: Scene, slot: int, rng: np.random.Generator, wording: dict[str, dict[str, int]],
+                subsets: tuple[str, ...] = SUBSETS, id_prefix: str = "") -> list[dict[str, Any]]:
+    """The task entries (file form) of a scene, one per subset in ``subsets``."""
+    t = sc.target
+    other = sc.lookalikes[int(rng.integers(len(sc.lookalikes)))].colour
+    scene = {"kind": sc.room.kind, "seed": sc.room.seed, "clutter": sc.room.clutter}
+    out = []
+    for subset in subsets:
+        st = sc.starts["plain" if subset in ("base", "common_sense", "complex_instruction") else subset]
+        text, template = hard_instruction(subset, t.type, t.colour, other, rng, wording.setdefault(subset, {}))
+        out.append({"id": f"{id_prefix}{subset}_{slot:03d}", "subset": subset, "instruction": text,
+                    "template": template, "scene": scene,
+                    "start": {"x": st.state.x, "y": st.state.y, "yaw": st.state.yaw_deg, "tilt": 0},
+                    "target": {"id": t.id, "type": t.type, "colour": t.colour,
+                               "position": [round(v, 4) for v in t.centre]},
+                    "extra_objects": [_extra_dict(e) for e in sc.room.extras], "oracle_steps": st.plan})
+    return out
+
+
+CHECK_AGENTS = {**HARD_RULE_AGENTS, **SIDESTEP_RULE_AGENTS, **REACTIVE_RULE_AGENTS}
+"""Every feedback-only agent a finished hard set is held to (the generator's first pass uses the cheaper
+:data:`~eb_navigation.baselines.HARD_RULE_AGENTS`; :func:`repair` moves the starts the rest would solve)."""
+
+
+def _start_of(room: NavRoom, entry: dict[str, Any], agents: dict[str, Any]) -> _Start:
+    free = room.free_space(room.extra_ids)
+    s = AgentState.from_pose(entry["start"]["x"], entry["start"]["y"], entry["start"]["yaw"])
+    xy = (float(entry["target"]["position"][0]), float(entry["target"]["position"][1]))
+    return _Start(s, int(entry["oracle_steps"]), blind_successes(free, s, xy),
+                  np.array(list(rule_agent_successes(free, s, xy, agents=agents).values()), dtype=bool))
+
+
+def repair(tasks: list[dict[str, Any]], level: Level, cap: int, rng: np.random.Generator, vis: Any | None,
+           progress: bool = False) -> list[dict[str, Any]]:
+    """Move the starts that would lift a blind policy or any of :data:`CHECK_AGENTS` above ``cap`` tasks of their
+    subset (at least 5 % of the subset's tasks: the goal the set is held to); the rooms, targets and wording stay,
+    a repaired in-view start may have the target up to 45 degrees off, 2-4.5 m away. Returns the entries."""
+    from eb_navigation.tasks import NavTaskSpec
+
+    cap = max(cap, int(0.05 * sum(t["subset"] == "base" for t in tasks) + 1e-9))
+    rooms: dict[int, NavRoom] = {}
+    groups = {"plain": "base", "visual_appearance": "visual_appearance", "long_horizon": "long_horizon"}
+    by_id = {t["id"]: t for t in tasks}
+    for part, subset in groups.items():
+        entries = [t for t in tasks if t["subset"] == subset]
+        starts = []
+        for e in entries:
+            key = int(e["scene"]["seed"])
+            if key not in rooms:
+                spec = NavTaskSpec.model_validate(e)
+                rooms[key] = NavRoom(spec.scene.kind, spec.scene.seed, [x.spec() for x in spec.extra_objects],
+                                     spec.scene.clutter)
+            starts.append(_start_of(rooms[key], e, CHECK_AGENTS))
+        stuck: set[int] = set()
+        for _round in range(2 * len(entries)):
+            blind = np.sum([s.blind for s in starts], axis=0)
+            rules = np.sum([s.rules for s in starts], axis=0)
+            over_b, over_r = blind > cap, rules > cap
+            bad = [k for k, s in enumerate(starts) if ((s.blind & over_b).any() or (s.rules & over_r).any())
+                   and k not in stuck]
+            if not bad:
+                break
+            k = bad[0]
+            e, room = entries[k], rooms[int(entries[k]["scene"]["seed"])]
+            tally = Tally(cap)
+            others = [s for j, s in enumerate(starts) if j != k]
+            tally.blind = np.sum([s.blind for s in others], axis=0).astype(np.int32)
+            tally.rules = np.sum([s.rules for s in others], axis=0).astype(np.int32)
+            target = room.get(e["target"]["id"])
+            looks = [o.id for o in room.objects if o.type == target.type and o.id != target.id]
+            lo, hi = level.distance
+            slot = e["id"].rsplit("_", 1)[1]
+            if part == "long_horizon":
+                base_plan = by_id[f"base_{slot}"]["oracle_steps"]
+                b = bearing_to(starts[k].state, (target.x, target.y))
+                sector = "behind" if abs(b) > 135 else "left" if b > 0 else "right"
+                pick = _pick(room, target, lo, hi + 1.0, base_plan + 2, level.lh_max_plan, sector, level, tally, rng,
+                             lambda c: _hidden(room, c, target.id, vis), limit=400, agents=CHECK_AGENTS)
+            else:
+                lh_plan = by_id[f"long_horizon_{slot}"]["oracle_steps"]
+                avoid = None
+                if part == "visual_appearance":
+                    p = by_id[f"base_{slot}"]["start"]
+                    avoid = AgentState.from_pose(p["x"], p["y"], p["yaw"])
+                top = level.max_plan if part == "visual_appearance" else max(min(level.max_plan, lh_plan - 2), 12)
+                pick = _pick(room, target, lo - 0.5, hi + 1.0, 6, top, "wide", level, tally, rng,
+                             lambda c: _visible(room, c, target.id, looks, level, vis), limit=400, avoid=avoid,
+                             agents=CHECK_AGENTS)
+            if pick is None:
+                if progress:
+                    print(f"repair: no admissible start for {e['id']}", file=sys.stderr, flush=True)
+                stuck.add(k)
+                continue
+            starts[k] = pick
+            new = {"x": pick.state.x, "y": pick.state.y, "yaw": pick.state.yaw_deg, "tilt": 0}
+            names = [e["id"]] if part != "plain" else [f"{s}_{slot}" for s in
+                                                       ("base", "common_sense", "complex_instruction")]
+            for name in names:
+                by_id[name]["start"], by_id[name]["oracle_steps"] = dict(new), pick.plan
+            if progress:
+                print(f"repair: moved the start of {', '.join(names)}", file=sys.stderr, flush=True)
+    return tasks
+
+
+_SECTORS = ("left", "behind", "right")
+
+
+def generate_level(level: str = "hard", seed: int = 0, scenes: int = 60, out: str | None = None,
+                   cap: int | None = None, progress: bool = True) -> str:
+    """Write a ``level`` task set: ``<out>/<subset>.json`` for the five subsets, ``scenes`` tasks each."""
+    from eb_navigation.tasks import write_subset_files
+    from eb_navigation.visibility import Visibility
+
+    if level not in LEVELS:
+        raise ValueError(f"unknown difficulty {level!r}; allowed: {', '.join(DIFFICULTIES)}")
+    lv = LEVELS[level]
+    scenes = int(scenes)
+    if scenes < 1:
+        raise ValueError(f"scenes must be at least 1, got {scenes}")
+    cap = max(1, int(0.034 * scenes)) if cap is None else int(cap)
+    rng = np.random.default_rng([int(seed), 0x4A4D, DIFFICULTIES.index(level)])
+    tallies = {p: Tally(cap) for p in ("plain", "visual_appearance", "long_horizon")}
+    wording: dict[str, dict[str, int]] = {}
+    tasks: list[dict[str, Any]] = []
+    vis = Visibility()
+    try:
+        for slot in range(scenes):
+            kind = KINDS[slot % 3]  # kitchens, living rooms, bedrooms (bathrooms are too small for the clutter)
+            type_name = HARD_TYPES[(slot // 3) % len(HARD_TYPES)]
+            sector = _SECTORS[slot % len(_SECTORS)]
+            sc = None
+            for attempt in range(400):
+                if attempt and attempt % 40 == 0:  # this type runs dry here: the next one
+                    type_name = HARD_TYPES[(HARD_TYPES.index(type_name) + 1) % len(HARD_TYPES)]
+                if attempt and attempt % 120 == 0:
+                    kind = KINDS[(KINDS.index(kind) + 1) % 3]
+                room_seed = SEED_BASE + int(rng.integers(0, 100_000))
+                sc = draw_scene(kind, room_seed, type_name, lv, rng, tallies, vis, sector)
+                if sc is not None:
+                    break
+            if sc is None:
+                raise RuntimeError(f"could not make a {level} {kind} scene for slot {slot}; try another seed")
+            for part, st in sc.starts.items():
+                tallies[part].add(st)
+            tasks.extend(scene_tasks(sc, slot, rng, wording))
+            if progress:
+                print(f"{level} slot {slot + 1}/{scenes}: {kind} seed {sc.room.seed}, {sc.target.colour} "
+                      f"{sc.target.type} after {attempt + 1} room(s)", file=sys.stderr, flush=True)
+    finally:
+        vis.close()
+    try:
+        tasks = repair(tasks, lv, cap, np.random.default_rng([int(seed), 0x4A4D, DIFFICULTIES.index(level), 1]),
+                       vis, progress)
+    finally:
+        vis.close()
+    gen = {"function": "eb_navigation.generate:generate", "difficulty": level, "seed": int(seed),
+           "scenes": scenes, "cap": cap}
+    paths = write_subset_files(Path(out or f"navigation_{level}"), tasks, gen)
+    steps = [t["oracle_steps"] for t in tasks]
+    return (f"wrote {len(tasks)} {level} tasks ({scenes} scenes x {len(SUBSETS)} subsets) to "
+            f"{', '.join(str(p) for p in paths[:1])} ...; oracle steps {min(steps)}-{max(steps)}, "
+            f"mean {np.mean(steps):.1f}")
+
+
+assert set(HARD_COMMON_SENSE) == set(HARD_SHAPES) == set(HARD_TYPES)
+assert HEADING_VECTORS  # the lattice headings the starts use
