@@ -10,4 +10,4 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 
 # A worker that dies in a test (a native crash, or pytest-timeout ending a hung test) fails that test, and the rest
 # of the suite still runs and ends: see xdist_crash_safe.py (this directory is on sys.path, as conftest's own).
-from xdist_crash_safe import pytest_xdist_make_scheduler  # noqa: E402,F401
+from xdist_crash_safe import pytest_xdist_make_scheduler  # noqa: F401

