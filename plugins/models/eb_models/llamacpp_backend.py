@@ -9,13 +9,23 @@ llama-cpp-python ships (``model.chat_format``: ``llava-1-5``, ``llava-1-6``, ``q
 The model is loaded at the first request (the runner's preflight backend never loads it), with
 ``n_threads`` = the usable cores divided among the run's model instances (``runner.workers``, or
 ``runner.concurrency`` when set, read from the run's ``config.yaml``) unless ``model.n_threads`` is set.
+
+A llama.cpp built for the build machine's own CPU (``GGML_NATIVE``, llama-cpp-python's default) includes AMX
+kernels on Xeons that have AMX; they segfault there in ``ggml_backend_amx_mul_mat`` on any prompt of more than a
+few tokens. requirements-test.txt builds a portable llama.cpp without them; for any other build this backend
+loads the model without llama.cpp's extra CPU buffer types (AMX tiles, repacked weights) when the build reports
+``AMX_INT8 = 1`` (``model.extra_buffers``), and ``python -m eb_models.llama_server`` does the same for
+llama-cpp-python's server.
 """
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import os
+import threading
 import time
+from collections.abc import Iterator
 from importlib import metadata
 from pathlib import Path
 from typing import Any
@@ -38,7 +48,8 @@ from eb_models._settings import BackendSettings, ModelConfigError, validate_sett
 from eb_models.plugin import LLAMACPP_INSTALL
 from eb_models.structured import response_format
 
-__all__ = ["LLAMACPP_INSTALL", "LlamaCppBackend", "LlamaCppSettings", "find_packaged_gguf", "default_threads"]
+__all__ = ["LLAMACPP_INSTALL", "LlamaCppBackend", "LlamaCppSettings", "build_has_amx", "default_threads",
+           "find_packaged_gguf", "without_extra_buffers"]
 
 log = logging.getLogger("eb_models.llamacpp")
 
@@ -87,6 +98,49 @@ class LlamaCppSettings(BackendSettings):
     """Grammar-constrained JSON from the planner's schema (``structured_output: json_object_schema``)."""
     verbose: bool = False
     """llama.cpp's own logging on stderr."""
+    extra_buffers: bool | None = None
+    """llama.cpp's extra CPU buffer types (AMX tiles, repacked weights: ``use_extra_bufts``); null = off when the
+    installed llama.cpp was built with AMX kernels (they segfault, see the module doc), else llama.cpp's default
+    (on)."""
+
+
+def build_has_amx(llama_cpp: Any = None) -> bool:
+    """Whether the installed llama.cpp was compiled with its AMX kernels (``AMX_INT8 = 1`` in its system info,
+    which reports the build's instruction sets)."""
+    try:
+        if llama_cpp is None:
+            import llama_cpp
+        info = llama_cpp.llama_print_system_info()
+    except (ImportError, AttributeError, OSError):
+        return False
+    text = info.decode("utf-8", "replace") if isinstance(info, bytes) else str(info)
+    return "AMX_INT8 = 1" in text
+
+
+_PARAMS_LOCK = threading.Lock()
+
+
+@contextlib.contextmanager
+def without_extra_buffers() -> Iterator[None]:
+    """While active, models llama-cpp-python loads in this process get ``use_extra_bufts = false`` (llama.cpp's
+    model parameter; llama-cpp-python's ``Llama`` has no argument for it, so its default-parameter factory is
+    wrapped for the duration)."""
+    from llama_cpp import llama as llama_module
+
+    lib = llama_module.llama_cpp
+    original = lib.llama_model_default_params
+
+    def params() -> Any:
+        p = original()
+        p.use_extra_bufts = False
+        return p
+
+    with _PARAMS_LOCK:
+        lib.llama_model_default_params = params
+        try:
+            yield
+        finally:
+            lib.llama_model_default_params = original
 
 
 def find_packaged_gguf(dist: str) -> Path:
@@ -176,6 +230,7 @@ class LlamaCppBackend(ModelBackend):
         self.supports_json_schema = s.constrained
         self.structured_output = "json_object_schema" if s.constrained else "none"
         self.n_threads = s.n_threads  # null: resolved when the first episode starts (its run tells the workers)
+        self.extra_buffers = s.extra_buffers if s.extra_buffers is not None else not build_has_amx(llama_cpp)
         self.workers: int | None = None
         self._llm: Any = None
         self._info_written = False
@@ -189,6 +244,7 @@ class LlamaCppBackend(ModelBackend):
                 "chat_format": self.settings.chat_format, "structured_output": self.structured_output,
                 "structured_output_why": "grammar from the planner's schema (llama.cpp)" if self.settings.constrained
                 else "model.constrained=false", "n_threads": self.n_threads, "workers": self.workers,
+                "extra_buffers": self.extra_buffers,
                 "llama_cpp_python": getattr(self._llama_cpp, "__version__", "?")}
 
     def _load(self) -> Any:
@@ -207,12 +263,15 @@ class LlamaCppBackend(ModelBackend):
                                       f"model.chat_format={s.chat_format}")
             handler = handler_cls(clip_model_path=str(self.mmproj), verbose=s.verbose)
         t0 = time.perf_counter()
+        if not self.extra_buffers:
+            log.info("llamacpp: loading without llama.cpp's extra CPU buffers (AMX kernels in this build)")
         try:
-            self._llm = self._llama_cpp.Llama(
-                model_path=str(self.gguf), n_ctx=s.n_ctx, n_threads=self.n_threads, n_threads_batch=self.n_threads,
-                n_gpu_layers=s.n_gpu_layers, chat_handler=handler,
-                chat_format=None if handler is not None else s.chat_format, verbose=s.verbose,
-            )
+            with contextlib.nullcontext() if self.extra_buffers else without_extra_buffers():
+                self._llm = self._llama_cpp.Llama(
+                    model_path=str(self.gguf), n_ctx=s.n_ctx, n_threads=self.n_threads,
+                    n_threads_batch=self.n_threads, n_gpu_layers=s.n_gpu_layers, chat_handler=handler,
+                    chat_format=None if handler is not None else s.chat_format, verbose=s.verbose,
+                )
         except (ValueError, RuntimeError) as exc:
             raise ModelFatalError(f"llamacpp: cannot load {self.gguf}: {exc}") from None
         log.info("llamacpp: loaded %s in %.1fs (%d threads)", self.gguf.name, time.perf_counter() - t0,

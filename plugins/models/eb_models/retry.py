@@ -7,11 +7,13 @@ from __future__ import annotations
 
 import email.utils
 import random
+import socket
 import time
 from dataclasses import dataclass
 from typing import Any, Literal
 
-__all__ = ["ErrorKind", "RetryPolicy", "classify_status", "retry_after_seconds"]
+__all__ = ["ConnectionFailure", "ErrorKind", "RetryPolicy", "classify_status", "connection_failure",
+           "retry_after_seconds"]
 
 #: ``fatal``: stop the run (bad key, unknown model); ``retry``: try again later; ``reject``: this request
 #: will never succeed (400: too long, unsupported content) - the episode is recorded as an error.
@@ -86,3 +88,55 @@ def retry_after_seconds(headers: Any, now: float | None = None) -> float | None:
     if when is None:
         return None
     return max(0.0, when.timestamp() - (now if now is not None else time.time()))
+
+
+@dataclass(frozen=True)
+class ConnectionFailure:
+    """The server was never reached, so there is no HTTP status (SDKs may still word it as "HTTP 500")."""
+
+    kind: Literal["dns", "refused", "connect", "timeout"]
+    """``dns``: the host name does not resolve; ``refused``: nothing listens at the port; ``connect``: another
+    socket-level failure (unreachable network, reset); ``timeout``: no answer in time."""
+    reason: str
+    """The operating system's words (``Name or service not known``, ``Connection refused``...)."""
+
+    def describe(self, host: str | None = None, address: str | None = None) -> str:
+        """One phrase for a log or error line; ``host`` is the URL's host name, ``address`` its ``host:port``."""
+        if self.kind == "dns":
+            return f"DNS error: cannot resolve the host{' ' + repr(host) if host else ''} ({self.reason}); " \
+                   f"no HTTP response"
+        at = f" {address or host}" if (address or host) else " the server"
+        if self.kind == "refused":
+            return f"connection refused by{at} ({self.reason}): nothing listens there; no HTTP response"
+        if self.kind == "timeout":
+            return f"no answer from{at} in time ({self.reason})"
+        return f"connection error reaching{at} ({self.reason}); no HTTP response"
+
+
+def _os_reason(exc: BaseException) -> str:
+    return getattr(exc, "strerror", None) or " ".join(str(exc).split()) or type(exc).__name__
+
+
+def connection_failure(exc: BaseException) -> ConnectionFailure | None:
+    """The failure to reach the server behind ``exc``, if there is one, found by walking the chain of exceptions
+    it was raised from (litellm wraps httpx's ``ConnectError``, itself wrapping ``socket.gaierror``, into an
+    ``InternalServerError`` with status 500). None when the server answered (a real HTTP status)."""
+    found: dict[str, BaseException] = {}  # kind -> innermost exception of that kind (the most precise words)
+    seen: set[int] = set()
+    cur: BaseException | None = exc
+    while cur is not None and id(cur) not in seen and len(seen) < 16:
+        seen.add(id(cur))
+        name = type(cur).__name__
+        if isinstance(cur, socket.gaierror):
+            found["dns"] = cur
+        elif isinstance(cur, ConnectionRefusedError):
+            found["refused"] = cur
+        elif isinstance(cur, TimeoutError) or name.endswith("Timeout"):  # httpx's ConnectTimeout, litellm's Timeout
+            found["timeout"] = cur
+        elif isinstance(cur, ConnectionError) or name in ("ConnectError", "APIConnectionError", "RemoteProtocolError"):
+            found["connect"] = cur
+        cur = cur.__cause__ or cur.__context__
+    for kind in ("dns", "refused", "timeout", "connect"):
+        if kind in found:
+            return ConnectionFailure(kind, _os_reason(found[kind]))  # type: ignore[arg-type]
+    return None

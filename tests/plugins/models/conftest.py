@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import json
+import signal
+import subprocess
+import sys
+
 import pytest
 
 from eb_models.stub_server import StubOpenAIServer
@@ -42,3 +47,23 @@ def make_backend(server, planted_key, tmp_path):
     yield make
     for b in made:
         b.close()
+
+
+def run_isolated(code: str, timeout: float = 600) -> dict:
+    """Run ``code`` in a fresh interpreter and return the JSON object its last stdout line prints.
+
+    For native model code (llama.cpp): a segfault or a hang there fails the calling test with one line (the
+    signal, or the time limit, and the end of the child's stderr) instead of killing or stalling the pytest
+    worker. ``-X faulthandler`` puts the native crash's Python stack in that stderr."""
+    try:
+        r = subprocess.run([sys.executable, "-X", "faulthandler", "-c", code], capture_output=True, text=True,
+                           timeout=timeout)
+    except subprocess.TimeoutExpired as exc:
+        tail = (exc.stderr or b"")[-1500:]
+        pytest.fail(f"the isolated child did not finish within {timeout:g} s (killed); stderr: {tail!r}")
+    if r.returncode < 0:
+        name = signal.Signals(-r.returncode).name
+        pytest.fail(f"the isolated child was killed by {name} (a native crash); stderr: {r.stderr[-3000:]}")
+    if r.returncode != 0:
+        pytest.fail(f"the isolated child exited with {r.returncode}; stderr: {r.stderr[-3000:]}")
+    return json.loads(r.stdout.strip().splitlines()[-1])

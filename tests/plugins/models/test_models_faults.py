@@ -5,6 +5,7 @@ from __future__ import annotations
 import email.utils
 import pickle
 import random
+import socket
 import time
 
 import pytest
@@ -13,7 +14,7 @@ from eb_core.model import ImagePart, Message, ModelRequest, TextPart
 from eb_models._secrets import Scrubber, Secret, scrub
 from eb_models.cache import ResponseCache, request_fingerprint
 from eb_models.limits import RequestLimiter
-from eb_models.retry import RetryPolicy, classify_status, retry_after_seconds
+from eb_models.retry import RetryPolicy, classify_status, connection_failure, retry_after_seconds
 
 
 def test_backoff_is_exponential_with_jitter_and_capped():
@@ -48,6 +49,31 @@ def test_status_classes():
     assert [classify_status(s) for s in (None, 408, 429, 500, 503)] == ["retry"] * 5
     assert [classify_status(s) for s in (401, 403, 404)] == ["fatal"] * 3
     assert [classify_status(s) for s in (400, 413, 422)] == ["reject"] * 3
+
+
+def _raised_from(cause_call) -> Exception:
+    """What an SDK hands us: its own error (here worded as an HTTP 500) raised from the real OS error."""
+    try:
+        try:
+            cause_call()
+        except OSError as cause:
+            raise RuntimeError("InternalServerError (HTTP 500): Connection error.") from cause
+    except RuntimeError as exc:
+        return exc
+    raise AssertionError("no error")
+
+
+def test_connection_failures_are_found_behind_the_sdks_wrapper():
+    dns = connection_failure(_raised_from(lambda: socket.getaddrinfo("nonexistent.invalid", 80)))
+    assert dns is not None and dns.kind == "dns" and dns.reason
+    assert dns.describe("nonexistent.invalid").startswith("DNS error: cannot resolve the host 'nonexistent.invalid'")
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    refused = connection_failure(_raised_from(lambda: socket.create_connection(("127.0.0.1", port), timeout=5)))
+    assert refused is not None and refused.kind == "refused"
+    assert f"refused by 127.0.0.1:{port}" in refused.describe("127.0.0.1", f"127.0.0.1:{port}")
+    assert connection_failure(RuntimeError("HTTP 500 from a server that answered")) is None
 
 
 def test_cache_key_is_exact():

