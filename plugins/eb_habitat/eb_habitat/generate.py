@@ -690,15 +690,9 @@ def generate(out: str | None = None, seed: int = 0, per_subset: int = 50, subset
         per_subset: tasks per subset (the benchmark has 50).
         subset: only this subset (comma-separated list allowed); default all six.
     """
-    if split != "test":
-        from eb_habitat.splits import SPLITS, write_split
-
-        if split not in SPLITS:
-            raise ValueError(f"unknown split {split!r}; allowed: test (the shipped tasks), {', '.join(SPLITS)}")
-        if out is None or n is None or int(n) < 1:
-            raise ValueError(f"split={split} needs n=<tasks, >= 1> and out=<folder> (the shipped tasks/ folder "
-                             f"holds the test split only)")
-        return write_split(str(out), split, int(n), int(start))
+    if split != "test":  # generated train/val splits live in eb_habitat.splits (eb_habitat.make dispatches)
+        raise ValueError(f"split={split}: eb_habitat.generate writes the test-style files only; use "
+                         f"`eb tasks generate env=habitat split={split} n=N out=DIR` (eb_habitat.make:generate)")
     subsets = list(SUBSETS) if subset is None else [s.strip() for s in str(subset).split(",") if s.strip()]
     target = Path(out) if out is not None else TASK_DIR
     if target.suffix == ".json" and len(subsets) != 1:

@@ -23,6 +23,7 @@ from eb_scenekit.objects import (
     shade,
     surface_position,
 )
+from eb_scenekit import _catalogue  # noqa: F401  (its builders register themselves into CATALOGUE)
 from eb_scenekit.rooms import ROOM_KINDS, RoomLayout, generate_room
 from eb_scenekit.scene import RoomShell, SceneBuilder, SceneObject, lookat_xyaxes, set_agent_pose
 

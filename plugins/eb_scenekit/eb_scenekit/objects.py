@@ -726,6 +726,3 @@ def set_powered(model: object, instance_name: str, on: bool) -> None:
     if not found:
         raise KeyError(f"{instance_name!r} has nothing to switch on or off")
 
-
-# the builders register themselves into CATALOGUE
-from eb_scenekit import _catalogue  # noqa: E402,F401

@@ -14,7 +14,7 @@ def test_registered_with_subsets_and_generator() -> None:
     spec = registry.get("env", "habitat")
     assert spec.entry_point == "eb_habitat.env:HabitatEnv"
     assert sum(spec.subsets.values()) == 300
-    assert spec.task_generator == "eb_habitat.generate:generate"
+    assert spec.task_generator == "eb_habitat.make:generate"
     assert "pkg://eb_habitat.conf" in registry.config_searchpath()
     assert spec.load().name == "habitat"
 

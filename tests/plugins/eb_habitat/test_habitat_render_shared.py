@@ -9,7 +9,7 @@ import pytest
 
 from eb_habitat import render as habitat_render
 from eb_habitat.env import HabitatEnv
-from eb_scenekit.pool import check_pooled_matches_private
+from eb_scenekit.checks import check_pooled_matches_private
 from eb_scenekit.render import SceneRenderer
 
 

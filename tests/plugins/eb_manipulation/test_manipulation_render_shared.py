@@ -10,7 +10,7 @@ import pytest
 
 from eb_manipulation import render as manip_render
 from eb_manipulation.env import ManipulationEnv
-from eb_scenekit.pool import check_pooled_matches_private
+from eb_scenekit.checks import check_pooled_matches_private
 
 
 def test_shared_pool_gives_identical_images_interleaved(monkeypatch: pytest.MonkeyPatch) -> None:

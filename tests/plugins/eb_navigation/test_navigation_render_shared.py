@@ -10,7 +10,7 @@ import pytest
 
 from eb_navigation import scene as nav_scene
 from eb_navigation.env import NavigationEnv
-from eb_scenekit.pool import check_pooled_matches_private
+from eb_scenekit.checks import check_pooled_matches_private
 from eb_scenekit.render import SceneRenderer
 
 
