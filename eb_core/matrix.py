@@ -100,24 +100,15 @@ def cmd_matrix(args: list[str]) -> int:
     """``eb export RUN [RUN...] --format matrix --out DIR [--overwrite]``."""
     import sys
 
+    from eb_core._export_flags import FlagError, parse_flags
+
     usage = "usage: eb export RUN [RUN...] --format matrix --out DIR [--overwrite]"
-    runs: list[str] = []
-    out, overwrite = None, False
-    it = iter(args)
-    for a in it:
-        key, eq, val = a.partition("=")
-        if key == "--out":
-            out = val if eq else next(it, "")
-        elif key == "--format":
-            if not eq:
-                next(it, "")
-        elif a == "--overwrite":
-            overwrite = True
-        elif a.startswith("-"):
-            print(f"eb export: unknown option {a!r} for --format matrix; {usage}", file=sys.stderr)
-            return 2
-        else:
-            runs.append(a)
+    try:
+        runs, opts = parse_flags(args, fmt="matrix")
+    except FlagError as exc:
+        print(f"eb export: {exc}; {usage}", file=sys.stderr)
+        return 2
+    out, overwrite = opts["--out"], bool(opts["--overwrite"])
     if not runs or not out:
         print(f"eb export: {usage}", file=sys.stderr)
         return 2
@@ -126,7 +117,7 @@ def cmd_matrix(args: list[str]) -> int:
         print(f"eb export: {missing[0]} is not a run directory (no episodes.jsonl)", file=sys.stderr)
         return 2
     try:
-        files = write_matrix(runs, out, overwrite=overwrite)
+        files = write_matrix(runs, str(out), overwrite=overwrite)
     except (FileExistsError, ValueError) as exc:
         print(f"eb export: {exc}", file=sys.stderr)
         return 2

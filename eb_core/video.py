@@ -175,28 +175,20 @@ def cmd_video(args: list[str]) -> int:
     """``eb export RUN --format video [--gif] [--out DIR] [--overwrite]``."""
     import sys
 
+    from eb_core._export_flags import FlagError, parse_flags
+
     usage = "usage: eb export RUN --format video [--gif] [--out DIR] [--overwrite]"
-    run, out, gif, overwrite = None, None, False, False
-    it = iter(args)
-    for a in it:
-        key, eq, val = a.partition("=")
-        if key == "--out":
-            out = val if eq else next(it, "")
-        elif key == "--format":
-            if not eq:
-                next(it, "")
-        elif a == "--gif":
-            gif = True
-        elif a == "--overwrite":
-            overwrite = True
-        elif a.startswith("-"):
-            print(f"eb export: unknown option {a!r} for --format video; {usage}", file=sys.stderr)
-            return 2
-        elif run is None:
-            run = a
-        else:
-            print(f"eb export: --format video takes one run directory; {usage}", file=sys.stderr)
-            return 2
+    try:
+        runs, opts = parse_flags(args, fmt="video", switches=("--gif", "--overwrite"))
+    except FlagError as exc:
+        print(f"eb export: {exc}; {usage}", file=sys.stderr)
+        return 2
+    if len(runs) > 1:
+        print(f"eb export: --format video takes one run directory; {usage}", file=sys.stderr)
+        return 2
+    run = runs[0] if runs else None
+    out = opts["--out"] if isinstance(opts["--out"], str) else None
+    gif, overwrite = bool(opts["--gif"]), bool(opts["--overwrite"])
     if run is None or not (Path(run) / "episodes.jsonl").is_file():
         print(f"eb export: {run!r} is not a run directory (no episodes.jsonl); {usage}", file=sys.stderr)
         return 2
