@@ -12,6 +12,6 @@ The pytest plugin ``eb_core.testing.pytest_plugin`` (registered automatically) a
 """
 
 from eb_core.testing.check import check_env
-from eb_core.testing.suites import EnvConformanceSuite, ModelBackendConformanceSuite
+from eb_core.testing.suites import EnvConformanceSuite, ModelBackendConformanceSuite, PluginConformanceSuite
 
-__all__ = ["EnvConformanceSuite", "ModelBackendConformanceSuite", "check_env"]
+__all__ = ["EnvConformanceSuite", "ModelBackendConformanceSuite", "PluginConformanceSuite", "check_env"]

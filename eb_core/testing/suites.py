@@ -164,3 +164,69 @@ class ModelBackendConformanceSuite:
         backend = self.make_backend()
         backend.close()
         backend.close()
+
+
+#: Modules a plugin's entry-point module must not pull in: registration is cheap, construction is lazy.
+HEAVY_MODULES = ("mujoco", "litellm", "openai", "llama_cpp", "ray", "torch", "gymnasium", "eb_scenekit._mujoco")
+
+
+class PluginConformanceSuite:
+    """Every world plugin runs these on its registration (``eb.plugins`` entry point, ``EnvSpec``, Hydra option).
+
+    Set ``plugin_module`` (the entry point's module, ``"eb_navigation.plugin"``) and ``env_name``. Checks: importing
+    the entry point loads no simulator or model SDK (:data:`HEAVY_MODULES`, in a fresh interpreter); the plugin is
+    registered under the ``eb.plugins`` group; its ``EnvSpec`` is registered with that name, and the env class it
+    names has the same ``name``; the world's ``conf/env/<name>.yaml`` composes and validates, and its ``name`` is the
+    spec's; each task set the spec lists loads with the subset counts of the classic set.
+    """
+
+    plugin_module: ClassVar[str] = ""
+    env_name: ClassVar[str] = ""
+
+    def test_entry_point_imports_nothing_heavy(self) -> None:
+        import json
+        import subprocess
+        import sys
+
+        code = (f"import sys, json; import {self.plugin_module}; "
+                f"print(json.dumps(sorted(m for m in {list(HEAVY_MODULES)!r} if m in sys.modules)))")
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+        assert out.returncode == 0, out.stderr[-2000:]
+        heavy = json.loads(out.stdout.strip().splitlines()[-1])
+        assert heavy == [], f"importing {self.plugin_module} loaded {heavy}: import them where the env is built"
+
+    def test_registered_as_an_entry_point(self) -> None:
+        from importlib import metadata
+
+        from eb_core.plugins import ENTRY_POINT_GROUP
+
+        values = [ep.value for ep in metadata.entry_points(group=ENTRY_POINT_GROUP)]
+        assert any(v.split(":")[0] == self.plugin_module for v in values), (self.plugin_module, values)
+
+    def test_spec_and_env_share_the_name(self) -> None:
+        from eb_core.plugins import Registry
+
+        spec = Registry.create().envs.get(self.env_name)
+        assert spec is not None and spec.name == self.env_name
+        env_cls = spec.load()
+        assert isinstance(env_cls, type) and issubclass(env_cls, Env) and env_cls.name == spec.name
+
+    def test_yaml_composes_and_validates(self) -> None:
+        from eb_core.compose import compose, validate
+
+        cfg = validate(compose([f"env={self.env_name}"]))
+        assert cfg.env.name == self.env_name
+
+    def test_every_task_set_loads_with_the_classic_counts(self) -> None:
+        from collections import Counter
+
+        from eb_core.plugins import Registry
+
+        spec = Registry.create().envs[self.env_name]
+        env_cls = spec.load()
+        assert "classic" in spec.tasksets
+        for taskset in spec.tasksets:
+            tasks = env_cls.load_tasks() if taskset == "classic" else env_cls.load_tasks(taskset=taskset)
+            counts = dict(Counter(t.subset for t in tasks))
+            assert counts == dict(spec.subsets), (taskset, counts, spec.subsets)
+            assert len({t.id for t in tasks}) == len(tasks), taskset
