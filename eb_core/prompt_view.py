@@ -20,7 +20,7 @@ from eb_core.model import ImagePart, ModelBackend, ModelRequest, ModelResponse, 
 __all__ = ["PromptCapture", "capture_prompt", "cmd_prompt", "render_request"]
 
 _USAGE = ("usage: eb prompt env=NAME task=TASK_ID [step=N] [ablation=NAME] [out=DIR] [key=value ...] "
-          "(step N = the N-th planner call, 0 = the first)")
+          "(step N = the N-th planner call, 1 = the first, as the viewer's 'Planner step N')")
 
 
 def _sends_schema(model: dict[str, Any], backend_cls: Any) -> bool:
@@ -127,7 +127,7 @@ def capture_prompt(cfg: Any, registry: Any, task_id: str, step: int) -> tuple[Mo
         if rec.status == "error":
             raise ConfigError(f"the episode failed before planner call {step}: {(rec.error or '').splitlines()[0]}")
         raise ConfigError(f"the expert finished the episode ({rec.end_reason}) after {rec.planner_steps} planner "
-                          f"calls, before call {step}; pick step=0..{max(0, rec.planner_steps - 1)}")
+                          f"calls, before call {step + 1}; pick step=1..{max(1, rec.planner_steps)}")
     return backend.request, backend.stopped_early
 
 
@@ -137,7 +137,7 @@ def cmd_prompt(args: list[str]) -> int:
     from eb_core.plugins import PluginError, Registry
 
     task_id: str | None = None
-    step = 0
+    step = 1
     out: str | None = None
     overrides: list[str] = []
     for a in args:
@@ -148,8 +148,9 @@ def cmd_prompt(args: list[str]) -> int:
         if key == "task":
             task_id = value
         elif key == "step":
-            if not value.isdigit():
-                raise CliError(f"step must be a whole number >= 0 (the planner call, 0 = the first), got {value!r}")
+            if not value.isdigit() or int(value) < 1:
+                raise CliError(f"step must be a whole number >= 1 (the planner call, 1 = the first, as the viewer "
+                               f"counts), got {value!r}")
             step = int(value)
         elif key == "out":
             out = value
@@ -161,7 +162,7 @@ def cmd_prompt(args: list[str]) -> int:
     cfg = validate(cfg_dict)
     try:
         registry = Registry.create()
-        request, note = capture_prompt(cfg, registry, task_id, step)
+        request, note = capture_prompt(cfg, registry, task_id, step - 1)
     except (ConfigError, PluginError) as exc:
         raise CliError(str(exc)) from None
     out_dir = Path(out) if out else Path("prompts") / cfg.env.name / cfg.ablation.name / f"{task_id}_step{step}"

@@ -55,8 +55,9 @@ def test_render_writes_prompt_txt_and_each_image(registry, tmp_path):
 
 
 def test_a_step_past_the_end_is_one_clear_error(registry):
-    # near-0 is two cells from the goal: the expert (one action per call) solves it in calls 0 and 1
-    with pytest.raises(ConfigError, match=r"\(success\) after 2 planner calls, before call 5; pick step=0..1"):
+    # near-0 is two cells from the goal: the expert (one action per call) solves it in calls 1 and 2
+    # (capture_prompt counts from 0, the command and its messages from 1, as the viewer does)
+    with pytest.raises(ConfigError, match=r"\(success\) after 2 planner calls, before call 6; pick step=1..2"):
         capture_prompt(make_config(), registry, "near-0", 5)
     with pytest.raises(ConfigError, match="unknown task id 'nope'"):
         capture_prompt(make_config(), registry, "nope", 0)
@@ -65,7 +66,7 @@ def test_a_step_past_the_end_is_one_clear_error(registry):
 def test_eb_prompt_command(tmp_path):
     env = dict(os.environ, EB_PLUGINS="fixture_plugin", EB_DISABLE_PLUGIN_AUTOLOAD="1", PYTHONPATH=str(FIXTURE_DIR))
     r = subprocess.run([sys.executable, "-m", "eb_core.cli", "prompt", "env=corridor", "model=scripted-oracle",
-                        "task=far-1", "step=1", "ablation=language_only", f"out={tmp_path}"],
+                        "task=far-1", "step=2", "ablation=language_only", f"out={tmp_path}"],
                        capture_output=True, text=True, env=env, timeout=120)
     assert r.returncode == 0, r.stderr
     assert "Step 1: action 1 (step right)" in r.stdout and "You are at cell" not in r.stdout
@@ -73,3 +74,6 @@ def test_eb_prompt_command(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "eb_core.cli", "prompt", "env=corridor", "step=x", "task=far-1"],
                          capture_output=True, text=True, env=env, timeout=120)
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "step must be a whole number" in bad.stderr
+    zero = subprocess.run([sys.executable, "-m", "eb_core.cli", "prompt", "env=corridor", "step=0", "task=far-1"],
+                          capture_output=True, text=True, env=env, timeout=120)
+    assert zero.returncode == 2 and "1 = the first, as the viewer counts" in zero.stderr
