@@ -29,10 +29,13 @@ def test_shared_pool_gives_identical_images_interleaved(monkeypatch: pytest.Monk
     check_pooled_matches_private(lambda: ManipulationEnv(resolution=128, multi_view=True), private, a, b, steps=2)
 
 
-def test_every_task_draws_with_one_gl_context() -> None:
+def test_every_task_draws_with_one_gl_context(monkeypatch: pytest.MonkeyPatch) -> None:
     """Every rendered scene declares the same meshes, textures and materials, so the pooled renderer gives all
     tasks one GL context: resets after the first make none (no new context, no rebuild)."""
     from eb_scenekit import pool
+
+    # every reset draws (a frame an earlier test of this process drew the same could otherwise be reused)
+    monkeypatch.setattr(manip_render, "REUSE_FRAMES", False)
 
     tasks = ManipulationEnv.load_tasks()
     picked = [next(t for t in tasks if t.subset == s) for s in dict.fromkeys(t.subset for t in tasks)]
