@@ -352,6 +352,21 @@ def _family_pick(rng: np.random.Generator, subset: str, k: int) -> _Draft:
 STACK_MODES = ("scratch2", "scratch3", "partial3", "blocked2")
 
 
+def _cubes(rng: np.random.Generator, colours: list[str], stacked: dict[int, int],
+           where: dict[int, tuple[float, float, float]]) -> list[ObjectSpec]:
+    """Cube ``i`` of a stacking scene: on cube ``stacked[i]`` (turned a little) or loose at ``where[i]``."""
+    cubes = []
+    for i in range(len(colours)):
+        if i in stacked:
+            bx, by, byaw = where[stacked[i]]
+            cubes.append(ObjectSpec(id=f"cube{i}", kind="shape", shape="cube", colour=colours[i], x=bx, y=by,
+                                    yaw=round(byaw + float(rng.uniform(-8, 8)), 1), on=f"cube{stacked[i]}"))
+        else:
+            x, y, yaw = where[i]
+            cubes.append(ObjectSpec(id=f"cube{i}", kind="shape", shape="cube", colour=colours[i], x=x, y=y, yaw=yaw))
+    return cubes
+
+
 def _family_stack(rng: np.random.Generator, subset: str, k: int) -> _Draft:
     placer = _Placer(rng)
     spatial = subset == "spatial"
@@ -383,15 +398,7 @@ def _family_stack(rng: np.random.Generator, subset: str, k: int) -> _Draft:
     loose = [i for i in range(n) if i not in stacked]
     poses = _row(rng, placer, len(loose)) if spatial else [placer.add("shape") for _ in loose]
     where = dict(zip(loose, poses))
-    cubes = []
-    for i in range(n):
-        if i in stacked:
-            bx, by, byaw = where[stacked[i]]
-            cubes.append(ObjectSpec(id=f"cube{i}", kind="shape", shape="cube", colour=colours[i], x=bx, y=by,
-                                    yaw=round(byaw + float(rng.uniform(-8, 8)), 1), on=f"cube{stacked[i]}"))
-        else:
-            x, y, yaw = where[i]
-            cubes.append(ObjectSpec(id=f"cube{i}", kind="shape", shape="cube", colour=colours[i], x=x, y=y, yaw=yaw))
+    cubes = _cubes(rng, colours, stacked, where)
     order = [cubes[i] for i in order_idx]
     cols = [c.colour for c in order]
     group = "two" if height == 2 else "three"

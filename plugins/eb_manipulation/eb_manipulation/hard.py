@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from eb_manipulation.families import (
+    _cubes,
     _SIDE,
     _AREA_SIDE,
     _Draft,
@@ -279,15 +280,7 @@ def _stack(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
     poses = _grid(rng, placer, len(loose)) if subset == "spatial" else [
         placer.add("shape", region_x=REGION_X, region_y=REGION_Y) for _ in loose]
     where = dict(zip(loose, poses))
-    cubes = []
-    for i in range(n):
-        if i in stacked:
-            bx, by, byaw = where[stacked[i]]
-            cubes.append(ObjectSpec(id=f"cube{i}", kind="shape", shape="cube", colour=colours[i], x=bx, y=by,
-                                    yaw=round(byaw + float(rng.uniform(-8, 8)), 1), on=f"cube{stacked[i]}"))
-        else:
-            x, y, yaw = where[i]
-            cubes.append(ObjectSpec(id=f"cube{i}", kind="shape", shape="cube", colour=colours[i], x=x, y=y, yaw=yaw))
+    cubes = _cubes(rng, colours, stacked, where)
     order = [cubes[i] for i in order_idx]
     if subset == "spatial":
         refs = []
