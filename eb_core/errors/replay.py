@@ -81,7 +81,8 @@ def replay_run(run_dir: str | Path, records: Sequence[Any], steps: dict[tuple[st
         print(f"eb: cannot replay {root}: {str(exc).splitlines()[0]}; labels use the stored visible_objects",
               file=sys.stderr)
         return steps
-    params = dict(env_cfg.get("params") or {})
+    env_params = dict(env_cfg.get("params") or {})
+    params = dict(env_params)  # the task loaders also take the task set; the Env's constructor does not
     taskset = cfg.get("taskset") or "classic"
     if taskset != "classic":
         params["taskset"] = taskset
@@ -90,7 +91,7 @@ def replay_run(run_dir: str | Path, records: Sequence[Any], steps: dict[tuple[st
              else env_cls.split_tasks(split, 0, cfg.get("limit"), **params))
     by_id = {t.id: t for t in tasks}
     env = env_cls(resolution=int(env_cfg.get("resolution") or 500), multi_view=bool(env_cfg.get("multi_view")),
-                  **params)
+                  **env_params)
     out = dict(steps)
     diverged = []
     try:

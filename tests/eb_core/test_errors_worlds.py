@@ -66,3 +66,27 @@ def test_a_scripted_habitat_episode_is_labelled(tmp_path, monkeypatch):
     assert counts["hallucinated_object"] == 1  # "pick up the giraffe": no giraffe in the scene's action list
     assert counts["format_error"] == 1 and counts["premature_stop"] == 1
     assert summary["overall"]["error_analysis"]["categories"]["premature_stop"]["episode_rate"] == 1.0
+
+
+@pytest.mark.parametrize("world", ["manipulation", "navigation"])
+def test_a_hard_taskset_run_can_be_relabelled_from_replayed_images(tmp_path, monkeypatch, capsys, world):
+    """eb report --errors replays a run in its world: a taskset=hard run builds the env from env.params alone
+    (the task set goes to the task loaders, not to the Env's constructor)."""
+    monkeypatch.delenv("EB_DISABLE_PLUGIN_AUTOLOAD", raising=False)
+    monkeypatch.delenv("EB_PLUGINS", raising=False)
+    from eb_core.compose import compose
+    from eb_core.config import validate_config
+    from eb_core.plugins import Registry
+    from eb_core.report import load_run
+    from eb_core.runner import run
+
+    registry = Registry.create()
+    if world not in registry.envs or "hard" not in registry.envs[world].tasksets:
+        pytest.skip(f"eb-{world} with a hard task set is not installed")
+    cfg = validate_config(compose([f"env={world}", "taskset=hard", "model=oracle", "limit=1", "runner.quiet=true"]))
+    run(cfg, tmp_path)
+    capsys.readouterr()
+    relabelled = load_run(tmp_path, relabel_errors=True)["overall"]
+    assert relabelled["episodes"] == 1 and relabelled["success_rate"] == 1.0
+    assert relabelled["error_analysis"]["categories"]  # labelled ...
+    assert "replay" not in capsys.readouterr().err  # ... from a replay that ran and matched the record
