@@ -14,7 +14,7 @@ from typing import Any
 
 from eb_core.errors.actions import ActionRules
 from eb_core.errors.lexicon import norm, term_of
-from eb_core.errors.perception import has_description, perception_check
+from eb_core.errors.perception import ABSENT, has_description, perception_check
 from eb_core.errors.taxonomy import CATEGORIES, make_label
 
 __all__ = ["label_episode", "label_run", "load_steps", "run_vocabulary", "scene_terms"]
@@ -110,13 +110,20 @@ def _perception(s: dict[str, Any], parsed: dict[str, Any], vocab: set[str], scen
     if visible is None or not has_description(parsed.get("visual_state_description")):
         return None, []
     p = perception_check(parsed.get("visual_state_description"), visible, vocab, scene)
-    if p is None or not p["hallucinated"]:
+    if p is None or not p["wrong"]:
         return p, []
     wrong = [e for e in p["evidence"] if e["verdict"] == "wrong"]
-    detail = "; ".join(f"{e['words']!r}: {e.get('why')}" for e in wrong)
-    return p, [make_label("hallucinated_object", f"the visual state description says {detail}",
-                          words=[e["words"] for e in wrong], why=[e.get("why") for e in wrong],
-                          in_view=sorted({str(o.get("name")) for o in visible}))]
+    # an object that is nowhere in the scene is a hallucination; a wrong colour or shape for an object that is in
+    # view is a misperception of a real object (the paper's "wrong recognition"), not a hallucination
+    labels = []
+    for category, group in (("hallucinated_object", [e for e in wrong if e.get("why") == ABSENT]),
+                            ("misperceived_object", [e for e in wrong if e.get("why") != ABSENT])):
+        if group:
+            detail = "; ".join(f"{e['words']!r}: {e.get('why')}" for e in group)
+            labels.append(make_label(category, f"the visual state description says {detail}",
+                                     words=[e["words"] for e in group], why=[e.get("why") for e in group],
+                                     in_view=sorted({str(o.get("name")) for o in visible})))
+    return p, labels
 
 
 def label_episode(steps: Sequence[Any], record: dict[str, Any] | None = None,

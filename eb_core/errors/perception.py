@@ -10,7 +10,8 @@ A careful reader's rules (docs/error_analysis.md, "Perception check"):
 * a mention of an object in view is *correct*, unless its colour words belong to no colour family of that object
   (or, for "object k", its shape differs): then it is *wrong*;
 * a mention of an object of the scene that is not in this view is not judged (remembered, or at the very edge);
-* a mention of a world's object type that is nowhere in the scene is *wrong*: a hallucination.
+* a mention of a world's object type that is nowhere in the scene is *wrong*: a hallucination. (A wrong colour
+  or shape for an object in view is a *misperception* of a real object, labelled apart.)
 
 The step's score is correct / judged mentions; ``None`` when nothing could be judged and 0 when the description
 names nothing at all while objects are in view.
@@ -35,7 +36,11 @@ from eb_core.errors.lexicon import (
     words,
 )
 
-__all__ = ["has_description", "perception_check"]
+__all__ = ["ABSENT", "has_description", "perception_check"]
+
+#: The ``why`` of a wrong mention naming an object type that is nowhere in the scene (a hallucination); every
+#: other ``why`` is a wrong colour or shape for an object in view (a misperception).
+ABSENT = "nowhere in the scene"
 
 #: A clause with one of these words makes no claim about what the image shows now.
 _NOT_A_CLAIM = re.compile(
@@ -239,7 +244,7 @@ def _judge(m: _Mention, seen: _Seen, scene: set[str], world: set[str]) -> tuple[
         return ("wrong" if why else "correct"), why, in_view
     if _same_kind(m.terms, scene) or not m.terms & world:
         return "unjudged", None, sorted(m.terms & scene)  # remembered or at the edge; or a thing this world lacks
-    return "wrong", "nowhere in the scene", sorted(m.terms & world)
+    return "wrong", ABSENT, sorted(m.terms & world)
 
 
 @dataclass
@@ -259,7 +264,7 @@ class _Verdicts:
             return
         (self.correct if verdict == "correct" else self.wrong).add(label)
         self.evidence.append({"words": (" ".join(m.colours + [m.words])).strip(), "verdict": verdict,
-                              "objects": terms, **({"why": why} if why else {})})
+                              "objects": terms, "label": label, **({"why": why} if why else {})})
 
     def result(self, seen: _Seen) -> dict[str, Any] | None:
         mentioned = self.correct | self.wrong
@@ -274,8 +279,11 @@ class _Verdicts:
             score = 0.0  # names nothing while objects are in view: a complete miss
         else:
             score = None
+        absent = {e["label"] for e in self.evidence if e["verdict"] == "wrong" and e.get("why") == ABSENT}
+        evidence = [{k: v for k, v in e.items() if k != "label"} for e in self.evidence]
         return {"mentioned": sorted(mentioned), "visible": sorted(seen.terms), "correct": sorted(self.correct),
-                "hallucinated": sorted(self.wrong), "unjudged": sorted(self.unjudged), "evidence": self.evidence,
+                "wrong": sorted(self.wrong), "hallucinated": sorted(self.wrong & absent),
+                "misperceived": sorted(self.wrong - absent), "unjudged": sorted(self.unjudged), "evidence": evidence,
                 "precision": precision, "recall": recall, "score": score, "f1": score}
 
 
@@ -306,7 +314,8 @@ def perception_check(description: str | None, visible: Sequence[dict[str, Any]],
     ``aliases``, ``pixels``); ``vocabulary``: the object terms this world has (a mention of one that is nowhere in
     the scene is wrong; a mention of anything else is recognised through the synonyms but never judged absent);
     ``scene``: the terms of this episode's scene (in view at any step, or said by the world to be there).
-    Returns None when there is no description; else ``mentioned``, ``visible``, ``correct``, ``hallucinated``,
+    Returns None when there is no description; else ``mentioned``, ``visible``, ``correct``, ``wrong`` (split
+    into ``hallucinated``: nowhere in the scene, and ``misperceived``: in view with a wrong colour or shape),
     ``unjudged`` (term lists), ``evidence`` (one entry per judged mention: its words, verdict and why),
     ``precision``, ``recall``, ``score`` and ``f1`` (= ``score``, the name older readers use).
     """

@@ -24,6 +24,7 @@ CATEGORIES: dict[str, Category] = {c.key: c for c in (
     Category("format_error", "format error", "planning", "invalid action (unusable output)"),
     Category("invalid_action", "invalid action", "planning", "invalid action"),
     Category("hallucinated_object", "hallucinated object", "perception", "hallucination"),
+    Category("misperceived_object", "misperceived object", "perception", "wrong recognition"),
     Category("affordance_error", "affordance error", "planning", "inaccurate action"),
     Category("precondition_error", "precondition error", "reasoning", "inaccurate understanding of the state"),
     Category("wrong_target", "wrong target", "perception", "wrong recognition"),

@@ -168,7 +168,8 @@ def test_perception_precision_and_recall_on_hand_built_scenes():
     # colour words must match what is in view
     cubes = [{"name": "object 1", "type": "red cube"}, {"name": "object 2", "type": "blue star"}]
     p = perception_check("A green cube and a blue star.", cubes)
-    assert p["correct"] == ["star"] and p["hallucinated"] == ["cube"] and p["precision"] == 0.5
+    assert p["correct"] == ["star"] and p["misperceived"] == ["cube"] and p["hallucinated"] == []
+    assert p["wrong"] == ["cube"] and p["precision"] == 0.5
     assert perception_check("", visible) is None and perception_check("nothing", []) is None
     blind = perception_check("I will just walk on.", visible)  # names nothing while three objects are in view
     assert blind["precision"] is None and blind["recall"] == 0.0 and blind["f1"] == 0.0

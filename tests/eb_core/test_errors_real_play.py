@@ -145,7 +145,7 @@ def plant(kind, steps, vocab, env_steps):
     raise ValueError(kind)
 
 
-PLANTED_LABEL = {"absent_object": "hallucinated_object", "wrong_colour": "hallucinated_object",
+PLANTED_LABEL = {"absent_object": "hallucinated_object", "wrong_colour": "misperceived_object",
                  "repetition": "repetition", "drift": "navigation_drift"}
 
 

@@ -82,14 +82,14 @@ def test_colour_families_synonyms_and_world_names():
     ok = perception_check("A silver (light grey) refrigerator and a dark wooden chest of drawers.", fridge)
     assert ok["hallucinated"] == [] and set(ok["correct"]) == {"fridge", "dresser"} and ok["score"] == 1.0
     bad = perception_check("A bright green refrigerator.", fridge)
-    assert bad["hallucinated"] == ["fridge"] and "said green" in bad["evidence"][0]["why"]
+    assert bad["misperceived"] == ["fridge"] and bad["hallucinated"] == [] and "said green" in bad["evidence"][0]["why"]
     rose = perception_check("object 2 is a soft pink (rose) star and object 1 is a navy cube.",
                             [{"name": "object 1", "type": "navy cube"}, {"name": "object 2", "type": "rose star"}],
                             vocabulary=["cube", "star"])
     assert rose["hallucinated"] == [] and rose["correct"] == ["object 1", "object 2"]
     shape = perception_check("object 1 is a navy star.", [{"name": "object 1", "type": "navy cube"},
                                                           {"name": "object 2", "type": "rose star"}])
-    assert shape["hallucinated"] == ["object 1"] and "star" in shape["evidence"][0]["why"]
+    assert shape["misperceived"] == ["object 1"] and shape["wrong"] == ["object 1"] and "star" in shape["evidence"][0]["why"]
     # world names: the mustard bottle is "a yellow squeeze bottle"; "an orange bowl" names a bowl, not an orange
     mustard = [{"name": "mustard_bottle_1", "type": "mustard bottle", "colour": "yellow",
                 "aliases": ["a yellow squeeze bottle"]}, {"name": "Bowl_1", "type": "Bowl", "colours": ["orange"],
@@ -97,7 +97,7 @@ def test_colour_families_synonyms_and_world_names():
     p = perception_check("A yellow squeeze bottle and an orange bowl.", mustard, vocabulary=["Orange"])
     assert p["correct"] == ["bowl", "mustard bottle"] and p["hallucinated"] == []
     p = perception_check("A red squeeze bottle.", mustard)
-    assert p["hallucinated"] == ["mustard bottle"]
+    assert p["misperceived"] == ["mustard bottle"] and p["hallucinated"] == []
     beside = perception_check("object 1 is next to the rose star.", [{"name": "object 1", "type": "navy cube"},
                                                                     {"name": "object 2", "type": "rose star"}])
     assert beside["hallucinated"] == []  # the star is what stands beside it, not what it is
@@ -115,7 +115,7 @@ def test_remembered_denied_and_hedged_objects_are_not_claims():
     assert p["hallucinated"] == [] and p["unjudged"] == ["bed"]
     # nowhere in the scene: a hallucination
     p = perception_check("A sofa and a bed.", view, vocabulary=world)
-    assert p["hallucinated"] == ["bed"] and p["evidence"][-1]["why"] == "nowhere in the scene"
+    assert p["hallucinated"] == ["bed"] and p["misperceived"] == [] and p["evidence"][-1]["why"] == "nowhere in the scene"
 
 
 def test_runs_without_a_description_get_no_perception_score():
