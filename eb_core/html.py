@@ -29,7 +29,7 @@ def _ci_cell(block: dict[str, Any], key: str) -> str:
     if value is None:
         return "<td class=num>-</td><td></td>"
     lo, hi = ci.get("ci_low"), ci.get("ci_high")
-    if lo is None:
+    if lo is None or hi is None:
         return f"<td class=num>{100 * value:.1f}</td><td></td>"
     bar = (f"<span class=ci title='95% interval {100 * lo:.1f} to {100 * hi:.1f}'>"
            f"<span class=span style='left:{160 * lo:.0f}px;width:{max(1.0, 160 * (hi - lo)):.0f}px'></span>"

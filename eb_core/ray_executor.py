@@ -23,6 +23,7 @@ Importing this module imports ``ray``; the runner does so only when ``runner.exe
 
 from __future__ import annotations
 
+import importlib
 import os
 import shutil
 import sys
@@ -36,10 +37,17 @@ from eb_core.records import EpisodeRecord, RunFiles
 
 INSTALL_HINT = 'runner.executor=ray needs Ray, which is not installed: pip install "embodiedbench[ray]"'
 
-try:
-    import ray
-except ImportError:  # pragma: no cover - exercised without the extra
-    ray = None  # type: ignore[assignment]
+
+
+def _import_ray() -> Any:
+    """The ``ray`` module, or None without the extra (Any: Ray's own types are not checked here)."""
+    try:
+        return importlib.import_module("ray")
+    except ImportError:  # pragma: no cover - exercised without the extra
+        return None
+
+
+ray = _import_ray()
 
 __all__ = ["EnvActor", "INSTALL_HINT", "connect", "get_limiter", "run_on_ray"]
 

@@ -23,7 +23,7 @@ from typing import Any
 
 from eb_core.audit.contract import BlindPolicy, FeedbackPolicy, ProbeResult
 from eb_core.audit.playing import _Job, play_jobs
-from eb_core.audit.setup import AuditSetup, _by_subset, _listed, _pct, _reset_seed, random_action
+from eb_core.audit.setup import AuditSetup, _by_subset, _listed, _pct, _reset_seed, random_vector
 from eb_core.env import Action, ActionSpace, DiscreteActionSpace, Env, StepResult, Task
 
 __all__ = ["BLIND_MAX_SUCCESS", "CandidateSearch", "FetchSearch", "ReactivePolicy", "feedback_policies", "probe_blind_policies",
@@ -47,11 +47,11 @@ def _blind_policies(setup: AuditSetup, spaces: dict[str, ActionSpace]) -> list[B
     elif first is not None:  # vector space: a few fixed vectors and cycles of them
         vec_rng = random.Random(f"eb-audit-vectors:{setup.seed}")
         mid = tuple((lo + hi) // 2 for lo, hi in zip(first.low, first.high))
-        vectors = [mid] + [random_action(first, vec_rng) for _ in range(5)]
+        vectors = [mid] + [random_vector(first, vec_rng) for _ in range(5)]
         policies += [BlindPolicy(f"always {list(v)}", (v,)) for v in vectors]
         for j in range(n_cycles // 4):
             k = 2 + j % 3
-            c = tuple(random_action(first, vec_rng) for _ in range(k))
+            c = tuple(random_vector(first, vec_rng) for _ in range(k))
             policies.append(BlindPolicy(f"cycle of {k} fixed vectors #{j + 1}", c))
     extra = setup.blind_policies
     if extra is None:

@@ -130,7 +130,7 @@ def _load(cfg: Any) -> tuple[Any, type, list[Any]]:
     from eb_core.specs import MissingDependencyError
 
     try:
-        spec = Registry.create().get("env", cfg.env.name)
+        spec = Registry.create().env(cfg.env.name)
         env_cls = spec.load()
     except (PluginError, MissingDependencyError) as exc:
         raise _error(str(exc)) from None

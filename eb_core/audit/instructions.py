@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 from collections import Counter
+from typing import Any
 
 from eb_core.audit.contract import ProbeResult
 from eb_core.audit.setup import AuditSetup, _by_subset, _listed, _pct
@@ -53,7 +54,9 @@ def probe_templates(setup: AuditSetup) -> ProbeResult:
         return ProbeResult(name="instruction_templates", passed=True, skipped=True,
                            value="n/a (tasks carry no metadata['template'])",
                            threshold=f">= {TEMPLATES_MIN} templates per subset")
-    rows, bad, failing = [], [], []
+    rows: list[dict[str, Any]] = []
+    bad: list[str] = []
+    failing: list[str] = []
     for subset, ts in groups.items():
         n = len({str(t.metadata.get("template")) for t in ts if "template" in t.metadata})
         rows.append({"subset": subset, "templates": n, "tasks": len(ts)})
@@ -133,7 +136,8 @@ def grammar_issues(text: str) -> list[str]:
 
 
 def probe_grammar(setup: AuditSetup) -> ProbeResult:
-    rows, failing = [], []
+    rows: list[dict[str, Any]] = []
+    failing: list[str] = []
     kinds: Counter[str] = Counter()
     for t in setup.tasks:
         found = grammar_issues(t.instruction)

@@ -39,8 +39,15 @@ _GENERIC: list[tuple[str, str, Callable[[AuditSetup], ProbeResult]]] = [
 
 def generic_probes(setup: AuditSetup) -> list[AuditProbe]:
     """The core's probes bound to ``setup`` (each ignores the ``run`` arguments in favour of the setup)."""
-    return [AuditProbe(name=name, description=desc, run=(lambda tasks, params, fn=fn: fn(setup)))
-            for name, desc, fn in _GENERIC]
+    return [AuditProbe(name=name, description=desc, run=_bound(fn, setup)) for name, desc, fn in _GENERIC]
+
+
+def _bound(fn: Callable[[AuditSetup], ProbeResult],
+           setup: AuditSetup) -> Callable[[list[Task], dict[str, Any]], ProbeResult]:
+    """``fn`` as an :attr:`AuditProbe.run` that ignores its arguments and reads ``setup`` instead."""
+    def run(tasks: list[Task], params: dict[str, Any]) -> ProbeResult:
+        return fn(setup)
+    return run
 
 
 def world_probes(setup: AuditSetup) -> list[AuditProbe]:

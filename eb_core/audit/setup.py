@@ -10,12 +10,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from eb_core.env import Action, ActionSpace, DiscreteActionSpace, Env, Task
+from eb_core.env import Action, ActionSpace, DiscreteActionSpace, Env, Task, VectorActionSpace
 
 if TYPE_CHECKING:
     from eb_core.audit.contract import AuditProbe, BlindPolicy
 
-__all__ = ["AuditSetup", "FRESH_PER_SUBSET", "NOISE_LEVELS", "random_action"]
+__all__ = ["AuditSetup", "FRESH_PER_SUBSET", "NOISE_LEVELS", "random_action", "random_vector"]
 
 #: Noise levels of the noisy-expert curve (probability that a step is a uniformly random valid action).
 NOISE_LEVELS: tuple[float, ...] = (0.0, 0.1, 0.2, 0.3, 0.5, 0.7, 0.9, 1.0)
@@ -153,10 +153,11 @@ class AuditSetup:
     def make_env(self, params: dict[str, Any] | None = None) -> Env:
         """The env without rendering when it accepts ``render=False`` (geometry or symbolic mode)."""
         params = dict(self.env_params if params is None else params)
+        build: Callable[..., Env] = self.env_cls  # every world's __init__ takes resolution, multi_view, params
         try:
-            return self.env_cls(resolution=64, multi_view=False, **{**params, "render": False})
+            return build(resolution=64, multi_view=False, **{**params, "render": False})
         except (TypeError, ValueError):  # the world has no render switch
-            return self.env_cls(resolution=64, multi_view=False, **params)
+            return build(resolution=64, multi_view=False, **params)
 
 
 def _spread(tasks: Sequence[Task], k: int) -> list[Task]:
@@ -180,6 +181,11 @@ def random_action(space: ActionSpace, rng: random.Random) -> Action:
     """A uniformly random valid action of ``space`` (one integer per dimension for vector spaces)."""
     if isinstance(space, DiscreteActionSpace):
         return rng.randrange(len(space))
+    return random_vector(space, rng)
+
+
+def random_vector(space: VectorActionSpace, rng: random.Random) -> tuple[int, ...]:
+    """A uniformly random action of a vector space: one integer per dimension."""
     return tuple(rng.randint(lo, hi) for lo, hi in zip(space.low, space.high))
 
 

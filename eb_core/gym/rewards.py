@@ -27,7 +27,7 @@ PRESETS: dict[str, dict[str, float]] = {
 }
 
 
-def reward_weights(reward: str | Mapping[str, float]) -> dict[str, float]:
+def reward_weights(reward: str | Mapping[str, float | str]) -> dict[str, float]:
     """Weights of a preset name, or of a mapping (a preset name under ``"preset"`` plus overrides)."""
     if isinstance(reward, str):
         if reward not in PRESETS:
@@ -36,7 +36,7 @@ def reward_weights(reward: str | Mapping[str, float]) -> dict[str, float]:
         return dict(PRESETS[reward])
     weights = dict(reward)
     base = weights.pop("preset", None)
-    out = reward_weights(base) if base is not None else {}
+    out = reward_weights(str(base)) if base is not None else {}
     for key, value in weights.items():
         if key not in TERMS:
             raise ValueError(f"unknown reward term {key!r}; allowed: {', '.join(TERMS)} (and 'preset')")
