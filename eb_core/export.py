@@ -19,6 +19,7 @@ from __future__ import annotations
 import base64
 import json
 import shutil
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -42,7 +43,7 @@ def _step_images(step: StepRecord) -> list[str]:
     return [step.image, *(step.extra_images or [])]
 
 
-def _rows(run: dict[str, Any], images: str, out: Path, only_success: bool):
+def _rows(run: dict[str, Any], images: str, out: Path, only_success: bool) -> Iterator[dict[str, Any]]:
     """One dict per planner step of the run, in episode order."""
     from eb_core.errors import label_episode, run_vocabulary
 
@@ -150,7 +151,7 @@ def _chat_lines(run: dict[str, Any], images: str, out: Path, only_success: bool,
     return lines
 
 
-def _schema():
+def _schema() -> Any:  # a pyarrow.Schema (pyarrow is imported only by this command)
     import pyarrow as pa
 
     image = pa.struct([("bytes", pa.binary()), ("path", pa.string())])
@@ -167,7 +168,7 @@ def _schema():
     ])
 
 
-def _with_hf_features(schema, embedded: bool):
+def _with_hf_features(schema: Any, embedded: bool) -> Any:
     """``schema`` with the Hugging Face ``datasets`` feature description in its metadata (the classic
     ``Sequence`` spelling, which old and new ``datasets`` releases read): embedded images load as images; copied
     ones stay ``{bytes: None, path}`` records, since ``datasets`` would resolve their paths against the working

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import Any, ClassVar
 
 import pytest
@@ -42,7 +43,7 @@ class EnvConformanceSuite:
         return env_cls.load_tasks(**self.env_params.get("task_params", {}))
 
     @pytest.fixture(scope="class")
-    def env(self, env_cls: type[Env]):
+    def env(self, env_cls: type[Env]) -> Iterator[Env]:
         params = {k: v for k, v in self.env_params.items() if k != "task_params"}
         env = env_cls(**params)
         yield env
@@ -142,7 +143,7 @@ class ModelBackendConformanceSuite:
         return ModelRequest(messages=(Message(role="user", content=(TextPart(text="Reply with a JSON object."),)),))
 
     @pytest.fixture
-    def backend(self):
+    def backend(self) -> Iterator[ModelBackend]:
         backend = self.make_backend()
         yield backend
         backend.close()
