@@ -38,8 +38,8 @@ class DetectionBoxes(Augmenter):
         self.mode, self.color, self.width, self.labels = mode, tuple(color), int(width), labels
 
     def transform(self, obs: Observation) -> Observation:
-        img = obs.primary_image
-        if img is None:
+        key, img = obs.primary, obs.primary_image
+        if key is None or img is None:
             return obs
         pil = Image.fromarray(np.ascontiguousarray(img))
         draw = ImageDraw.Draw(pil)
@@ -53,5 +53,5 @@ class DetectionBoxes(Augmenter):
                 draw.rectangle((x0, y0, x0 + 6 * len(text) + 2, y0 + 10), fill=self.color)
                 draw.text((x0 + 1, y0 - 1), text, fill=(255, 255, 255))
         images = dict(obs.images)
-        images[obs.primary] = np.asarray(pil)  # type: ignore[index]
+        images[key] = np.asarray(pil)
         return obs.model_copy(update={"images": images})

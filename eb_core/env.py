@@ -36,6 +36,20 @@ __all__ = [
 Action = Union[int, tuple[int, ...]]
 
 
+def _index(action: Action) -> int:
+    """A discrete space's action: its index (a vector is a TypeError, as ``int()`` of one always was)."""
+    if isinstance(action, tuple):
+        raise TypeError(f"a discrete action space takes an action index, got the vector {action!r}")
+    return int(action)
+
+
+def _vector(action: Action) -> tuple[int, ...]:
+    """A vector space's action: its components (an index is a TypeError, as iterating one always was)."""
+    if isinstance(action, int):
+        raise TypeError(f"a vector action space takes a list of integers, got the index {action!r}")
+    return action
+
+
 class PlanItemError(ValueError):
     """A plan item from the model does not name a valid action. The plan is cut at that item."""
 
@@ -170,7 +184,8 @@ class DiscreteActionSpace(BaseModel):
 
     def plan_item(self, action: Action) -> dict[str, Any]:
         """The JSON plan item a model should write for ``action`` (used by offline baselines)."""
-        return {"action_id": int(action), "action_name": self.actions[int(action)]}  # type: ignore[arg-type]
+        index = _index(action)
+        return {"action_id": index, "action_name": self.actions[index]}
 
     def parse_plan_item(self, item: Any) -> int:
         """Turn one model plan item into an action id, or raise :class:`PlanItemError`."""
@@ -198,7 +213,7 @@ class DiscreteActionSpace(BaseModel):
         return raw
 
     def name_of(self, action: Action) -> str:
-        return self.actions[int(action)]  # type: ignore[arg-type]
+        return self.actions[_index(action)]
 
 
 class VectorActionSpace(BaseModel):
@@ -231,7 +246,7 @@ class VectorActionSpace(BaseModel):
         return {"action": [(lo + hi) // 2 for lo, hi in zip(self.low, self.high)]}
 
     def plan_item(self, action: Action) -> dict[str, Any]:
-        return {"action": [int(v) for v in action]}  # type: ignore[union-attr]
+        return {"action": [int(v) for v in _vector(action)]}
 
     def parse_plan_item(self, item: Any) -> tuple[int, ...]:
         if isinstance(item, (list, tuple)) and len(item) == 1 and isinstance(item[0], dict):
@@ -259,7 +274,7 @@ class VectorActionSpace(BaseModel):
         return tuple(out)
 
     def name_of(self, action: Action) -> str:
-        return "[" + ", ".join(str(int(v)) for v in action) + "]"  # type: ignore[union-attr]
+        return "[" + ", ".join(str(int(v)) for v in _vector(action)) + "]"
 
 
 ActionSpace = Union[DiscreteActionSpace, VectorActionSpace]

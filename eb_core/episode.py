@@ -24,7 +24,7 @@ import traceback
 from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 from eb_core.config import EnvConfig
 from eb_core.env import Env, Observation, StepResult, Task
@@ -40,7 +40,7 @@ from eb_core.model import (
     Usage,
 )
 from eb_core.planner import Planner, encode_png
-from eb_core.records import ActionRecord, EpisodeRecord, StepRecord
+from eb_core.records import ActionRecord, EndReason, EpisodeRecord, StepRecord
 
 __all__ = ["BudgetGuard", "EpisodeDriver", "EpisodeOptions", "play", "run_episode"]
 
@@ -143,7 +143,7 @@ class _Episode:
         self.env_steps = self.planner_steps = self.invalid = self.output_errors = 0
         self.charged = 0  # answers that executed nothing but use a step of the budget (where uses_step)
         self.progress, self.success, self.empty_plan, self.done = 0.0, False, False, False
-        self.end_reason = "max_steps"
+        self.end_reason: EndReason = "max_steps"
         self.uses_step = env_config.output_error_uses_step
         # Output errors that use no step are bounded by the invalid cap, or by max_steps of them without one.
         self.invalid_cap = env_config.max_invalid_actions
@@ -187,7 +187,8 @@ class _Episode:
             opts.hook.eb_on_episode_start(event=EpisodeStartEvent(
                 run_dir=opts.run_dir, task_id=self.task.id, subset=self.task.subset,
                 instruction=self.task.instruction, seed=self.seed))
-        status, error = "ok", None
+        status: Literal["ok", "error"] = "ok"
+        error: str | None = None
         try:
             self.begin()
             while not self.done and self.budget_left() > 0:
@@ -342,16 +343,16 @@ class _Episode:
             self.invalid += 1
         return result
 
-    def record(self, status: str, error: str | None, wall_time_s: float) -> EpisodeRecord:
+    def record(self, status: Literal["ok", "error"], error: str | None, wall_time_s: float) -> EpisodeRecord:
         ok = status == "ok"
         usage = self.usage
         return EpisodeRecord(
             task_id=self.task.id, subset=self.task.subset, instruction=self.task.instruction, seed=self.seed,
             repeat=self.opts.repeat,
-            status=status,  # type: ignore[arg-type]
+            status=status,
             success=bool(self.success) if ok else False,
             progress=1.0 if self.success and ok else self.progress,
-            end_reason=self.end_reason,  # type: ignore[arg-type]
+            end_reason=self.end_reason,
             env_steps=self.env_steps, planner_steps=self.planner_steps, invalid_actions=self.invalid,
             output_errors=self.output_errors, empty_plan=self.empty_plan,
             prompt_tokens=usage.prompt_tokens, completion_tokens=usage.completion_tokens, model_calls=usage.calls,

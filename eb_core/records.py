@@ -34,8 +34,8 @@ from pydantic import BaseModel, ConfigDict, Field
 from eb_core.model import Usage
 from eb_core.parsing import PlannerOutput
 
-__all__ = ["FORMAT_VERSION", "ActionRecord", "EpisodeRecord", "RunDirLocked", "RunFiles", "RunLock", "RunLog",
-           "RunManifest", "SeenObject", "StepRecord", "atomic_write_text", "episode_dir_name", "iter_steps",
+__all__ = ["FORMAT_VERSION", "ActionRecord", "EndReason", "EpisodeRecord", "RunDirLocked", "RunFiles", "RunLock",
+           "RunLog", "RunManifest", "SeenObject", "StepRecord", "atomic_write_text", "episode_dir_name", "iter_steps",
            "read_manifest", "read_run", "read_steps"]
 
 FORMAT_VERSION = 1

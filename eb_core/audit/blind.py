@@ -121,11 +121,11 @@ def _policy_table(setup: AuditSetup, tasks: list[Task], policies: Sequence[Any])
     """Play every policy on every task: rows (policy, best subset, its success, tasks solved; worst first),
     the task ids solved by policies above the bar in subsets above the bar, and the worst (rate, policy,
     subset)."""
-    jobs = [_Job(t, policy=pol) for t in tasks for pol in policies]
+    pairs = [(t, pol) for t in tasks for pol in policies]
     solved: dict[str, set[str]] = defaultdict(set)  # policy name -> solved task ids
-    for job, out in zip(jobs, play_jobs(setup, jobs)):
+    for (t, pol), out in zip(pairs, play_jobs(setup, [_Job(t, policy=pol) for t, pol in pairs])):
         if out.success:
-            solved[job.policy.name].add(job.task.id)  # type: ignore[union-attr]
+            solved[pol.name].add(t.id)
     groups = _by_subset(tasks)
     rows = []
     failing: list[str] = []

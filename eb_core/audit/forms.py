@@ -41,22 +41,23 @@ def _write_fresh_form(setup: AuditSetup, workdir: Path) -> tuple[str, str, bool]
     Another task set than ``classic`` is drawn at its difficulty: by the world's ``audit_form`` when it takes
     ``difficulty``, else by its whole task generator when that does; when neither does, the default draw (the
     value says so: such a comparison tells little)."""
-    if setup.generator is None and setup.form_generator is None:
-        raise LookupError("the world registers no task generator")
+    form, whole = setup.form_generator, setup.generator
     src = workdir / "parallel"
-    sample = setup.form_generator is not None
-    if (sample and setup.taskset != "classic" and not _difficulty(setup.form_generator, setup.taskset)
-            and _difficulty(setup.generator, setup.taskset)):
-        sample = False  # only the whole generator draws at this difficulty
+    if form is not None and (setup.taskset == "classic" or _difficulty(form, setup.taskset)
+                             or not _difficulty(whole, setup.taskset)):
+        sample, fn = True, form
+    elif whole is not None:  # no sampler, or only the whole generator draws at this difficulty
+        sample, fn = False, whole
+    else:
+        raise LookupError("the world registers no task generator")
+    more = _difficulty(fn, setup.taskset)
     with contextlib.redirect_stdout(io.StringIO()):
         if sample:
             k = setup.fresh_per_subset()
-            fn, more = setup.form_generator, _difficulty(setup.form_generator, setup.taskset)
-            fn(out=str(src), seed=setup.parallel_seed, per_subset=k, **more)  # type: ignore[misc]
+            fn(out=str(src), seed=setup.parallel_seed, per_subset=k, **more)
             how = f"generated with seed={setup.parallel_seed}, {k} tasks per subset"
         else:
-            fn, more = setup.generator, _difficulty(setup.generator, setup.taskset)
-            fn(out=str(src), seed=setup.parallel_seed, **more)  # type: ignore[misc]
+            fn(out=str(src), seed=setup.parallel_seed, **more)
             how = f"generated with seed={setup.parallel_seed}"
         if more:
             how += f", difficulty={more['difficulty']}"

@@ -141,19 +141,21 @@ class ActionRules:
         window. Once per rising stretch."""
         if agrees or self.moves[-1].dist is None:
             return []
-        dists = [m for m in self.moves if m.dist is not None]
-        if len(dists) < DRIFT_WINDOW + 1:
+        measured = [(m, m.dist) for m in self.moves if m.dist is not None]
+        if len(measured) < DRIFT_WINDOW + 1:
             return []
-        window = dists[-(DRIFT_WINDOW + 1):]
-        rising = all(b.dist > a.dist + 1e-9 for a, b in itertools.pairwise(window))  # type: ignore[operator]
+        window = [m for m, _ in measured[-(DRIFT_WINDOW + 1):]]
+        dists = [d for _, d in measured[-(DRIFT_WINDOW + 1):]]
+        rising = all(b > a + 1e-9 for a, b in itertools.pairwise(dists))
         if not rising:
             self.drift_streak = 0
             return []
         paths = [m.path for m in window]
-        if all(p is not None for p in paths):
-            if not (paths[-1] > paths[0] + 1e-6 and all(b >= a - 1e-6 for a, b in itertools.pairwise(paths))):  # type: ignore[operator]
+        known = [p for p in paths if p is not None]
+        if len(known) == len(paths):
+            if not (known[-1] > known[0] + 1e-6 and all(b >= a - 1e-6 for a, b in itertools.pairwise(known))):
                 return []  # the free path did not get longer: a detour around furniture
-            why = f"the free path to the goal grew too ({paths[0]:.2f} -> {paths[-1]:.2f} m)"
+            why = f"the free path to the goal grew too ({known[0]:.2f} -> {known[-1]:.2f} m)"
         else:
             start = self.moves.index(window[0])
             if any(not m.ok for m in self.moves[max(0, start - 3):]):
@@ -164,7 +166,7 @@ class ActionRules:
             return []
         last = window[-1]
         return [make_label("navigation_drift", f"the distance to the goal grew for {DRIFT_WINDOW} actions "
-                           f"({window[0].dist:.2f} -> {last.dist:.2f} m); {why}", last.env_step,
+                           f"({dists[0]:.2f} -> {dists[-1]:.2f} m); {why}", last.env_step,
                            actions=[m.name for m in window[1:]],
-                           distances=[round(m.dist, 3) for m in window],  # type: ignore[arg-type]
-                           path_distances=[round(p, 3) for p in paths if p is not None] or None)]
+                           distances=[round(d, 3) for d in dists],
+                           path_distances=[round(p, 3) for p in known] or None)]

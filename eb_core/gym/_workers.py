@@ -47,9 +47,10 @@ class EnvGroup:
         return [None if op is None else self._one(i, op) for i, op in enumerate(ops)]
 
     def _env(self, i: int) -> gymnasium.Env:
-        if self.envs[i] is None:
-            self.envs[i] = self.env_fns[i]()
-        return self.envs[i]  # type: ignore[return-value]
+        env = self.envs[i]
+        if env is None:
+            env = self.envs[i] = self.env_fns[i]()
+        return env
 
     def _rebuild(self, i: int) -> None:
         env, self.envs[i] = self.envs[i], None

@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import gymnasium
+
+if TYPE_CHECKING:
+    from eb_core.plugins import Registry
 
 __all__ = ["gym_id", "register_worlds", "registered_ids", "world_of"]
 
@@ -19,13 +24,13 @@ def gym_id(world: str, display_name: str = "") -> str:
     return f"EB/{name.replace('_', '-')}-v0"
 
 
-def register_worlds(registry: object = None) -> dict[str, str]:
+def register_worlds(registry: Registry | None = None) -> dict[str, str]:
     """Register every installed world (or those of ``registry``); returns ``{gym id: world name}``."""
     from eb_core.plugins import Registry
 
     reg = registry if registry is not None else Registry.create()
     out: dict[str, str] = {}
-    for name, spec in reg.envs.items():  # type: ignore[attr-defined]
+    for name, spec in reg.envs.items():
         gid = gym_id(name, spec.display_name)
         if gid not in gymnasium.registry:
             gymnasium.register(gid, entry_point="eb_core.gym.env:EBEnv", kwargs={"world": name},
