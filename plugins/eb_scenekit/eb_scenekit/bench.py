@@ -65,7 +65,7 @@ def median_step_vs_render(step: Callable[[], object], scene: Callable[[], tuple[
             step()
             steps.append(time.perf_counter() - t0)
             m, d = scene()
-            if m is not model:  # a new scene: a new renderer (its context creation and upload are not timed)
+            if renderer is None or m is not model:  # a new scene: a new renderer (creation and upload untimed)
                 if renderer is not None:
                     renderer.close()
                 model, renderer = m, mujoco.Renderer(m, resolution, resolution)

@@ -15,7 +15,7 @@ import numpy as np
 
 from eb_scenekit.objects import ObjectType, object_types
 from eb_scenekit.render import SceneRenderer, contact_sheet, free_camera, save_png
-from eb_scenekit.scene import SceneBuilder
+from eb_scenekit.scene import RoomKind, SceneBuilder
 
 __all__ = ["object_view", "render_object", "objects_sheet", "rooms_sheet", "benchmark", "main"]
 
@@ -93,12 +93,12 @@ def rooms_sheet(size: int = 400) -> np.ndarray:
     return contact_sheet(images, labels, cols=4)
 
 
-def benchmark(kind: str = "kitchen", seed: int = 0, size: int = 500, repeats: int = 10,
+def benchmark(kind: RoomKind = "kitchen", seed: int = 0, size: int = 500, repeats: int = 10,
               antialias: int = 4) -> dict[str, float]:
     """Median milliseconds per 500x500 RGB / segmentation / depth frame of a furnished room (first-person view)."""
     from eb_scenekit.rooms import generate_room
 
-    layout = generate_room(kind, seed, antialias=antialias)  # type: ignore[arg-type]
+    layout = generate_room(kind, seed, antialias=antialias)
     x, y, yaw = layout.entrance()
     layout.builder.add_agent_camera("agent", (x, y), yaw=yaw, pitch=-20)
     t0 = time.perf_counter()

@@ -21,12 +21,17 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
-from typing import Literal
+from types import ModuleType
+from typing import TYPE_CHECKING, Literal, TypedDict
 
 import numpy as np
 
 from eb_scenekit._meshes import cached as _mesh
 from eb_scenekit._mjcf import El, fmt
+
+if TYPE_CHECKING:
+    from mujoco import MjData, MjModel  # MuJoCo ships no type information: to the checker these are Any
+    from typing_extensions import Unpack  # typing.Unpack from Python 3.11
 
 __all__ = [
     "CATALOGUE",
@@ -227,6 +232,14 @@ class _Ctx:
         return name
 
 
+class GeomOptions(TypedDict, total=False):
+    """Options of :meth:`Parts.geom` that its shortcuts (``box``, ``cyl`` ...) pass through."""
+
+    rot: tuple[float, float, float] | None
+    xyaxes: tuple[float, ...] | None
+    collide: bool
+
+
 class Parts:
     """Writes the geoms and child bodies of one object instance: the first argument of every builder.
 
@@ -307,31 +320,31 @@ class Parts:
         return el
 
     def box(self, part: str, half: tuple[float, float, float], pos: tuple[float, float, float],
-            rgba: tuple[float, ...], mat: str = "eb_plastic", **kw: object) -> El:
-        return self.geom(part, "box", size=half, pos=pos, rgba=rgba, mat=mat, **kw)  # type: ignore[arg-type]
+            rgba: tuple[float, ...], mat: str = "eb_plastic", **kw: Unpack[GeomOptions]) -> El:
+        return self.geom(part, "box", size=half, pos=pos, rgba=rgba, mat=mat, **kw)
 
     def cyl(self, part: str, r: float, hh: float, pos: tuple[float, float, float], rgba: tuple[float, ...],
-            mat: str = "eb_plastic", **kw: object) -> El:
-        return self.geom(part, "cylinder", size=(r, hh), pos=pos, rgba=rgba, mat=mat, **kw)  # type: ignore[arg-type]
+            mat: str = "eb_plastic", **kw: Unpack[GeomOptions]) -> El:
+        return self.geom(part, "cylinder", size=(r, hh), pos=pos, rgba=rgba, mat=mat, **kw)
 
     def sph(self, part: str, r: float, pos: tuple[float, float, float], rgba: tuple[float, ...],
-            mat: str = "eb_plastic", **kw: object) -> El:
-        return self.geom(part, "sphere", size=(r,), pos=pos, rgba=rgba, mat=mat, **kw)  # type: ignore[arg-type]
+            mat: str = "eb_plastic", **kw: Unpack[GeomOptions]) -> El:
+        return self.geom(part, "sphere", size=(r,), pos=pos, rgba=rgba, mat=mat, **kw)
 
     def ell(self, part: str, radii: tuple[float, float, float], pos: tuple[float, float, float],
-            rgba: tuple[float, ...], mat: str = "eb_plastic", **kw: object) -> El:
-        return self.geom(part, "ellipsoid", size=radii, pos=pos, rgba=rgba, mat=mat, **kw)  # type: ignore[arg-type]
+            rgba: tuple[float, ...], mat: str = "eb_plastic", **kw: Unpack[GeomOptions]) -> El:
+        return self.geom(part, "ellipsoid", size=radii, pos=pos, rgba=rgba, mat=mat, **kw)
 
     def cap_ft(self, part: str, p0: tuple[float, float, float], p1: tuple[float, float, float], r: float,
-               rgba: tuple[float, ...], mat: str = "eb_plastic", **kw: object) -> El:
-        return self.geom(part, "capsule", fromto=(*p0, *p1), size=(r,), rgba=rgba, mat=mat, **kw)  # type: ignore[arg-type]
+               rgba: tuple[float, ...], mat: str = "eb_plastic", **kw: Unpack[GeomOptions]) -> El:
+        return self.geom(part, "capsule", fromto=(*p0, *p1), size=(r,), rgba=rgba, mat=mat, **kw)
 
     def cyl_ft(self, part: str, p0: tuple[float, float, float], p1: tuple[float, float, float], r: float,
-               rgba: tuple[float, ...], mat: str = "eb_plastic", **kw: object) -> El:
-        return self.geom(part, "cylinder", fromto=(*p0, *p1), size=(r,), rgba=rgba, mat=mat, **kw)  # type: ignore[arg-type]
+               rgba: tuple[float, ...], mat: str = "eb_plastic", **kw: Unpack[GeomOptions]) -> El:
+        return self.geom(part, "cylinder", fromto=(*p0, *p1), size=(r,), rgba=rgba, mat=mat, **kw)
 
     def mesh(self, part: str, key: str, pos: tuple[float, float, float], rgba: tuple[float, ...],
-             mat: str = "eb_plastic", stretch: tuple[float, float, float] = (1.0, 1.0, 1.0), **kw: object) -> El:
+             mat: str = "eb_plastic", stretch: tuple[float, float, float] = (1.0, 1.0, 1.0), **kw: Unpack[GeomOptions]) -> El:
         """Add a generated mesh (see ``_meshes.MESHES``); ``stretch`` scales it per axis."""
         s = self.ctx.scale
         st = self.ctx.stretch
@@ -343,7 +356,7 @@ class Parts:
             if sc != (1.0, 1.0, 1.0):
                 attrs["scale"] = sc
             self.ctx.assets[name] = El("mesh", attrs)
-        return self.geom(part, "mesh", mesh=name, pos=pos, rgba=rgba, mat=mat, **kw)  # type: ignore[arg-type]
+        return self.geom(part, "mesh", mesh=name, pos=pos, rgba=rgba, mat=mat, **kw)
 
     def body(self, part: str, pos: tuple[float, float, float], rot: tuple[float, float, float] | None = None) -> Parts:
         """A static child body (for grouping); returns its writer."""
@@ -418,6 +431,15 @@ Builder = Callable[[Parts, RGB], None]
 """Draws one object: ``builder(parts, rgb)`` with the instance's colour (see :class:`Parts`)."""
 
 
+class BuildOptions(TypedDict, total=False):
+    """Options of :meth:`ObjectType.build` that :meth:`ObjectType.mjcf` passes through."""
+
+    movable: bool | None
+    open: Mapping[str, float] | float | None
+    assets: dict[str, El] | None
+    shape: str | None
+
+
 @dataclass(frozen=True)
 class ObjectType:
     """One kind of household object and how to build it."""
@@ -454,7 +476,8 @@ class ObjectType:
         if shape not in self.shapes:
             allowed = ", ".join(self.shapes) or "none"
             raise ValueError(f"{self.name} has no shape {shape!r}; available: {allowed}")
-        return tuple(float(v) for v in self.shapes[shape])  # type: ignore[return-value]
+        x, y, z = self.shapes[shape]
+        return (float(x), float(y), float(z))
 
     @property
     def default_color(self) -> str:
@@ -539,10 +562,11 @@ class ObjectType:
         return body, assets
 
     def mjcf(self, instance: str, pos: tuple[float, float, float] = (0.0, 0.0, 0.0), yaw: float = 0.0,
-             color: str | tuple[float, ...] | None = None, scale: float = 1.0, **kw: object) -> tuple[str, str]:
+             color: str | tuple[float, ...] | None = None, scale: float = 1.0,
+             **kw: Unpack[BuildOptions]) -> tuple[str, str]:
         """Like :meth:`build`, as text: ``(body_xml, assets_xml)``; the assets (meshes) go in ``<asset>``, and the
         shared materials from :func:`material_assets` must be there too."""
-        body, assets = self.build(instance, pos, yaw, color, scale, **kw)  # type: ignore[arg-type]
+        body, assets = self.build(instance, pos, yaw, color, scale, **kw)
         return body.to_string(), "\n".join(a.to_string() for a in assets.values())
 
 
@@ -550,13 +574,25 @@ CATALOGUE: dict[str, ObjectType] = {}
 """Every object type by canonical name, in catalogue order."""
 
 
+class _TypeOptions(TypedDict, total=False):
+    """The optional fields of :class:`ObjectType`, as the catalogue's ``@_register`` lines give them."""
+
+    mount: Mount
+    surfaces: tuple[Surface, ...]
+    movable: bool
+    articulations: tuple[str, ...]
+    default_open: Mapping[str, float]
+    toggleable: bool
+    shapes: Mapping[str, tuple[float, float, float]]
+
+
 def _register(name: str, category: Category, colors: tuple[str, ...], half: tuple[float, float], height: float,
-              **kw: object) -> Callable[[Builder], Builder]:
+              **kw: Unpack[_TypeOptions]) -> Callable[[Builder], Builder]:
     def deco(fn: Builder) -> Builder:
         if name in CATALOGUE:
             raise ValueError(f"duplicate object type {name}")
         CATALOGUE[name] = ObjectType(name=name, category=category, colors={c: COLORS[c] for c in colors},
-                                     half_extents=half, height=height, builder=fn, **kw)  # type: ignore[arg-type]
+                                     half_extents=half, height=height, builder=fn, **kw)
         return fn
 
     return deco
@@ -579,25 +615,25 @@ def get_type(name: str) -> ObjectType:
 # changing a compiled scene without recompiling
 
 
-def _mj():  # type: ignore[no-untyped-def]
+def _mj() -> ModuleType:
     from eb_scenekit._mujoco import mujoco
 
     return mujoco
 
 
-def articulated_joints(model: object, instance: str) -> list[str]:
+def articulated_joints(model: MjModel, instance: str) -> list[str]:
     """Names of the hinge/slide joints (doors, drawers, lids) of one instance, e.g. ``["Fridge_1/door"]``."""
     mujoco = _mj()
     out = []
-    for j in range(model.njnt):  # type: ignore[attr-defined]
+    for j in range(model.njnt):
         name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j) or ""
-        if name.startswith(instance + "/") and model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_HINGE,  # type: ignore
+        if name.startswith(instance + "/") and model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_HINGE,
                                                                      mujoco.mjtJoint.mjJNT_SLIDE):
             out.append(name)
     return out
 
 
-def _joints_for(model: object, instance: str, part: str | None) -> list[int]:
+def _joints_for(model: MjModel, instance: str, part: str | None) -> list[int]:
     mujoco = _mj()
     names = articulated_joints(model, instance)
     if part is not None:
@@ -608,7 +644,7 @@ def _joints_for(model: object, instance: str, part: str | None) -> list[int]:
     return [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, n) for n in names]
 
 
-def set_open(model: object, data: object, instance_name: str, fraction: float, part: str | None = None) -> list[str]:
+def set_open(model: MjModel, data: MjData, instance_name: str, fraction: float, part: str | None = None) -> list[str]:
     """Open (1.0), close (0.0) or half-open the doors/drawers/lids of an instance, then ``mj_forward``.
 
     Args:
@@ -621,24 +657,24 @@ def set_open(model: object, data: object, instance_name: str, fraction: float, p
     f = min(max(float(fraction), 0.0), 1.0)
     names = []
     for j in _joints_for(model, instance_name, part):
-        lo, hi = model.jnt_range[j]  # type: ignore[attr-defined]
-        data.qpos[model.jnt_qposadr[j]] = lo + f * (hi - lo)  # type: ignore[attr-defined]
-        data.qvel[model.jnt_dofadr[j]] = 0.0  # type: ignore[attr-defined]
+        lo, hi = model.jnt_range[j]
+        data.qpos[model.jnt_qposadr[j]] = lo + f * (hi - lo)
+        data.qvel[model.jnt_dofadr[j]] = 0.0
         names.append(mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j))
     mujoco.mj_forward(model, data)
     return names
 
 
-def get_open(model: object, data: object, instance_name: str, part: str | None = None) -> float:
+def get_open(model: MjModel, data: MjData, instance_name: str, part: str | None = None) -> float:
     """Open fraction (0..1) of an articulation, or the largest one over all parts of the instance."""
     fr = []
     for j in _joints_for(model, instance_name, part):
-        lo, hi = model.jnt_range[j]  # type: ignore[attr-defined]
-        fr.append(float((data.qpos[model.jnt_qposadr[j]] - lo) / (hi - lo)))  # type: ignore[attr-defined]
+        lo, hi = model.jnt_range[j]
+        fr.append(float((data.qpos[model.jnt_qposadr[j]] - lo) / (hi - lo)))
     return max(fr)
 
 
-def surface_position(model: object, data: object, instance_name: str, surface: Surface, scale: float = 1.0,
+def surface_position(model: MjModel, data: MjData, instance_name: str, surface: Surface, scale: float = 1.0,
                      offset: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
     """World (x, y, z) of a point of a support surface in the current state of the model.
 
@@ -651,27 +687,27 @@ def surface_position(model: object, data: object, instance_name: str, surface: S
     if b < 0:
         raise KeyError(f"no instance {instance_name!r} in the model")
     local = np.array([surface.center[0] + offset[0], surface.center[1] + offset[1], surface.z]) * scale
-    pos = data.xpos[b] + data.xmat[b].reshape(3, 3) @ local  # type: ignore[attr-defined]
+    pos = data.xpos[b] + data.xmat[b].reshape(3, 3) @ local
     if surface.part is not None:
         j = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, f"{instance_name}/{surface.part}")
-        if j < 0 or model.jnt_type[j] != mujoco.mjtJoint.mjJNT_SLIDE:  # type: ignore[attr-defined]
+        if j < 0 or model.jnt_type[j] != mujoco.mjtJoint.mjJNT_SLIDE:
             raise KeyError(f"{instance_name!r} has no drawer {surface.part!r} carrying surface {surface.name!r}")
-        pos = pos + data.qpos[model.jnt_qposadr[j]] * data.xaxis[j]  # type: ignore[attr-defined]
+        pos = pos + data.qpos[model.jnt_qposadr[j]] * data.xaxis[j]
     return pos
 
 
-def set_object_pose(model: object, data: object, instance_name: str, pos: tuple[float, float, float],
+def set_object_pose(model: MjModel, data: MjData, instance_name: str, pos: tuple[float, float, float],
                     yaw: float = 0.0) -> None:
     """Teleport a movable instance (one with a free joint) to a world position and yaw (degrees)."""
     mujoco = _mj()
     j = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, f"{instance_name}/free")
     if j < 0:
         raise KeyError(f"{instance_name!r} is not movable (no free joint {instance_name}/free)")
-    adr = model.jnt_qposadr[j]  # type: ignore[attr-defined]
-    data.qpos[adr:adr + 3] = pos  # type: ignore[attr-defined]
-    data.qpos[adr + 3:adr + 7] = yaw_quat(yaw)  # type: ignore[attr-defined]
-    dof = model.jnt_dofadr[j]  # type: ignore[attr-defined]
-    data.qvel[dof:dof + 6] = 0.0  # type: ignore[attr-defined]
+    adr = model.jnt_qposadr[j]
+    data.qpos[adr:adr + 3] = pos
+    data.qpos[adr + 3:adr + 7] = yaw_quat(yaw)
+    dof = model.jnt_dofadr[j]
+    data.qvel[dof:dof + 6] = 0.0
     mujoco.mj_forward(model, data)
 
 
@@ -681,7 +717,7 @@ _STREAM_ON = (0.6, 0.8, 1.0, 0.6)
 _OFF = (0.07, 0.07, 0.08)
 
 
-def set_powered(model: object, instance_name: str, on: bool) -> None:
+def set_powered(model: MjModel, instance_name: str, on: bool) -> None:
     """Switch an appliance's visible power state without recompiling (the next render shows it).
 
     * screens, displays and lamp bulbs are lit when on and dark when off; lamp lights are (de)activated;
@@ -697,31 +733,31 @@ def set_powered(model: object, instance_name: str, on: bool) -> None:
     cache = _POWER_CACHE.setdefault(id(model), {})
     found = False
     prefix = instance_name + "/"
-    for g in range(model.ngeom):  # type: ignore[attr-defined]
+    for g in range(model.ngeom):
         name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or ""
         if not name.startswith(prefix):
             continue
         part = name[len(prefix):]
         heat = part.startswith(("burner", "slot"))
         stream = part.startswith("stream")
-        if g not in cache and (model.geom_matid[g] in glow or heat or stream):  # type: ignore[attr-defined]
-            cache[g] = (model.geom_rgba[g].copy(), int(model.geom_matid[g]))  # type: ignore[attr-defined]
+        if g not in cache and (model.geom_matid[g] in glow or heat or stream):
+            cache[g] = (model.geom_rgba[g].copy(), int(model.geom_matid[g]))
         if g not in cache:
             continue
         found = True
         rgba, mat = cache[g]
         if heat:
-            model.geom_rgba[g] = _HEAT_ON if on else rgba  # type: ignore[attr-defined]
-            model.geom_matid[g] = glow_ids[0] if on else mat  # type: ignore[attr-defined]
+            model.geom_rgba[g] = _HEAT_ON if on else rgba
+            model.geom_matid[g] = glow_ids[0] if on else mat
         elif stream:
-            model.geom_rgba[g] = _STREAM_ON if on else rgba  # type: ignore[attr-defined]
+            model.geom_rgba[g] = _STREAM_ON if on else rgba
         else:
-            model.geom_rgba[g] = rgba if on else (*_OFF, rgba[3])  # type: ignore[attr-defined]
-            model.geom_matid[g] = mat if on else glossy  # type: ignore[attr-defined]
-    for li in range(model.nlight):  # type: ignore[attr-defined]
+            model.geom_rgba[g] = rgba if on else (*_OFF, rgba[3])
+            model.geom_matid[g] = mat if on else glossy
+    for li in range(model.nlight):
         name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_LIGHT, li) or ""
         if name.startswith(prefix):
-            model.light_active[li] = 1 if on else 0  # type: ignore[attr-defined]
+            model.light_active[li] = 1 if on else 0
             found = True
     if not found:
         raise KeyError(f"{instance_name!r} has nothing to switch on or off")

@@ -338,7 +338,7 @@ def render_assets(model: Any, hulls: bool = False) -> bytes:
         a = np.ascontiguousarray(a)
         h.update(f"{a.dtype.str}{a.shape}".encode())
         if a.size:
-            h.update(a)
+            h.update(a.data)  # the array's own bytes (a contiguous buffer)
     return h.digest()
 
 

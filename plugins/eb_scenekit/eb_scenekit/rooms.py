@@ -12,12 +12,15 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
 from eb_scenekit.objects import get_type
-from eb_scenekit.scene import RoomKind, RoomShell, SceneBuilder, SceneObject, Wall
+from eb_scenekit.scene import WALLS, RoomKind, RoomShell, SceneBuilder, SceneObject, Wall
+
+if TYPE_CHECKING:
+    from mujoco import MjData, MjModel  # MuJoCo ships no type information: to the checker these are Any
 
 __all__ = ["ROOM_KINDS", "RoomLayout", "generate_room"]
 
@@ -99,7 +102,7 @@ class RoomLayout:
         """The MJCF of the current builder state."""
         return self.builder.to_xml()
 
-    def build(self) -> tuple[object, object]:
+    def build(self) -> tuple[MjModel, MjData]:
         """Compile: ``(mujoco.MjModel, mujoco.MjData)``."""
         return self.builder.build()
 
@@ -331,7 +334,7 @@ class _Planner:
         return self.try_place(type_name, round(float(p[0]), 3), round(float(p[1]), 3), anchor.yaw)
 
 
-def _probe(type_name: str, xy: Sequence[float], yaw: float, hx: float, hy: float) -> SceneObject:
+def _probe(type_name: str, xy: Sequence[float] | np.ndarray, yaw: float, hx: float, hy: float) -> SceneObject:
     return SceneObject(name="_probe", type=type_name, category="", color="", position=(float(xy[0]), float(xy[1]), 0.0),
                        yaw=float(yaw), half_extents=(float(hx), float(hy)), height=0.0)
 
@@ -376,10 +379,9 @@ def _painting(b: SceneBuilder, planner: _Planner, rng: np.random.Generator) -> S
     room = planner.room
     ot = get_type("Painting")
     blocked_walls = {planner.room.door.wall} | {w.wall for w in room.windows}
-    walls = [w for w in ("north", "south", "east", "west") if w not in blocked_walls] or ["north", "south", "east",
-                                                                                         "west"]
+    walls = [w for w in WALLS if w not in blocked_walls] or list(WALLS)
     for _ in range(30):
-        wall: Wall = walls[int(rng.integers(len(walls)))]  # type: ignore[assignment]
+        wall = walls[int(rng.integers(len(walls)))]
         lim = room.wall_length(wall) / 2 - ot.half_extents[1] - 0.2
         if lim <= 0:
             continue
@@ -470,15 +472,15 @@ def _living_room(b: SceneBuilder, p: _Planner, rng: np.random.Generator) -> None
         p.in_front_of(sofa, "CoffeeTable", 0.4, "away")
         # TV on the opposite wall, facing the sofa
         a = math.radians(sofa.yaw)
-        opposite = {"north": "south", "south": "north", "east": "west", "west": "east"}
+        opposite: dict[Wall, Wall] = {"north": "south", "south": "north", "east": "west", "west": "east"}
         wall = _wall_facing(p.room, (math.cos(a), math.sin(a)))
         ot = get_type("TVStand")
-        lim = p.room.wall_length(opposite[wall]) / 2 - ot.half_extents[1] - 0.05  # type: ignore[index]
+        lim = p.room.wall_length(opposite[wall]) / 2 - ot.half_extents[1] - 0.05
         along_sofa = sofa.position[0] if opposite[wall] in ("north", "south") else sofa.position[1]
         tv = None
         for t in (along_sofa, *[float(v) for v in rng.uniform(-lim, lim, 12)]):
             if abs(t) <= lim:
-                tv = p.try_place("TVStand", *p.wall_slot("TVStand", opposite[wall], round(t, 3)))  # type: ignore
+                tv = p.try_place("TVStand", *p.wall_slot("TVStand", opposite[wall], round(t, 3)))
                 if tv is not None:
                     break
         if tv is None:
@@ -524,11 +526,11 @@ def _wall_facing(room: RoomShell, direction: Sequence[float]) -> Wall:
     direction stands against)."""
     best: Wall = "north"
     score = -2.0
-    for w in ("north", "south", "east", "west"):
-        _, _, n = room.wall_frame(w)  # type: ignore[arg-type]
+    for w in WALLS:
+        _, _, n = room.wall_frame(w)
         s = float(n[0] * direction[0] + n[1] * direction[1])
         if s > score:
-            best, score = w, s  # type: ignore[assignment]
+            best, score = w, s
     return best
 
 

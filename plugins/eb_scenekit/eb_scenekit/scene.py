@@ -13,11 +13,14 @@ import threading
 from collections import OrderedDict
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
 from eb_scenekit._mjcf import El
+
+if TYPE_CHECKING:
+    from mujoco import MjData, MjModel  # MuJoCo ships no type information: to the checker these are Any
 from eb_scenekit.objects import CATALOGUE, ObjectType, _rpy_quat, get_type, material_assets
 
 __all__ = [
@@ -39,6 +42,8 @@ __all__ = [
 
 RoomKind = Literal["kitchen", "living_room", "bedroom", "bathroom"]
 Wall = Literal["north", "south", "east", "west"]
+WALLS: tuple[Wall, ...] = ("north", "south", "east", "west")
+"""The four walls, in the order rooms are built and furnished."""
 
 INSTANCES_TEXT = "eb_scenekit_instances"
 """Name of the MJCF custom text that lists object instance names (used by the renderer for segmentation)."""
@@ -162,7 +167,7 @@ def _agent_quat(yaw: float, pitch: float) -> tuple[float, float, float, float]:
     return _rpy_quat(0.0, -pitch, yaw)
 
 
-def set_agent_pose(model: object, data: object, name: str, pos: Sequence[float], yaw: float = 0.0,
+def set_agent_pose(model: MjModel, data: MjData, name: str, pos: Sequence[float], yaw: float = 0.0,
                    pitch: float = 0.0) -> None:
     """Move an agent camera added with :meth:`SceneBuilder.add_agent_camera` (no recompile).
 
@@ -304,14 +309,16 @@ class SceneBuilder:
         w.append(El("geom", {"name": "room/floor", "type": "plane", "size": (hx, hy, 0.1),
                              "material": room.floor_material, "rgba": (1, 1, 1, 1)}))
         wall_rgba = (*room.wall_rgb, 1.0)
-        for name, pos, half in (("north", (0, hy + t / 2, h / 2), (hx + t, t / 2, h / 2)),
-                                ("south", (0, -hy - t / 2, h / 2), (hx + t, t / 2, h / 2)),
-                                ("east", (hx + t / 2, 0, h / 2), (t / 2, hy, h / 2)),
-                                ("west", (-hx - t / 2, 0, h / 2), (t / 2, hy, h / 2))):
+        sides: tuple[tuple[Wall, tuple[float, float, float], tuple[float, float, float]], ...] = (
+            ("north", (0, hy + t / 2, h / 2), (hx + t, t / 2, h / 2)),
+            ("south", (0, -hy - t / 2, h / 2), (hx + t, t / 2, h / 2)),
+            ("east", (hx + t / 2, 0, h / 2), (t / 2, hy, h / 2)),
+            ("west", (-hx - t / 2, 0, h / 2), (t / 2, hy, h / 2)))
+        for name, pos, half in sides:
             w.append(El("geom", {"name": f"room/wall_{name}", "type": "box", "pos": pos, "size": half,
                                  "material": "eb_wall", "rgba": wall_rgba}))
-            centre, along, normal = room.wall_frame(name)  # type: ignore[arg-type]
-            length = room.wall_length(name)  # type: ignore[arg-type]
+            centre, along, normal = room.wall_frame(name)
+            length = room.wall_length(name)
             p = centre + normal * 0.008
             w.append(El("geom", {"name": f"room/baseboard_{name}", "type": "box", "pos": (p[0], p[1], 0.05),
                                  "size": (abs(along[0]) * length / 2 + 0.008 * abs(normal[0]),
@@ -507,7 +514,7 @@ class SceneBuilder:
             z = p[2] if len(p) > 2 else (1.25 if otype.mount == "wall" else 0.0)
             world = (p[0], p[1], z)
             wyaw = yaw
-        world = tuple(round(v, 4) for v in world)  # type: ignore[assignment]
+        world = (round(world[0], 4), round(world[1], 4), round(world[2], 4))
         wyaw = round(((wyaw + 180.0) % 360.0) - 180.0, 4)
         mov = otype.movable if movable is None else bool(movable)
         rgb = color if color is None or isinstance(color, str) else tuple(float(v) for v in color)
@@ -515,7 +522,7 @@ class SceneBuilder:
         body, _ = otype.build(name, world, wyaw, rgb, scale, mov, open, self._assets, shape=shape)
         self._world.append(body)
         obj = SceneObject(name=name, type=otype.name, category=otype.category, color=color_name,
-                          position=world, yaw=wyaw,  # type: ignore[arg-type]
+                          position=world, yaw=wyaw,
                           half_extents=(otype.half_extents[0] * scale * st[0], otype.half_extents[1] * scale * st[1]),
                           height=otype.height * scale * st[2], scale=float(scale), parent=parent, surface=surf_name,
                           inside=inside, mount=otype.mount, movable=mov, shape=shape)
@@ -528,9 +535,12 @@ class SceneBuilder:
     def add_camera(self, name: str, pos: Sequence[float], xyaxes: Sequence[float] | None = None,
                    lookat: Sequence[float] | None = None, fovy: float = 60.0) -> str:
         """Add a fixed named camera, oriented by ``xyaxes`` or by a point to look at."""
-        if (xyaxes is None) == (lookat is None):
+        if xyaxes is not None and lookat is None:
+            axes = tuple(xyaxes)
+        elif lookat is not None and xyaxes is None:
+            axes = lookat_xyaxes(pos, lookat)
+        else:
             raise ValueError("give exactly one of xyaxes or lookat")
-        axes = tuple(xyaxes) if xyaxes is not None else lookat_xyaxes(pos, lookat)  # type: ignore[arg-type]
         self._cameras.append(El("camera", {"name": name, "pos": tuple(pos), "xyaxes": axes, "fovy": fovy}))
         return name
 
@@ -607,7 +617,7 @@ class SceneBuilder:
         custom.add("text", name=INSTANCES_TEXT, data=" ".join(o.name for o in self.objects) or "none")
         return root.to_string() + "\n"
 
-    def build(self) -> tuple[object, object]:
+    def build(self) -> tuple[MjModel, MjData]:
         """Compile the scene: returns ``(mujoco.MjModel, mujoco.MjData)`` after one ``mj_forward`` (without
         collision detection: :func:`forward_without_contacts`)."""
         from eb_scenekit._mujoco import mujoco
@@ -623,11 +633,11 @@ MODEL_CACHE_SIZE = 4
 MODEL_CACHE_BYTES = 48_000_000
 """...and at most this many bytes of them (always the newest one): an EB-Manipulation model with the Panda's
 visual meshes is ~33 MB, a household room 2-5 MB."""
-_MODELS: OrderedDict[tuple[object, ...], tuple[object, int]] = OrderedDict()
+_MODELS: OrderedDict[tuple[object, ...], tuple[MjModel, int]] = OrderedDict()
 _MODELS_LOCK = threading.Lock()
 
 
-def compile_model(xml: str, assets: Mapping[str, bytes] | None = None) -> object:
+def compile_model(xml: str, assets: Mapping[str, bytes] | None = None) -> MjModel:
     """``mujoco.MjModel.from_xml_string(xml, assets)``, compiled once per process for a recently seen document.
 
     A reset of a task that was reset a moment ago (a group of rollouts from one state, a repeated episode, the
@@ -656,7 +666,7 @@ def compile_model(xml: str, assets: Mapping[str, bytes] | None = None) -> object
     return copy.copy(entry[0])
 
 
-def forward_without_contacts(model: object, data: object) -> None:
+def forward_without_contacts(model: MjModel, data: MjData) -> None:
     """``mj_forward`` with collision detection switched off for this one call (the model's flags are restored).
 
     Poses, cameras and lights come out exactly as from a full ``mj_forward``; only the contact list and the
@@ -666,10 +676,10 @@ def forward_without_contacts(model: object, data: object) -> None:
     """
     from eb_scenekit._mujoco import mujoco
 
-    flags = model.opt.disableflags  # type: ignore[attr-defined]
-    model.opt.disableflags = flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)  # type: ignore[attr-defined]
+    flags = model.opt.disableflags
+    model.opt.disableflags = flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
     try:
         mujoco.mj_forward(model, data)
     finally:
-        model.opt.disableflags = flags  # type: ignore[attr-defined]
+        model.opt.disableflags = flags
 
