@@ -84,6 +84,7 @@ class OracleBackend(_OfflineBackend):
         env = self._context().env
         space = env.action_space()
         n, noise = self.settings.plan_length, self.settings.noise
+        plan: list[Action]
         if noise >= 1.0:  # the expert is never followed: do not ask it
             plan = [random_action(space, self.draws) for _ in range(n)]
             text = planner_answer(space, plan, seen="(oracle, noise 1: the image is ignored)",
@@ -95,7 +96,7 @@ class OracleBackend(_OfflineBackend):
             text = planner_answer(space, [], seen="(oracle)",
                                   reasoning=f"The expert has no plan from this state: {why}.")
             return self._response(text, t0, "oracle")
-        plan: list[Action] = []
+        plan = []
         replaced = 0
         for action in list(expert)[:n]:
             u = self.coin.random()

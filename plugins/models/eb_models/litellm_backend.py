@@ -49,6 +49,7 @@ from eb_core.model import (
     ModelRequest,
     ModelResponse,
     ModelTransientError,
+    TextPart,
     Usage,
 )
 from eb_models._secrets import Scrubber, Secret, secret_values
@@ -333,8 +334,9 @@ class LiteLLMBackend(ModelBackend):
                     f"model {self.settings.model_id} takes no images (supports_images: false); "
                     f"run it with planner.language_only=true"
                 )
-            if not has_image and len(m.content) == 1:
-                out.append({"role": m.role, "content": m.content[0].text})  # type: ignore[union-attr]
+            only = m.content[0] if len(m.content) == 1 else None
+            if isinstance(only, TextPart):  # one text part: sent as a plain string
+                out.append({"role": m.role, "content": only.text})
                 continue
             out.append({"role": m.role, "content": openai_parts(m)})
         return out
@@ -342,7 +344,7 @@ class LiteLLMBackend(ModelBackend):
     # -- structured output --------------------------------------------------------------------
 
     @property
-    def supports_json_schema(self) -> bool:  # type: ignore[override]
+    def supports_json_schema(self) -> bool:  # type: ignore[override]  # a property over the base's class attribute
         """Whether the schema reaches the server (the planner then leaves the textual format out)."""
         return sends_schema(self.settle())
 
@@ -595,7 +597,7 @@ class LiteLLMBackend(ModelBackend):
     def _check_local_server(self) -> None:
         """A local ``api_base`` nobody listens on fails now, not after a minute of retries."""
         url = self.settings.api_base
-        if not is_local_url(url):
+        if url is None or not is_local_url(url):
             return
         parsed = urlparse(url)
         port = parsed.port or (443 if parsed.scheme == "https" else 80)

@@ -21,6 +21,7 @@ llama-cpp-python's server.
 from __future__ import annotations
 
 import contextlib
+import importlib
 import logging
 import os
 import threading
@@ -109,7 +110,7 @@ def build_has_amx(llama_cpp: Any = None) -> bool:
     which reports the build's instruction sets)."""
     try:
         if llama_cpp is None:
-            import llama_cpp
+            llama_cpp = importlib.import_module("llama_cpp")
         info = llama_cpp.llama_print_system_info()
     except (ImportError, AttributeError, OSError):
         return False

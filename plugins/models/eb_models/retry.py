@@ -33,9 +33,9 @@ class RetryPolicy:
 
     def backoff(self, retry: int, rng: random.Random | None = None) -> float:
         """Seconds to wait before retry number ``retry`` (1-based): half fixed, half random ("equal jitter")."""
-        rng = rng or random
+        uniform = rng.uniform if rng is not None else random.uniform
         cap = min(self.backoff_max_s, self.backoff_base_s * (2 ** (retry - 1)))
-        return cap / 2 + rng.uniform(0, cap / 2)
+        return cap / 2 + uniform(0, cap / 2)
 
     def next_wait(self, retry: int, retry_after: float | None, elapsed: float,
                   rng: random.Random | None = None) -> float | None:
@@ -138,5 +138,5 @@ def connection_failure(exc: BaseException) -> ConnectionFailure | None:
         cur = cur.__cause__ or cur.__context__
     for kind in ("dns", "refused", "timeout", "connect"):
         if kind in found:
-            return ConnectionFailure(kind, _os_reason(found[kind]))  # type: ignore[arg-type]
+            return ConnectionFailure(kind, _os_reason(found[kind]))
     return None

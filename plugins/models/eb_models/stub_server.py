@@ -88,7 +88,7 @@ class StubOpenAIServer:
     @property
     def url(self) -> str:
         host, port = self._server.server_address[:2]
-        return f"http://{host}:{port}/v1"
+        return f"http://{host.decode() if isinstance(host, bytes) else host}:{port}/v1"
 
     @property
     def request_count(self) -> int:
