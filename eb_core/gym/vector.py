@@ -338,12 +338,7 @@ class EBVectorEnv(VectorEnv):
 
             ray.shutdown()
 
-    def close(self, **kwargs: Any) -> None:
-        if self.closed:
-            return
-        self.close_extras(**kwargs)
-        self.closed = True
-
+    # close() is VectorEnv's own; serve.client repeats __del__ so the HTTP client never imports eb_core.gym.
     def __del__(self) -> None:
         if not getattr(self, "closed", True):
             try:

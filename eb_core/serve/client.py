@@ -203,12 +203,7 @@ class RemoteVectorEnv(VectorEnv):
             pass  # already reaped, or the server is gone: nothing to give back
         self._http.close()
 
-    def close(self, **kwargs: Any) -> None:
-        if self.closed:
-            return
-        self.close_extras(**kwargs)
-        self.closed = True
-
+    # close() is VectorEnv's own; gym.vector repeats __del__ so this client never imports eb_core.gym.
     def __del__(self) -> None:
         if not getattr(self, "closed", True):
             try:
