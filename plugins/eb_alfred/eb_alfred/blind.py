@@ -96,7 +96,7 @@ def _play_choice(b: _Budget, goal: dict[str, Any], choice: dict[str, Any]) -> No
 
 def _choices(world: World, goal: dict[str, Any], rng: random.Random | None) -> list[dict[str, Any]]:
     cands = _candidates(world, goal)
-    pools = []
+    pools: list[tuple[str, list[Any]]] = []  # (role, its candidates: names, or pairs of names)
     for role, names in cands.items():
         if role == "object" and goal["kind"] == "pick_two_and_place":
             pools.append((role, list(itertools.combinations(names, 2))))

@@ -11,6 +11,7 @@ type, ``open``/``close`` per openable, ``turn on``/``turn off`` per toggleable a
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Literal, get_args
 
 __all__ = [
     "COLORS",
@@ -247,7 +248,8 @@ LAMPS = ("DeskLamp", "FloorLamp")
 #: Types that can slice.
 KNIVES = ("Knife", "ButterKnife")
 #: Room kinds (ALFRED's four).
-ROOMS = ("kitchen", "living_room", "bedroom", "bathroom")
+Room = Literal["kitchen", "living_room", "bedroom", "bathroom"]
+ROOMS: tuple[Room, ...] = get_args(Room)
 
 #: Colour names -> RGB in [0, 1] (renderer and text).
 COLORS: dict[str, tuple[float, float, float]] = {

@@ -12,7 +12,7 @@ from typing import Any, ClassVar
 
 from pydantic import BaseModel, ConfigDict, ValidationError
 
-from eb_core import DiscreteActionSpace, Env, Observation, ObjectInfo, PromptParts, StepResult, Task
+from eb_core import Action, DiscreteActionSpace, Env, Observation, ObjectInfo, PromptParts, StepResult, Task
 
 from eb_alfred.actions import scene_actions
 from eb_alfred.describe import describe
@@ -138,7 +138,7 @@ class AlfredEnv(Env):
                               progress=self._progress(), info={"action_name": None})
         name = space.actions[idx]
         ok, feedback = world.step(name)
-        success, progress, flags = evaluate(self._goal, world)  # type: ignore[arg-type]
+        success, progress, flags = evaluate(self._goal, world)
         obs = self._observe()
         if success:
             feedback += " The task is complete."
@@ -155,13 +155,13 @@ class AlfredEnv(Env):
         actions = self._space.actions if self._space is not None else None
         return _prompt_parts(subset, actions=actions, leave_alone=bool((self._goal or {}).get("untouched")))
 
-    def expert_plan(self) -> list[int] | None:
+    def expert_plan(self) -> list[Action] | None:
         """The shortest plan the expert finds from the current state (a function of the state only); None with
         :attr:`expert_reason` set when the goal can no longer be reached."""
         world, space = self._require()
-        plan = _expert_plan(world, self._goal)  # type: ignore[arg-type]
+        plan = _expert_plan(world, self._goal)
         if plan is None:
-            self.expert_reason = why_unreachable(world, self._goal)  # type: ignore[arg-type]
+            self.expert_reason = why_unreachable(world, self._goal)
             return None
         self.expert_reason = None
         return [space.actions.index(a) for a in plan]
@@ -179,7 +179,7 @@ class AlfredEnv(Env):
         return self._require()[0]
 
     def goal_conditions(self) -> list[str]:
-        return [c.text for c in conditions(self._goal)]  # type: ignore[arg-type]
+        return [c.text for c in conditions(self._goal)]
 
     def _require(self) -> tuple[World, DiscreteActionSpace]:
         if self._world is None or self._space is None:
@@ -187,7 +187,7 @@ class AlfredEnv(Env):
         return self._world, self._space
 
     def _progress(self) -> float:
-        return evaluate(self._goal, self._world)[1]  # type: ignore[arg-type]
+        return evaluate(self._goal, self._world)[1]
 
     def _observe(self) -> Observation:
         world = self._world
@@ -213,7 +213,7 @@ class AlfredEnv(Env):
         from eb_alfred.goals import matches
 
         goal = self._goal or {}
-        return any(key in goal and matches(self._world, goal[key], name)  # type: ignore[arg-type]
+        return any(key in goal and matches(self._world, goal[key], name)
                    for key in ("object", "receptacle", "movable", "lamp"))
 
 

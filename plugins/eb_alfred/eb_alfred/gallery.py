@@ -105,7 +105,7 @@ def main(out: str = "docs/img/alfred_views.png", resolution: int = 500, scale: f
 
     images, labels = views(resolution)
     size = int(resolution * scale)
-    small = [np.asarray(Image.fromarray(im).resize((size, size), Image.LANCZOS)) for im in images]
+    small = [np.asarray(Image.fromarray(im).resize((size, size), Image.Resampling.LANCZOS)) for im in images]
     return save_png(out, contact_sheet(small, labels, cols=4, label_height=14))
 
 
@@ -123,7 +123,8 @@ def audit_views(which: str, n: int = 8, resolution: int = 320) -> tuple[list[np.
 
     tasks = AlfredEnv.load_tasks()
     renderer = AlfredRenderer(resolution)
-    images, labels = [], []
+    images: list[np.ndarray] = []
+    labels: list[str] = []
     try:
         for t in tasks:
             if len(images) >= n:
@@ -180,4 +181,4 @@ if __name__ == "__main__":
         for p in audit_sheets():
             print("wrote", p)
     else:
-        print("wrote", main(*sys.argv[1:2]))
+        print("wrote", main(sys.argv[1]) if len(sys.argv) > 1 else main())

@@ -26,14 +26,14 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal, get_args
 
 from eb_alfred.world import World
 
-__all__ = ["Condition", "GOAL_KINDS", "conditions", "matches", "candidates", "usable", "evaluate", "PROPERTY_OF_KIND",
+__all__ = ["Condition", "GOAL_KINDS", "GoalKind", "conditions", "matches", "candidates", "usable", "evaluate", "PROPERTY_OF_KIND",
            "look_alike", "look_alikes", "failure_label", "properties", "EXTRA_PROPERTIES"]
 
-GOAL_KINDS = (
+GoalKind = Literal[
     "pick_and_place",
     "stack_and_place",
     "pick_two_and_place",
@@ -41,7 +41,8 @@ GOAL_KINDS = (
     "heat_and_place",
     "cool_and_place",
     "examine_in_light",
-)
+]
+GOAL_KINDS: tuple[GoalKind, ...] = get_args(GoalKind)
 
 #: The unary property each "X & place" kind asks for.
 PROPERTY_OF_KIND = {"clean_and_place": "clean", "heat_and_place": "hot", "cool_and_place": "cold"}
@@ -74,6 +75,11 @@ def _ref_text(ref: dict[str, str]) -> str:
         return ref["instance"]
     looks = "".join(f"[{k}={ref[k]}]" for k in ("color", "shape") if k in ref)
     return ref["type"] + looks
+
+
+def _having(prop: str) -> Callable[[World, str], bool]:
+    """The predicate "``name`` has ``prop``" of :func:`_has`, for one property."""
+    return lambda world, name: _has(world, name, prop)
 
 
 def _has(world: World, name: str, prop: str) -> bool:
@@ -146,7 +152,7 @@ def _conditions(goal: dict[str, Any]) -> list[Condition]:
         if kind == "pick_two_and_place":
             conds.append(Condition(f"(isSliced {o}_second)", lambda w: n_sliced(w) >= 2))
     for p in extra:
-        conds.append(Condition(f"({_PRED[p]} {xo})", some(lambda w, x, p=p: _has(w, x, p))))
+        conds.append(Condition(f"({_PRED[p]} {xo})", some(_having(p))))
 
     if kind == "examine_in_light":
         lamp = goal["lamp"]
@@ -164,7 +170,7 @@ def _conditions(goal: dict[str, Any]) -> list[Condition]:
             for x in usable(w, goal):
                 if _inside(w, x, recep) and ready(w, x):
                     parent = w.objects[x].parent
-                    counts[parent] = counts.get(parent, 0) + 1  # type: ignore[index]
+                    counts[parent] = counts.get(parent, 0) + 1
             return max(counts.values(), default=0)
         conds.append(Condition(and_ready(f"(inReceptacle {xo} {r})"), lambda w: best(w) >= 1))
         conds.append(Condition(and_ready(f"(inReceptacle {xo}_second {r})"), lambda w: best(w) >= 2))

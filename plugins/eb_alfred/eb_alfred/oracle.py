@@ -23,7 +23,8 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Iterable
-from typing import Any
+from collections.abc import Set as AbstractSet
+from typing import Any, cast
 
 from eb_alfred.catalog import KNIVES, TYPES, fits
 from eb_alfred.goals import PROPERTY_OF_KIND, candidates, evaluate, look_alikes, properties, usable
@@ -238,7 +239,7 @@ def _fitting(world: World, obj: str, receps: Iterable[str]) -> list[str]:
     return [r for r in receps if r != obj and fits(t, world.objects[r].type)]
 
 
-def _situation(world: World, name: str, anchors: set[str] | None, watch: set[str]) -> tuple[Any, ...]:
+def _situation(world: World, name: str, anchors: set[str] | None, watch: AbstractSet[str]) -> tuple[Any, ...]:
     """What makes two instances interchangeable for planning: their states, what hides them, which watched
     objects (goal objects) they hold, and their place -- but only when that place matters (``anchors``: where
     the agent or another bound object is); any other place costs the same one ``find``."""
@@ -254,7 +255,7 @@ def _situation(world: World, name: str, anchors: set[str] | None, watch: set[str
 
 
 def _distinct(world: World, names: Iterable[str], anchors: set[str] | None = None,
-              watch: set[str] = frozenset()) -> list[str]:  # type: ignore[assignment]
+              watch: AbstractSet[str] = frozenset()) -> list[str]:
     """One instance per situation (the first): the others would give plans of the same length."""
     seen: set[tuple[Any, ...]] = set()
     out = []
@@ -292,7 +293,8 @@ def _objects(world: World, goal: dict[str, Any]) -> list[str]:
     return usable(world, goal)
 
 
-Step = tuple[str, ...]
+Step = tuple[str | None, ...]
+"""A macro step: the name of a :class:`_Sim` method, then its arguments (an optional helper may be None)."""
 """One macro call, e.g. ``("place", "Apple_2", "Fridge")``; a candidate plan is a sequence of them."""
 
 
@@ -303,7 +305,7 @@ def _sequences(world: World, goal: dict[str, Any]) -> Iterable[tuple[Step, ...]]
     props = properties(goal)  # the type's own property first, then the goal's extra ones
     xs = _objects(world, goal)
     watch = set(xs)
-    anchors = {world.place} | {world.place_of(x) for x in xs}  # type: ignore[misc]
+    anchors = {world.place} | {world.place_of(x) for x in xs}
     if kind != "pick_two_and_place":  # pick two needs two of them, interchangeable or not
         xs = _distinct(world, xs)
     treat = {"hot": "heat", "cold": "cool", "clean": "clean"}
@@ -409,7 +411,7 @@ def expert_plan(world: World, goal: dict[str, Any], limit: int = DEFAULT_LIMIT) 
             branch = sim if i == len(items) - 1 else sim.fork()
             branch.limit = limit if best is None else len(best) - 1
             try:
-                getattr(branch, step[0])(*step[1:])
+                getattr(branch, cast(str, step[0]))(*step[1:])  # a step is (a _Sim method's name, its arguments)
             except _Fail:
                 continue
             walk(branch, child)

@@ -25,6 +25,7 @@ from eb_scenekit import SceneBuilder, Surface, get_type, set_agent_pose, set_ope
 from eb_scenekit.gl import import_mujoco
 from eb_scenekit.pool import default_pooled, pool_stats
 from eb_scenekit.render import SceneRenderer, free_camera
+from eb_scenekit.scene import Wall
 from eb_scenekit.visibility import colours_in_view
 
 mujoco = import_mujoco()
@@ -143,12 +144,12 @@ class AlfredRenderer:
         # keep the middle clear: deep furniture (beds) needs room
         self.size = (round(sx, 2), round(sy, 2))
         b = SceneBuilder(name="alfred", offscreen=(max(self.resolution, 500), max(self.resolution, 500)))
-        b.add_room(world.room, self.size, seed=len(names), door=("west", round(sy / 2 - 0.75, 2)),
+        shell = b.add_room(world.room, self.size, seed=len(names), door=("west", round(sy / 2 - 0.75, 2)),
                    windows=[("south", 0.0)] if world.room in ("living_room", "bedroom") else [],
                    rug=(0.9, 0.7) if world.room in ("living_room", "bedroom") else None)
         self.poses: dict[str, _Pose] = {}
         for wall, row in walls.items():
-            centre, along, normal = b.room.wall_frame(wall)  # type: ignore[union-attr]
+            centre, along, normal = shell.wall_frame(wall)
             used = sum(widths[n] for n in row)
             t = -used / 2
             # rows run left to right as seen from the middle of the room: along +x on the north wall and +y on
@@ -230,11 +231,12 @@ class AlfredRenderer:
         t = get_type(kt)
         return t.half_extents[0] * sc, t.half_extents[1] * sc
 
-    def _fill(self, names: list[str], widths: dict[str, float], sx: float, sy: float) -> dict[str, list[str]] | None:
+    def _fill(self, names: list[str], widths: dict[str, float], sx: float,
+              sy: float) -> dict[Wall, list[str]] | None:
         """Walls in clockwise order from the middle: north (left to right), east, south, west (door at its end)."""
-        order = ["north", "east", "south", "west"]
+        order: list[Wall] = ["north", "east", "south", "west"]
         room = {"north": sx, "south": sx, "east": sy, "west": sy}
-        walls: dict[str, list[str]] = {w: [] for w in order}
+        walls: dict[Wall, list[str]] = {w: [] for w in order}
         i = 0
         for w in order:
             free = room[w] - 2 * _CORNER - (1.3 if w == "west" else 0.0)
@@ -366,10 +368,10 @@ class AlfredRenderer:
                 so = self.builder.object(self.kit_name[target])
                 z = get_type(so.type).surfaces[0].z * so.scale if get_type(so.type).surfaces else 0.9
                 return np.array([so.position[0], so.position[1], so.position[2] + z])
-            so = self._kit_obj(target) if target != world.place and target not in self.poses else None
-            if so is not None:
-                return np.array([so.position[0], so.position[1], so.position[2] + so.height * 0.5])
-        pose0 = self.poses[world.place]  # type: ignore[index]
+            kit = self._kit_obj(target) if target != world.place and target not in self.poses else None
+            if kit is not None:
+                return np.array([kit.position[0], kit.position[1], kit.position[2] + kit.height * 0.5])
+        pose0 = self.poses[world.place]
         return np.array([pose0.pos[0], pose0.pos[1], min(height * 0.65, 1.1)])
 
     # ------------------------------------------------------------------ frame

@@ -9,20 +9,22 @@ things in the scene). A malformed file fails with ONE line naming the file, the 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from eb_core.taskfile import TaskFileError as _CoreTaskFileError
 from eb_core.taskfile import TaskFileFormat
 
-from eb_alfred.catalog import LAMPS, ROOMS, TYPES
-from eb_alfred.goals import GOAL_KINDS
+from eb_alfred.catalog import LAMPS, TYPES, Room
+from eb_alfred.goals import GoalKind
 
 __all__ = ["SUBSETS", "TASK_DIR", "TASKSETS", "TaskFileError", "TaskRecord", "load_task_file", "load_all", "FORMAT",
            "VERSION", "FILE_FORMAT", "taskset_dir"]
 
-SUBSETS = ("base", "common_sense", "complex_instruction", "spatial_awareness", "visual_appearance", "long_horizon")
+Subset = Literal["base", "common_sense", "complex_instruction", "spatial_awareness", "visual_appearance",
+                 "long_horizon"]
+SUBSETS: tuple[Subset, ...] = get_args(Subset)
 TASK_DIR = Path(__file__).parent / "tasks"
 FORMAT = "eb-alfred-tasks"
 VERSION = 2
@@ -47,9 +49,14 @@ class Ref(_Strict):
 
     @model_validator(mode="after")
     def _one(self) -> Ref:
-        if (self.type is None) == (self.instance is None):
+        if self.type is not None and self.instance is not None:
             raise ValueError("give exactly one of 'type' or 'instance'")
-        base = self.type if self.type is not None else self.instance.split("_")[0]  # type: ignore[union-attr]
+        if self.type is not None:
+            base = self.type
+        elif self.instance is not None:
+            base = self.instance.split("_")[0]
+        else:
+            raise ValueError("give exactly one of 'type' or 'instance'")
         if base not in TYPES:
             raise ValueError(f"unknown type {base!r}")
         if (self.color or self.shape) and self.type is None:
@@ -63,15 +70,15 @@ class Ref(_Strict):
     def plain(self) -> dict[str, str]:
         if self.instance is not None:
             return {"instance": self.instance}
-        out = {"type": self.type}
+        out = {"type": str(self.type)}  # a Ref without an instance has a type (checked by _one)
         for key in ("color", "shape"):
             if getattr(self, key) is not None:
                 out[key] = getattr(self, key)
-        return out  # type: ignore[return-value]
+        return out
 
 
 class Goal(_Strict):
-    kind: Literal[GOAL_KINDS]  # type: ignore[valid-type]
+    kind: GoalKind
     object: Ref
     receptacle: Ref | None = None
     movable: Ref | None = None
@@ -134,15 +141,15 @@ class SceneObject(_Strict):
 
 
 class Scene(_Strict):
-    room: Literal[ROOMS]  # type: ignore[valid-type]
+    room: Room
     objects: list[SceneObject] = Field(min_length=1)
 
 
 class TaskRecord(_Strict):
     id: str = Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
-    subset: Literal[SUBSETS]  # type: ignore[valid-type]
+    subset: Subset
     instruction: str = Field(min_length=1)
-    task_type: Literal[GOAL_KINDS]  # type: ignore[valid-type]
+    task_type: GoalKind
     goal: Goal
     scene: Scene
     scene_seed: int

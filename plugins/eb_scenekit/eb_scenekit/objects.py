@@ -344,7 +344,8 @@ class Parts:
         return self.geom(part, "cylinder", fromto=(*p0, *p1), size=(r,), rgba=rgba, mat=mat, **kw)
 
     def mesh(self, part: str, key: str, pos: tuple[float, float, float], rgba: tuple[float, ...],
-             mat: str = "eb_plastic", stretch: tuple[float, float, float] = (1.0, 1.0, 1.0), **kw: Unpack[GeomOptions]) -> El:
+             mat: str = "eb_plastic", stretch: tuple[float, float, float] = (1.0, 1.0, 1.0),
+             **kw: Unpack[GeomOptions]) -> El:
         """Add a generated mesh (see ``_meshes.MESHES``); ``stretch`` scales it per axis."""
         s = self.ctx.scale
         st = self.ctx.stretch
