@@ -213,74 +213,16 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     if kind not in KINDS:
         return None
     long = subset == "long_horizon"
-    spatial = subset == "spatial_awareness"
-    rooms = LONG_ROOMS.get(kind) if long else KIND_ROOMS[kind]
-    if not rooms:
-        return None
-    room = rng.choice(rooms)
-    scene = make_scene(seed, room, size=(0.3 + 0.5 * rng.random()) if long else (0.6 + 0.4 * rng.random()))
-    world = World.from_scene(scene)
-    sliced = long and room == "kitchen" and rng.random() < 0.5
-    goal = propose_goal(rng, kind, world, sliced=sliced)
-    if goal is None:
-        return None
-    xt = goal["object"]["type"]
     pick_two = kind == "pick_two_and_place"
-    n_targets = 2 if pick_two else 1
-    # the destination: one of n_rec same-type pieces of furniture
-    rt = _choose_destination(rng, scene, goal, cfg["n_rec"], by_colour=not spatial)
-    if rt is None:
+    drawn = _hard_goal(subset, kind, seed, rng, cfg)
+    if drawn is None:
         return None
-    goal["receptacle"] = {"type": rt}
-    if long and (kind not in PROPERTY_OF_KIND or rng.random() < 0.5):
-        goal = _add_preparation(rng, world, goal)
-        if goal is None:
-            return None
-    # the object's look-alikes
-    hosts = None
-    host_type = None
-    if spatial and not pick_two:
-        host_types = [t for t in _HOSTS if t != rt and fits(xt, t) and len(_standing(scene, t)) >= cfg["n_host"]]
-        if not host_types:
-            return None
-        host_type = rng.choice(host_types)
-        hosts = [o["name"] for o in _standing(scene, host_type)]
-    n_obj = cfg["n_obj"] if hosts is None else min(cfg["n_obj"], len(hosts))
-    mine = _add_look_alikes(rng, scene, xt, n_obj, {rt, *( [goal["movable"]["type"]] if "movable" in goal else [])},
-                            hosts)
-    if mine is None:
+    scene, goal, xt, rt = drawn
+    picked = _hard_targets(rng, subset, scene, goal, cfg, xt, rt, pick_two)
+    if picked is None:
         return None
-    if spatial and not pick_two:
-        info = TYPES[xt]
-        look = {"color": rng.choice(info.colors)} if info.colors else {}
-        if info.shapes:
-            look["shape"] = rng.choice(info.shapes)
-        for o in mine:
-            o.update(look)
-        targets = [rng.choice(mine)]
-        attr = value = None
-    else:
-        got = _single_out_by_looks(rng, mine, xt, n_targets, prefer_shape=subset == "visual_appearance")
-        if got is None:
-            return None
-        attr, value, targets = got
-    # the destination's look-alikes: one colour for the chosen one, the other for the rest (not in spatial)
-    dests = _standing(scene, rt)
-    dest = rng.choice(dests)
-    if not spatial:
-        cols = list(TYPES[rt].colors)
-        rng.shuffle(cols)
-        for d in dests:
-            d["color"] = cols[0] if d is dest else cols[1]
-    for t in targets:
-        t["_target"] = True
-    dest["_dest"] = True
-    _renumber(scene["objects"])
-    _shuffle_names(scene["objects"], rng)
-    world = World.from_scene({"room": scene["room"], "objects": [{k: v for k, v in o.items() if not k.startswith("_")}
-                                                                 for o in scene["objects"]]})
-    target_names = [o["name"] for o in scene["objects"] if o.get("_target")]
-    dest_name = next(o["name"] for o in scene["objects"] if o.get("_dest"))
+    targets, attr, value, host_type = picked
+    world, target_names, dest_name = _name_and_build(rng, scene, rt, targets, subset == "spatial_awareness")
     if not MIN_ACTIONS <= len(scene_actions(world)) <= MAX_ACTIONS:
         return None
     if pick_two:
@@ -290,13 +232,8 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     goal["receptacle"] = {"instance": dest_name}
     goal["untouched"] = list(cfg["untouched"])
     _prepare(world, goal)
-    if long and rng.random() < 0.85:
-        shut_goal = dict(goal, object={"type": xt}, receptacle={"type": rt})
-        if not _shut_away(rng, world, shut_goal):
-            return None
-        places = [world.place_of(n) for n in world.of_type(xt)]
-        if len(set(places)) < len(places):  # still one per place (see _add_look_alikes)
-            return None
+    if long and rng.random() < 0.85 and not _shut_all_away(rng, world, goal, xt, rt):
+        return None
     if evaluate(goal, world)[1] > 0:
         return None
     lo, hi = STEP_RANGE[subset]
@@ -319,6 +256,100 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
         if image_problems(seen, views_for(world)):
             return None
     return rec
+
+
+def _hard_goal(subset: str, kind: str, seed: int, rng: random.Random,
+               cfg: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any], str, str] | None:
+    """A hard candidate's room and goal: ``(scene, goal, object type, destination type)``, or None. The
+    destination is one of ``n_rec`` same-type pieces of furniture; long-horizon goals may get a preparation."""
+    long = subset == "long_horizon"
+    rooms = LONG_ROOMS.get(kind) if long else KIND_ROOMS[kind]
+    if not rooms:
+        return None
+    room = rng.choice(rooms)
+    scene = make_scene(seed, room, size=(0.3 + 0.5 * rng.random()) if long else (0.6 + 0.4 * rng.random()))
+    world = World.from_scene(scene)
+    sliced = long and room == "kitchen" and rng.random() < 0.5
+    goal = propose_goal(rng, kind, world, sliced=sliced)
+    if goal is None:
+        return None
+    xt = goal["object"]["type"]
+    rt = _choose_destination(rng, scene, goal, cfg["n_rec"], by_colour=subset != "spatial_awareness")
+    if rt is None:
+        return None
+    goal["receptacle"] = {"type": rt}
+    if long and (kind not in PROPERTY_OF_KIND or rng.random() < 0.5):
+        goal = _add_preparation(rng, world, goal)
+        if goal is None:
+            return None
+    return scene, goal, xt, rt
+
+
+def _hard_targets(rng: random.Random, subset: str, scene: dict[str, Any], goal: dict[str, Any],
+                  cfg: dict[str, Any], xt: str, rt: str,
+                  pick_two: bool) -> tuple[list[dict[str, Any]], str | None, str | None, str | None] | None:
+    """The object's look-alikes and which of them the task is about: ``(targets, the attribute that tells them
+    apart and its value (None in spatial tasks: the host tells), the host type (spatial tasks))``, or None."""
+    spatial = subset == "spatial_awareness"
+    hosts = None
+    host_type = None
+    if spatial and not pick_two:
+        host_types = [t for t in _HOSTS if t != rt and fits(xt, t) and len(_standing(scene, t)) >= cfg["n_host"]]
+        if not host_types:
+            return None
+        host_type = rng.choice(host_types)
+        hosts = [o["name"] for o in _standing(scene, host_type)]
+    n_obj = cfg["n_obj"] if hosts is None else min(cfg["n_obj"], len(hosts))
+    mine = _add_look_alikes(rng, scene, xt, n_obj, {rt, *( [goal["movable"]["type"]] if "movable" in goal else [])},
+                            hosts)
+    if mine is None:
+        return None
+    if spatial and not pick_two:
+        info = TYPES[xt]
+        look = {"color": rng.choice(info.colors)} if info.colors else {}
+        if info.shapes:
+            look["shape"] = rng.choice(info.shapes)
+        for o in mine:
+            o.update(look)
+        return [rng.choice(mine)], None, None, host_type
+    got = _single_out_by_looks(rng, mine, xt, 2 if pick_two else 1, prefer_shape=subset == "visual_appearance")
+    if got is None:
+        return None
+    attr, value, targets = got
+    return targets, attr, value, host_type
+
+
+def _name_and_build(rng: random.Random, scene: dict[str, Any], rt: str, targets: list[dict[str, Any]],
+                    spatial: bool) -> tuple[World, list[str], str]:
+    """Pick the destination among its look-alikes (one colour for it, the other for the rest; not in spatial
+    tasks), number and shuffle the instance names: ``(world, the targets' names, the destination's name)``."""
+    dests = _standing(scene, rt)
+    dest = rng.choice(dests)
+    if not spatial:
+        cols = list(TYPES[rt].colors)
+        rng.shuffle(cols)
+        for d in dests:
+            d["color"] = cols[0] if d is dest else cols[1]
+    for t in targets:
+        t["_target"] = True
+    dest["_dest"] = True
+    _renumber(scene["objects"])
+    _shuffle_names(scene["objects"], rng)
+    world = World.from_scene({"room": scene["room"], "objects": [{k: v for k, v in o.items() if not k.startswith("_")}
+                                                                 for o in scene["objects"]]})
+    target_names = [o["name"] for o in scene["objects"] if o.get("_target")]
+    dest_name = next(o["name"] for o in scene["objects"] if o.get("_dest"))
+    return world, target_names, dest_name
+
+
+def _shut_all_away(rng: random.Random, world: World, goal: dict[str, Any], xt: str, rt: str) -> bool:
+    """Long-horizon: shut every instance of the object's and the destination's types away (:func:`_shut_away`),
+    still one per place (see :func:`_add_look_alikes`); False when that fails."""
+    shut_goal = dict(goal, object={"type": xt}, receptacle={"type": rt})
+    if not _shut_away(rng, world, shut_goal):
+        return False
+    places = [world.place_of(n) for n in world.of_type(xt)]
+    return len(set(places)) == len(places)
 
 
 def search_bound(world: World, goal: dict[str, Any], plan_length: int) -> int:
