@@ -123,25 +123,38 @@ def _add_look_alikes(rng: random.Random, scene: dict[str, Any], xt: str, n_obj: 
         if parent is None or parent["type"] in avoid or (hosts is not None and parent["name"] not in hosts):
             o["parent"] = "?"
     if hosts is not None:
-        free = list(hosts)
-        rng.shuffle(free)
-        placed = [o for o in mine if o["parent"] != "?"]
-        used = {o["parent"] for o in placed}
-        free = [h for h in free if h not in used]
-        for o in mine:
-            if o["parent"] == "?":
-                if not free:
-                    return None
-                o["parent"] = free.pop()
-        while len(mine) < n_obj and free:
-            twin = dict(model, name=f"{xt}_{90 + len(mine)}", parent=free.pop())
-            objs.append(twin)
-            mine.append(twin)
-        if len(mine) < n_obj or len({o["parent"] for o in mine}) < len(mine):
-            return None
-        return mine
-    # one instance per place (piece of furniture): after "find a Mug_3" the view shows that mug alone, so which
-    # name goes with which look is never in doubt
+        return _one_per_host(rng, objs, mine, model, xt, n_obj, hosts)
+    return _one_per_place(rng, objs, mine, model, xt, n_obj, avoid)
+
+
+def _one_per_host(rng: random.Random, objs: list[dict[str, Any]], mine: list[dict[str, Any]],
+                  model: dict[str, Any], xt: str, n_obj: int, hosts: list[str]) -> list[dict[str, Any]] | None:
+    """Spatial tasks: the instances ``mine`` (plus clones of ``model``) on distinct ``hosts``, those without a
+    place (parent ``"?"``) first; None when there are too few hosts."""
+    free = list(hosts)
+    rng.shuffle(free)
+    placed = [o for o in mine if o["parent"] != "?"]
+    used = {o["parent"] for o in placed}
+    free = [h for h in free if h not in used]
+    for o in mine:
+        if o["parent"] == "?":
+            if not free:
+                return None
+            o["parent"] = free.pop()
+    while len(mine) < n_obj and free:
+        twin = dict(model, name=f"{xt}_{90 + len(mine)}", parent=free.pop())
+        objs.append(twin)
+        mine.append(twin)
+    if len(mine) < n_obj or len({o["parent"] for o in mine}) < len(mine):
+        return None
+    return mine
+
+
+def _one_per_place(rng: random.Random, objs: list[dict[str, Any]], mine: list[dict[str, Any]],
+                   model: dict[str, Any], xt: str, n_obj: int, avoid: set[str]) -> list[dict[str, Any]] | None:
+    """``n_obj`` instances (``mine``, clones of ``model`` added or extra ones removed), one per place (piece of
+    furniture) outside ``avoid``: after "find a Mug_3" the view shows that mug alone, so which name goes with
+    which look is never in doubt. None when there are too few places."""
     def top(o: dict[str, Any]) -> str:
         while "parent" in o and o["parent"] != "?":
             o = next(p for p in objs if p["name"] == o["parent"])
