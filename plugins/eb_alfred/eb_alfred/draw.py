@@ -80,20 +80,9 @@ def _types_in(world: World, pred) -> list[str]:
 def propose_goal(rng: random.Random, kind: str, world: World, sliced: bool = False) -> dict[str, Any] | None:
     """A type-level goal of ``kind`` that makes sense in ``world`` (or None)."""
     present = {o.type for o in world.objects.values()}
-    pick = lambda o: TYPES[o].pickupable  # noqa: E731
     if sliced and not (present & {"Knife", "ButterKnife"}):
         return None
-    pool = {
-        "heat_and_place": [t for t in HEATABLE if t in present],
-        "cool_and_place": [t for t in COOLABLE if t in present],
-        "clean_and_place": [t for t in _types_in(world, lambda t: TYPES[t].dirtyable)],
-        "examine_in_light": [t for t in EXAMINABLE if t in present],
-        "pick_two_and_place": [t for t in _types_in(world, pick) if len(world.of_type(t)) >= 2],
-    }.get(kind, _types_in(world, pick))
-    if sliced:
-        pool = [t for t in pool if TYPES[t].sliceable]
-    if kind == "stack_and_place":
-        pool = [t for t in pool if any(is_movable_receptacle(m) and fits(t, m) and m != t for m in present)]
+    pool = _object_types(kind, world, present, sliced)
     if not pool:
         return None
     x = rng.choice(pool)
@@ -113,15 +102,37 @@ def propose_goal(rng: random.Random, kind: str, world: World, sliced: bool = Fal
         x_for_r = m
     else:
         x_for_r = x
-    receps = [r for r in sorted(present) if r in _PLACE_TARGETS and fits(x_for_r, r) and r != x_for_r
-              and not (kind == "cool_and_place" and r == "Fridge")
-              and not (kind == "heat_and_place" and r == "Microwave")
-              and not (kind == "clean_and_place" and r in ("SinkBasin", "BathtubBasin"))
-              and r != "GarbageCan"]
+    receps = _destination_types(kind, x_for_r, present)
     if not receps:
         return None
     goal["receptacle"] = {"type": rng.choice(receps)}
     return goal
+
+
+def _object_types(kind: str, world: World, present: set[str], sliced: bool) -> list[str]:
+    """The types a goal of ``kind`` can be about in ``world`` (``present``: its types), in a stable order."""
+    pick = lambda o: TYPES[o].pickupable  # noqa: E731
+    pool = {
+        "heat_and_place": [t for t in HEATABLE if t in present],
+        "cool_and_place": [t for t in COOLABLE if t in present],
+        "clean_and_place": [t for t in _types_in(world, lambda t: TYPES[t].dirtyable)],
+        "examine_in_light": [t for t in EXAMINABLE if t in present],
+        "pick_two_and_place": [t for t in _types_in(world, pick) if len(world.of_type(t)) >= 2],
+    }.get(kind, _types_in(world, pick))
+    if sliced:
+        pool = [t for t in pool if TYPES[t].sliceable]
+    if kind == "stack_and_place":
+        pool = [t for t in pool if any(is_movable_receptacle(m) and fits(t, m) and m != t for m in present)]
+    return pool
+
+
+def _destination_types(kind: str, carried: str, present: set[str]) -> list[str]:
+    """Where a goal of ``kind`` may put ``carried`` (not where its own step happens: no fridge for a cool goal)."""
+    return [r for r in sorted(present) if r in _PLACE_TARGETS and fits(carried, r) and r != carried
+            and not (kind == "cool_and_place" and r == "Fridge")
+            and not (kind == "heat_and_place" and r == "Microwave")
+            and not (kind == "clean_and_place" and r in ("SinkBasin", "BathtubBasin"))
+            and r != "GarbageCan"]
 
 
 def _can_be(type_name: str, prop: str) -> bool:
