@@ -24,6 +24,7 @@ from __future__ import annotations
 import itertools
 from collections.abc import Iterable
 from collections.abc import Set as AbstractSet
+from dataclasses import dataclass
 from typing import Any, cast
 
 from eb_alfred.catalog import KNIVES, TYPES, fits
@@ -294,22 +295,49 @@ def _objects(world: World, goal: dict[str, Any]) -> list[str]:
 
 
 Step = tuple[str | None, ...]
-"""A macro step: the name of a :class:`_Sim` method, then its arguments (an optional helper may be None)."""
-"""One macro call, e.g. ``("place", "Apple_2", "Fridge")``; a candidate plan is a sequence of them."""
+"""One macro call, e.g. ``("place", "Apple_2", "Fridge")``: a :class:`_Sim` method's name, then its arguments (a
+helper may be None); a candidate plan is a sequence of them."""
 
 
-def _sequences(world: World, goal: dict[str, Any]) -> Iterable[tuple[Step, ...]]:
-    """Every candidate (bindings x sub-goal orderings) as a sequence of macro calls."""
+@dataclass
+class _Bindings:
+    """What a goal's candidates are built from: the instances each role can be bound to."""
+
+    world: World
+    sliced: bool
+    props: list[str]
+    """The object's preparations: the type's own property first, then the goal's extra ones."""
+    xs: list[str]
+    helper_sets: list[tuple[str | None, ...]]
+    """Every way to bind a helper to each property (one microwave / fridge / basin each)."""
+    lamps: list[str]
+    ms: list[str]
+    knives: list[str | None]
+    rs: list[str]
+
+    def cut(self, x: str, knife: str | None) -> tuple[Step, ...]:
+        return (("slice", x, knife),) if self.sliced and knife is not None else ()
+
+    def fixes(self, x: str, hs: tuple[str | None, ...]) -> list[tuple[Step, ...]]:
+        """The preparation macros of ``x`` in every order (chilling after heating would undo it, and the
+        world's rules reject such a candidate at the end)."""
+        steps = [(_TREAT[p], x, h) for p, h in zip(self.props, hs)]
+        return [tuple(order) for order in itertools.permutations(steps)] if steps else [()]
+
+
+_TREAT = {"hot": "heat", "cold": "cool", "clean": "clean"}
+
+
+def _bindings(world: World, goal: dict[str, Any]) -> _Bindings | None:
+    """The instances each role of ``goal`` can be bound to, one per situation (None: no knife to slice with)."""
     kind = goal["kind"]
     sliced = bool(goal.get("sliced"))
-    props = properties(goal)  # the type's own property first, then the goal's extra ones
+    props = properties(goal)
     xs = _objects(world, goal)
     watch = set(xs)
     anchors = {world.place} | {world.place_of(x) for x in xs}
     if kind != "pick_two_and_place":  # pick two needs two of them, interchangeable or not
         xs = _distinct(world, xs)
-    treat = {"hot": "heat", "cold": "cool", "clean": "clean"}
-    # every way to bind a helper to each property (one microwave / fridge / basin each), as macro steps per object
     helper_sets = list(itertools.product(*(_helpers(world, p, watch) for p in props)))
     helpers = [h for hs in helper_sets for h in hs]
     lamps = _distinct(world, candidates(world, goal["lamp"])) if "lamp" in goal else []
@@ -317,62 +345,74 @@ def _sequences(world: World, goal: dict[str, Any]) -> Iterable[tuple[Step, ...]]
     anchors |= {world.place_of(y) for y in [*helpers, *lamps, *ms] if y is not None}
     knives: list[str | None] = list(_knives(world, anchors)) if sliced else [None]
     if sliced and not knives:
-        return
+        return None
     anchors |= {world.place_of(k) for k in knives if k is not None}
     rs = _distinct(world, candidates(world, goal["receptacle"]), anchors, watch) if "receptacle" in goal else []
+    return _Bindings(world, sliced, props, xs, helper_sets, lamps, ms, knives, rs)
 
-    def cut(x: str, knife: str | None) -> tuple[Step, ...]:
-        return (("slice", x, knife),) if sliced and knife is not None else ()
 
-    def fixes(x: str, hs: tuple[str | None, ...]) -> list[tuple[Step, ...]]:
-        """The preparation macros of ``x`` in every order (chilling after heating would undo it, and the
-        world's rules reject such a candidate at the end)."""
-        steps = [(treat[p], x, h) for p, h in zip(props, hs)]
-        return [tuple(order) for order in itertools.permutations(steps)] if steps else [()]
-
+def _sequences(world: World, goal: dict[str, Any]) -> Iterable[tuple[Step, ...]]:
+    """Every candidate (bindings x sub-goal orderings) as a sequence of macro calls."""
+    b = _bindings(world, goal)
+    if b is None:
+        return
+    kind = goal["kind"]
     if kind == "examine_in_light":
-        for x, lamp, knife, hs in itertools.product(xs, lamps, knives, helper_sets):
-            for fix in fixes(x, hs):
-                yield (*cut(x, knife), *fix, ("light", x, lamp))
-                if sliced and fix:
-                    yield (*fix, *cut(x, knife), ("light", x, lamp))
-        return
+        yield from _examine_sequences(b)
+    elif kind == "stack_and_place":
+        yield from _stack_sequences(b)
+    elif kind == "pick_two_and_place":
+        yield from _pick_two_sequences(b)
+    else:
+        yield from _place_sequences(b)
 
-    if kind == "stack_and_place":
-        for x, m, knife, hs in itertools.product(xs, ms, knives, helper_sets):
-            if not fits(world.objects[x].type, world.objects[m].type):
-                continue
-            for r in _fitting(world, m, rs):
-                for fix in fixes(x, hs):
-                    yield (*cut(x, knife), *fix, ("place", x, m), ("place", m, r))
-                    yield (*cut(x, knife), *fix, ("place", m, r), ("place", x, m))
-                    if sliced and fix:
-                        yield (*fix, *cut(x, knife), ("place", x, m), ("place", m, r))
-        return
 
-    if kind == "pick_two_and_place":
-        for r in rs:
-            fit = [x for x in xs if fits(world.objects[x].type, world.objects[r].type)]
-            for (x1, x2), knife, hs in itertools.product(itertools.permutations(fit, 2), knives, helper_sets):
-                for f1, f2 in zip(fixes(x1, hs), fixes(x2, hs)):
-                    yield (*cut(x1, knife), *f1, ("place", x1, r), *cut(x2, knife), *f2, ("place", x2, r))
-                    if f1:  # prepare both, then place both
-                        yield (*cut(x1, knife), *f1, *cut(x2, knife), *f2, ("place", x1, r), ("place", x2, r))
-                        yield (*cut(x1, knife), *cut(x2, knife), *f1, *f2, ("place", x1, r), ("place", x2, r))
-                    if sliced and not f1:  # cut both, then place both (either order: the last one cut is at hand)
-                        yield (*cut(x1, knife), *cut(x2, knife), ("place", x1, r), ("place", x2, r))
-                        yield (*cut(x1, knife), *cut(x2, knife), ("place", x2, r), ("place", x1, r))
-                        yield (("place", x1, r), ("place", x2, r), *cut(x1, knife), *cut(x2, knife))
-        return
+def _examine_sequences(b: _Bindings) -> Iterable[tuple[Step, ...]]:
+    for x, lamp, knife, hs in itertools.product(b.xs, b.lamps, b.knives, b.helper_sets):
+        for fix in b.fixes(x, hs):
+            yield (*b.cut(x, knife), *fix, ("light", x, lamp))
+            if b.sliced and fix:
+                yield (*fix, *b.cut(x, knife), ("light", x, lamp))
 
-    for x, hs, knife in itertools.product(xs, helper_sets, knives):
-        for r in _fitting(world, x, rs):
-            for fix in fixes(x, hs):
-                yield (*cut(x, knife), *fix, ("place", x, r))
-                if sliced and fix:
-                    yield (*fix, *cut(x, knife), ("place", x, r))
-                if sliced:
-                    yield (*fix, ("place", x, r), *cut(x, knife))
+
+def _stack_sequences(b: _Bindings) -> Iterable[tuple[Step, ...]]:
+    world = b.world
+    for x, m, knife, hs in itertools.product(b.xs, b.ms, b.knives, b.helper_sets):
+        if not fits(world.objects[x].type, world.objects[m].type):
+            continue
+        for r in _fitting(world, m, b.rs):
+            for fix in b.fixes(x, hs):
+                yield (*b.cut(x, knife), *fix, ("place", x, m), ("place", m, r))
+                yield (*b.cut(x, knife), *fix, ("place", m, r), ("place", x, m))
+                if b.sliced and fix:
+                    yield (*fix, *b.cut(x, knife), ("place", x, m), ("place", m, r))
+
+
+def _pick_two_sequences(b: _Bindings) -> Iterable[tuple[Step, ...]]:
+    world, cut = b.world, b.cut
+    for r in b.rs:
+        fit = [x for x in b.xs if fits(world.objects[x].type, world.objects[r].type)]
+        for (x1, x2), knife, hs in itertools.product(itertools.permutations(fit, 2), b.knives, b.helper_sets):
+            for f1, f2 in zip(b.fixes(x1, hs), b.fixes(x2, hs)):
+                yield (*cut(x1, knife), *f1, ("place", x1, r), *cut(x2, knife), *f2, ("place", x2, r))
+                if f1:  # prepare both, then place both
+                    yield (*cut(x1, knife), *f1, *cut(x2, knife), *f2, ("place", x1, r), ("place", x2, r))
+                    yield (*cut(x1, knife), *cut(x2, knife), *f1, *f2, ("place", x1, r), ("place", x2, r))
+                if b.sliced and not f1:  # cut both, then place both (either order: the last one cut is at hand)
+                    yield (*cut(x1, knife), *cut(x2, knife), ("place", x1, r), ("place", x2, r))
+                    yield (*cut(x1, knife), *cut(x2, knife), ("place", x2, r), ("place", x1, r))
+                    yield (("place", x1, r), ("place", x2, r), *cut(x1, knife), *cut(x2, knife))
+
+
+def _place_sequences(b: _Bindings) -> Iterable[tuple[Step, ...]]:
+    for x, hs, knife in itertools.product(b.xs, b.helper_sets, b.knives):
+        for r in _fitting(b.world, x, b.rs):
+            for fix in b.fixes(x, hs):
+                yield (*b.cut(x, knife), *fix, ("place", x, r))
+                if b.sliced and fix:
+                    yield (*fix, *b.cut(x, knife), ("place", x, r))
+                if b.sliced:
+                    yield (*fix, ("place", x, r), *b.cut(x, knife))
 
 
 def _done(goal: dict[str, Any], world: World) -> bool:
