@@ -80,20 +80,7 @@ def make_scene(seed: int, room: str | None = None, size: float | None = None) ->
     recipe = ROOM_RECIPES[room]
     scale = rng.random() if size is None else size
 
-    # Furniture along the walls, left to right. Stove burners and sink stay together with the counters.
-    pieces: list[str] = []
-    for t, lo_hi in recipe["furniture"].items():
-        pieces += [t] * _count(rng, lo_hi, scale)
-    rng.shuffle(pieces)
-    if "Fridge" in pieces:  # the fridge stands at one end of the kitchen
-        pieces.remove("Fridge")
-        pieces.insert(0 if rng.random() < 0.5 else len(pieces), "Fridge")
-    burners = [p for p in pieces if p == "StoveBurner"]
-    if burners:
-        pieces = [p for p in pieces if p != "StoveBurner"]
-        at = rng.randrange(1, len(pieces))
-        pieces[at:at] = burners
-
+    pieces = _furniture(rng, recipe, scale)
     counters: dict[str, int] = {}
     objects: list[dict[str, Any]] = []
 
@@ -138,14 +125,7 @@ def make_scene(seed: int, room: str | None = None, size: float | None = None) ->
     chosen.sort(key=lambda t: (not TYPES[t].receptacle, t))
     placed_in: dict[str, int] = {}
     for t in chosen:
-        receps = [o for o in objects if TYPES[o["type"]].receptacle and fits(t, o["type"])
-                  and o["type"] not in ("Sink", "Bathtub")
-                  and placed_in.get(o["name"], 0) < (1 if TYPES[o["type"]].capacity <= 2 else 4)
-                  and not (o["type"] == "Fridge" and t not in _FOOD | {"Mug", "Cup", "Bowl", "Plate", "Pot",
-                                                                         "WineBottle", "GlassBottle"})
-                  and not (o["type"] in ("Microwave", "Toaster", "CoffeeMachine") and placed_in.get(o["name"], 0))
-                  and not (o.get("parent") and TYPES[o["type"]].pickupable and
-                           _parent_of(objects, o["parent"]) is not None)]
+        receps = [o for o in objects if _can_hold(o, t, objects, placed_in)]
         if not receps:
             continue
         weights = [_PLACE_WEIGHT.get(o["type"], 1.0) for o in receps]
@@ -157,6 +137,37 @@ def make_scene(seed: int, room: str | None = None, size: float | None = None) ->
         objects.append(obj)
     _renumber(objects)
     return {"room": room, "objects": objects}
+
+
+def _furniture(rng: random.Random, recipe: dict[str, Any], scale: float) -> list[str]:
+    """The furniture types along the walls, left to right: the fridge at one end, the stove burners together
+    between two pieces (next to the counters)."""
+    pieces: list[str] = []
+    for t, lo_hi in recipe["furniture"].items():
+        pieces += [t] * _count(rng, lo_hi, scale)
+    rng.shuffle(pieces)
+    if "Fridge" in pieces:  # the fridge stands at one end of the kitchen
+        pieces.remove("Fridge")
+        pieces.insert(0 if rng.random() < 0.5 else len(pieces), "Fridge")
+    burners = [p for p in pieces if p == "StoveBurner"]
+    if burners:
+        pieces = [p for p in pieces if p != "StoveBurner"]
+        at = rng.randrange(1, len(pieces))
+        pieces[at:at] = burners
+    return pieces
+
+
+def _can_hold(o: dict[str, Any], t: str, objects: list[dict[str, Any]], placed_in: dict[str, int]) -> bool:
+    """Whether a new ``t`` may be put on/in ``o``: a fitting receptacle with room left (``placed_in``: what was
+    put in each so far); the fridge takes food and dishes, an appliance one thing, a dish on a dish nothing."""
+    return bool(TYPES[o["type"]].receptacle and fits(t, o["type"])
+                and o["type"] not in ("Sink", "Bathtub")
+                and placed_in.get(o["name"], 0) < (1 if TYPES[o["type"]].capacity <= 2 else 4)
+                and not (o["type"] == "Fridge" and t not in _FOOD | {"Mug", "Cup", "Bowl", "Plate", "Pot",
+                                                                     "WineBottle", "GlassBottle"})
+                and not (o["type"] in ("Microwave", "Toaster", "CoffeeMachine") and placed_in.get(o["name"], 0))
+                and not (o.get("parent") and TYPES[o["type"]].pickupable and
+                         _parent_of(objects, o["parent"]) is not None))
 
 
 def _parent_of(objects: list[dict[str, Any]], name: str) -> str | None:
