@@ -32,7 +32,12 @@ def _sends_schema(model: dict[str, Any], backend_cls: Any) -> bool:
     if model.get("backend") == "llamacpp":
         return bool(model.get("constrained", True))
     flag = model.get("supports_json_schema")
-    return bool(backend_cls.supports_json_schema if flag is None else flag)
+    if flag is not None:
+        return bool(flag)
+    # a class attribute is the backend's fixed answer; a property (LiteLLM) decides per instance from the
+    # settings, and with neither setting given that is the textual format ("none")
+    default = getattr(backend_cls, "supports_json_schema", False)
+    return default if isinstance(default, bool) else False
 
 
 class _Captured(Exception):

@@ -77,3 +77,23 @@ def test_eb_prompt_command(tmp_path):
     zero = subprocess.run([sys.executable, "-m", "eb_core.cli", "prompt", "env=corridor", "step=0", "task=far-1"],
                           capture_output=True, text=True, env=env, timeout=120)
     assert zero.returncode == 2 and "1 = the first, as the viewer counts" in zero.stderr
+
+
+def test_the_schema_decision_follows_the_backend_as_eb_run_would():
+    """A preset that sets neither structured_output nor supports_json_schema: a backend's class attribute decides;
+    a backend whose flag is a per-instance property (LiteLLM) sends the textual format, its documented default."""
+    from eb_core.prompt_view import _sends_schema
+
+    class Fixed:
+        supports_json_schema = True
+
+    class PerInstance:
+        @property
+        def supports_json_schema(self) -> bool:
+            return True
+
+    assert _sends_schema({"backend": "x"}, Fixed) is True
+    assert _sends_schema({"backend": "x"}, PerInstance) is False
+    assert _sends_schema({"backend": "x", "supports_json_schema": True}, PerInstance) is True
+    assert _sends_schema({"backend": "x", "structured_output": "json_schema"}, PerInstance) is True
+    assert _sends_schema({"backend": "x", "structured_output": "none"}, Fixed) is False
