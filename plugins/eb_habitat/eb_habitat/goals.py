@@ -1,8 +1,9 @@
 """PDDL-style goal predicates, their evaluation on a :class:`~eb_habitat.world.World`, and sticky progress.
 
 A predicate is written as a string, e.g. ``(on ?apple sofa)``, ``(inside mug_2 fridge)``, ``(open fridge)``,
-``(closed left_drawer)``, ``(holding ?banana)``. An object argument is an instance name (``mug_2``) or
-``?type`` meaning "any instance of that type".
+``(closed left_drawer)``, ``(holding ?banana)``, ``(untouched mug_1)``. An object argument is an instance name
+(``mug_2``) or ``?type`` meaning "any instance of that type". ``untouched`` (the hard set's look-alikes) holds while
+that one instance has never been picked up in the episode, so taking it is final even if it is put back.
 
 A task succeeds when every goal predicate holds. Its progress is the fraction of its subgoal predicate sets
 that have held at some point of the episode (sticky: once reached, a set stays counted), as in the paper.
@@ -21,7 +22,7 @@ if TYPE_CHECKING:
 
 __all__ = ["GoalTracker", "Predicate", "PredicateError", "default_subgoals", "parse_predicate"]
 
-_ARITY = {"on": 2, "inside": 2, "open": 1, "closed": 1, "holding": 1}
+_ARITY = {"on": 2, "inside": 2, "open": 1, "closed": 1, "holding": 1, "untouched": 1}
 _FORM = re.compile(r"^\(\s*([a-z]+)((?:\s+[?A-Za-z0-9_]+)+)\s*\)$")
 
 
@@ -66,6 +67,8 @@ class Predicate:
         if self.name == "holding":
             held = world.held_item
             return held is not None and self.matches(held.name, held.type)
+        if self.name == "untouched":
+            return self.args[0] not in world.touched
         raise AssertionError(self.name)  # pragma: no cover
 
 
@@ -84,6 +87,11 @@ def parse_predicate(text: str, instances: dict[str, str] | None = None) -> Predi
     if len(args) != _ARITY[name]:
         raise PredicateError(f"{name} takes {_ARITY[name]} argument(s), got {len(args)} in {text!r}")
     pred = Predicate(name, args)
+    if name == "untouched":
+        if args[0].startswith("?"):
+            raise PredicateError(f"{text!r}: untouched takes one instance name (e.g. mug_2), not a type")
+        if instances is not None and args[0] not in instances:
+            raise PredicateError(f"{text!r} names object {args[0]!r}, which is not in the scene")
     if pred.obj is not None:
         arg = pred.obj
         try:
@@ -109,9 +117,12 @@ def parse_predicate(text: str, instances: dict[str, str] | None = None) -> Predi
 
 def default_subgoals(goal: list[Predicate]) -> list[list[Predicate]]:
     """The subgoal sets of a goal: for each object to move, holding it then having it in place;
-    one set for each open/closed condition; holding goals are their own set."""
+    one set for each open/closed condition; holding goals are their own set. ``untouched`` conditions hold from
+    the start and only ever get lost, so they are no step of progress."""
     sets: list[list[Predicate]] = []
     for p in goal:
+        if p.name == "untouched":
+            continue
         if p.name in ("on", "inside"):
             sets.append([Predicate("holding", (p.args[0],))])
             sets.append([p])

@@ -23,8 +23,14 @@ class _Planner:
         self.w = world.copy()
         self.goal = goal
         self.plan: list[int] = []
+        self.protected = {p.args[0] for p in goal if p.name == "untouched"}
+        """Instances the goal forbids to pick up (the hard set's look-alikes): never taken, never moved aside."""
 
     def do(self, kind: str, arg: str) -> None:
+        if kind == "pick":
+            cand = self.w.pick_candidate(arg)
+            if cand is not None and cand.name in self.protected:
+                raise OracleError(f"picking the {arg} here would take {cand.name}, which must stay untouched")
         action = skill_id(kind, arg)
         out = self.w.step(action)
         if not out.success:
@@ -86,7 +92,7 @@ class _Planner:
         locked = self.locked()
         here = self.w.items_at(target)
         # `pick up` takes the leftmost of a kind: only the leftmost of its kind can be taken away directly.
-        blockers = [it for it in here if it.name not in locked
+        blockers = [it for it in here if it.name not in locked and it.name not in self.protected
                     and next(o for o in here if o.type == it.type).name == it.name]
         if not blockers:
             raise OracleError(f"the {target} is full and everything on it is needed there")
@@ -131,7 +137,8 @@ class _Planner:
     def choose(self, p: Predicate) -> Item:
         """The instance to bring for an unmet placement goal."""
         locked = self.locked()
-        cands = [it for it in self.w.items.values() if p.matches(it.name, it.type) and it.name not in locked]
+        cands = [it for it in self.w.items.values() if p.matches(it.name, it.type) and it.name not in locked
+                 and it.name not in self.protected]
         if not cands:
             raise OracleError(f"no object left for {p}")
         held = self.w.held
