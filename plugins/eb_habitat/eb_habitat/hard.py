@@ -63,7 +63,7 @@ class Level:
     """Instances per type in long_horizon (three types)."""
 
 
-LEVELS = {"medium": Level(k=3, m=2, clutter=(12, 14), long_k=2), "hard": Level(k=5, m=3, clutter=(16, 20), long_k=3)}
+LEVELS = {"medium": Level(k=3, m=2, clutter=(12, 14), long_k=2), "hard": Level(k=5, m=3, clutter=(16, 20), long_k=4)}
 
 
 # -- words -------------------------------------------------------------------------------------------------------
@@ -108,15 +108,16 @@ LOOKS: dict[str, str] = {
 }
 
 _NOTHING_ELSE = (
-    "Pick up nothing else.",
-    "Do not pick up anything else.",
-    "Touch nothing else: picking up any other object spoils the task.",
-    "Leave every other object where it is, untouched.",
+    "Pick up nothing else, and pick up {it} only once.",
+    "Do not pick up anything else, and take {it} straight to {its} place: a second pick-up spoils the task.",
+    "Touch nothing else (picking up any other object spoils the task) and pick up {it} only once.",
+    "Leave every other object where it is, untouched, and pick up {it} just once.",
 )
 
 
-def _rule(rng: random.Random) -> str:
-    return rng.choice(_NOTHING_ELSE)
+def _rule(rng: random.Random, n: int = 1) -> str:
+    return rng.choice(_NOTHING_ELSE).format(it="it" if n == 1 else "each of them",
+                                            its="its" if n == 1 else "their")
 
 
 # -- scene building ---------------------------------------------------------------------------------------------
@@ -221,6 +222,13 @@ _BASE = (
     "The {c} {o} belongs next to the {lc} {l}; take it there.",
     "Find the {c} {o} and set it down beside the {lc} {l}.",
     "Bring the {c} {o} over to the {lc} {l}.",
+    "Take the {c} {o} to the piece of furniture where the {lc} {l} stands.",
+    "Carry the {c} {o} over to wherever you find the {lc} {l}.",
+    "The {lc} {l} needs company: put the {c} {o} beside it.",
+    "Please relocate the {c} {o} so that it lies next to the {lc} {l}.",
+    "Go get the {c} {o} and leave it by the {lc} {l}.",
+    "Set the {c} {o} down on the furniture that holds the {lc} {l}.",
+    "I would like the {c} {o} placed near the {lc} {l}.",
 )
 
 
@@ -241,6 +249,13 @@ _CS = (
     "I want the {c} {u} next to the {lc} {lu}.",
     "Find the {c} {u}; it goes where the {lc} {lu} is.",
     "Move the {c} {u} to the piece of furniture that holds the {lc} {lu}.",
+    "Bring the {c} {u} over to the {lc} {lu}.",
+    "The {c} {u} should sit on the same piece of furniture as the {lc} {lu}.",
+    "Please move the {c} {u} next to the {lc} {lu}.",
+    "Go and find the {c} {u}, then leave it by the {lc} {lu}.",
+    "Where the {lc} {lu} is, the {c} {u} should be too.",
+    "Carry the {c} {u} to the {lc} {lu}.",
+    "Set the {c} {u} down beside the {lc} {lu}.",
 )
 
 
@@ -277,15 +292,53 @@ _STORY = (
     "{c} {o} should be on the same piece of furniture as the {lc} {l}.",
     "Yesterday the children played in every room and carried things around; I found most of them, but the {c} "
     "{o} still has to be returned to the spot where the {lc} {l} lies.",
+    "I am expecting a delivery any minute and cannot leave the door, and the dog keeps barking at the postman; "
+    "meanwhile, could you move the {c} {o} so that it stands beside the {lc} {l}?",
+    "We rearranged the furniture last weekend and lost track of half our things. The {c} {o} is one of them: "
+    "it goes on the same piece of furniture as the {lc} {l}, as it did before the move.",
 )
 _NEGATION = (
     "Not the {na} {o} and not the {nb} one: it is the {c} {o} that goes beside the {lc} {l}.",
     "Several {os} are lying around. Ignore the {na} and the {nb} ones; bring the {c} {o} to the {lc} {l}.",
     "The {c} {o}, not any other {o}, should end up next to the {lc} {l}, and not next to any other {l}.",
 )
+_IF_BESIDE = (
+    "Check the {o} beside the {lc} {l}. If it is {ca}, bring the {cb} {o} to that spot; if it has any other colour, "
+    "bring the {cc} {o} there instead.",
+    "If the {o} lying next to the {lc} {l} is {ca}, put the {cb} {o} beside them; otherwise put the {cc} {o} there.",
+    "There is {a_o} next to the {lc} {l}. Should it be {ca}, move the {cb} {o} to that piece of furniture; should "
+    "it not, move the {cc} {o} there.",
+)
+
+
+def _conditional(rng: random.Random, level: Level) -> HardDraft:
+    """The landmark's receptacle holds a look-alike whose colour decides which of two others goes there."""
+    scene = _new_scene(rng)
+    x, y = _two_types(rng)
+    wide = [k for k in SURFACES if receptacle(k).capacity >= 3]
+    landmarks = _spread(rng, scene, y, _colors(rng, y, level.m), wide, keep_room=True)
+    lm = rng.choice(landmarks)
+    if len(scene.used_slots(lm["at"])) + 2 > receptacle(lm["at"]).capacity:
+        raise _Reject("no room for the witness and the object")
+    colors = _colors(rng, x, level.k)
+    witness = scene.add(rng, x, at=lm["at"], color=colors[0])
+    xs = _spread(rng, scene, x, colors[1:], [k for k in _visible_places(scene) if k != lm["at"]])
+    target, other = rng.sample(xs, 2)
+    if rng.random() < 0.5:  # the condition holds
+        ca, cb, cc = witness["color"], target["color"], other["color"]
+    else:
+        ca = rng.choice([c for c in HARD_COLORS[x] if c != witness["color"]])
+        cb, cc = other["color"], target["color"]
+    _clutter(rng, scene, level, {x, y}, keep_free=_places_of(landmarks))
+    i = rng.randrange(len(_IF_BESIDE))
+    name = object_type(x).name
+    text = _IF_BESIDE[i].format(o=name, a_o=f"a {name}", lc=lm["color"], l=object_type(y).name, ca=ca, cb=cb, cc=cc)
+    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.complex.if_beside.{i}")
 
 
 def _complex(rng: random.Random, level: Level) -> HardDraft:
+    if rng.random() < 0.3:
+        return _conditional(rng, level)
     scene = _new_scene(rng)
     x, y = _two_types(rng)
     target, others, lm, lms = _target_and_landmark(rng, scene, level, x, y)
@@ -310,10 +363,18 @@ _HOP2 = (
     "to the {t}.",
     "Take the object that stands {side} of the {w}, which itself stands {side} of the {lc} {l}, and bring it to "
     "the {t}.",
+    "On the furniture with the {lc} {l}, look {side} of it: first comes {a_w}, then the object you need. Move that "
+    "object {pt}.",
+    "Two steps to the {side} of the {lc} {l}, past the {w}, stands the thing to carry to the {t}.",
+    "The {w} stands just {side} of the {lc} {l}; move the object directly {side} of that {w} to the {t}.",
+    "Find the {lc} {l} and the {w} beside it. Whatever stands on the far side of the {w} belongs {pt}.",
 )
 _SKIP = (
     "Take the object two places to the {side} of the {lc} {l} and move it to the {t}.",
     "Count two objects to the {side} of the {lc} {l}; the second one goes {pt}.",
+    "Skip one object to the {side} of the {lc} {l} and take the next one to the {t}.",
+    "The second object to the {side} of the {lc} {l} goes {pt}.",
+    "Move the object that is two positions {side} of the {lc} {l} to the {t}.",
 )
 
 
@@ -383,6 +444,14 @@ _LOOK_FRAMES = (
     "Somewhere there is the {look}. Bring it to the piece of furniture with the {llook} on it.",
     "Move the {look} so that it lies beside the {llook}.",
     "Look for the {look} and set it down where the {llook} is.",
+    "Take the {look} and bring it to the {llook}.",
+    "The {look} belongs beside the {llook}; take it there.",
+    "Carry the {look} over to the furniture where the {llook} is.",
+    "Find the {look}. It should end up next to the {llook}.",
+    "Set the {look} down by the {llook}.",
+    "Please move the {look} to the {llook}.",
+    "Where the {llook} stands, the {look} should stand as well.",
+    "Go get the {look} and leave it beside the {llook}.",
 )
 
 
@@ -399,8 +468,10 @@ def _visual(rng: random.Random, level: Level) -> HardDraft:
 
 # -- long horizon ------------------------------------------------------------------------------------------------
 
-_LONG_ONE = ("Put the {p} {pt}.", "Gather the {p} {pt}.", "Bring the {p} to the {t}, one after another.")
-_LONG_EACH = ("Rearrange as follows: {p}.", "Please place {p}.", "Here is what I want: {p}.")
+_LONG_ONE = ("Put the {p} {pt}.", "Gather the {p} {pt}.", "Bring the {p} to the {t}, one after another.",
+             "Collect the {p} and leave them {pt}.", "All of these go {pt}: the {p}.", "Move the {p} over to the {t}.")
+_LONG_EACH = ("Rearrange as follows: {p}.", "Please place {p}.", "Here is what I want: {p}.", "Tidy up: {p}.",
+              "Put things in order: {p}.", "I want {p}.")
 
 
 def _join(parts: list[str]) -> str:
@@ -437,7 +508,7 @@ def _long(rng: random.Random, level: Level) -> HardDraft:
         p = _join([f"the {t['color']} {object_type(t['type']).name} {receptacle(d).preposition} the "
                    f"{receptacle(d).name}" for t, d in moves])
         text, template = _LONG_EACH[i].format(p=p), f"hard.long.each.{i}"
-    return HardDraft(f"{text} {_rule(rng)}", scene, moves, template)
+    return HardDraft(f"{text} {_rule(rng, len(moves))}", scene, moves, template)
 
 
 HARD_BUILDERS: dict[str, Callable[[random.Random, Level], HardDraft]] = {
@@ -457,10 +528,11 @@ def _place_pred(name: str, target: str) -> str:
 
 
 def to_draft(rng: random.Random, hd: HardDraft) -> Draft:
-    """Shuffle instance numbers and write the goal: the moves, and ``untouched`` for every other object."""
+    """Shuffle instance numbers and write the goal: the moves, each object picked up ``once``, and ``untouched``
+    for every other object."""
     _renumber(rng, hd.scene)
     movers = {id(o) for o, _ in hd.moves}
-    goal = [_place_pred(o["name"], at) for o, at in hd.moves]
+    goal = [_place_pred(o["name"], at) for o, at in hd.moves] + [f"(once {o['name']})" for o, _ in hd.moves]
     goal += [f"(untouched {o['name']})" for o in sorted(hd.scene.objects, key=lambda o: o["name"])
              if id(o) not in movers]
     return Draft(hd.instruction, hd.scene, goal, hd.template)

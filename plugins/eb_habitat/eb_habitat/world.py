@@ -71,8 +71,9 @@ class World:
         self.opened: set[str] = set(opened)
         self.agent_at: str | None = agent_at
         self.held: str | None = None
-        self.touched: set[str] = set()
-        """Every instance picked up so far in the episode (the ``untouched`` goal predicate reads it)."""
+        self.picks: dict[str, int] = {}
+        """How often each instance has been picked up in the episode (the ``untouched`` and ``once`` goal
+        predicates read it)."""
 
     # -- queries ---------------------------------------------------------------------------------
 
@@ -171,7 +172,7 @@ class World:
                            "precondition" if elsewhere else "absent")
         item.loc, item.slot = HAND, 0
         self.held = item.name
-        self.touched.add(item.name)
+        self.picks[item.name] = self.picks.get(item.name, 0) + 1
         return Outcome(True, f"You picked up the {item_label(item)} from the {r.name}; it is now in your hand.")
 
     def _place(self, key: str) -> Outcome:
