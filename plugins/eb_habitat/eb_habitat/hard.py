@@ -415,7 +415,7 @@ def _spatial(rng: random.Random, level: Level) -> HardDraft:
     target, lc = ends[chosen], lcolors[chosen]
     dest = rng.choice([k for k in SURFACES if k not in rows and scene.has_room(k)])
     # the target's own look-alikes elsewhere: its type alone does not find it
-    for _ in range(rng.choice((1, 2))):
+    for _ in range(level.k - 2 + rng.randrange(2)):
         places = [k for k in SURFACES + scene.open if k != dest and scene.has_room(k)
                   and target["type"] not in scene.types_at(k)]
         if places:
