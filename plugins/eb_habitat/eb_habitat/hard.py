@@ -20,7 +20,8 @@ changes is the scenes and the words:
 
 A blind player can neither tell the look-alikes apart nor find the landmark without picking it up, so guessing
 is about one chance in (look-alikes x receptacles). The expert solves every task within the classic step bounds
-(12 steps, 20 for long_horizon).
+(12 steps, 20 for long_horizon), and a seeing agent that first visits every receptacle in catalogue order until it
+has seen what it needs, then acts, within 26 (:func:`search_steps`).
 """
 
 from __future__ import annotations
@@ -538,11 +539,49 @@ def to_draft(rng: random.Random, hd: HardDraft) -> Draft:
     return Draft(hd.instruction, hd.scene, goal, hd.template)
 
 
+MAX_SEARCH_STEPS = 26
+"""Bound on :func:`search_steps`: a seeing agent that first looks everywhere still has 4 steps to spare."""
+
+
+def search_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[str], instruction: str) -> int:
+    """Steps of a seeing agent without privileged knowledge: it walks to the receptacles in catalogue order
+    (opening the closed ones) until it has seen every object the goal moves and every destination the
+    instruction does not name (a landmark's place), then follows the expert's plan from there."""
+    from eb_habitat.goals import parse_predicate
+    from eb_habitat.oracle import expert_plan
+    from eb_habitat.skills import skill_id
+    from eb_habitat.world import World
+
+    w = World(objects, opened)
+    inst = {o["name"]: o["type"] for o in objects}
+    preds = [parse_predicate(g, inst) for g in goal]
+    places = [p for p in preds if p.name in ("on", "inside")]
+    need = {next(o["at"] for o in objects if o["name"] == p.args[0]) for p in places if p.args[0] in inst}
+    need |= {p.args[1] for p in places if receptacle(p.args[1]).name.lower() not in instruction.lower()}
+    steps = 0
+    for r in RECEPTACLES:
+        if not need:
+            break
+        w.step(skill_id("navigate", r.key))
+        steps += 1
+        if not w.is_open(r.key):
+            w.step(skill_id("open", r.key))
+            steps += 1
+        need.discard(r.key)
+    return steps + len(expert_plan(w, preds))
+
+
 def draw(subset: str, rng: random.Random, difficulty: str, index: int) -> dict[str, Any] | None:
     """One validated task entry of ``subset`` at ``difficulty`` (``medium`` or ``hard``), or None if the draw
     fails validation (the caller draws again). Raises :class:`~eb_habitat.generate._Reject` for a bad scene."""
     hd = HARD_BUILDERS[subset](rng, LEVELS[difficulty])
-    return _finish(to_draft(rng, hd), subset, index)
+    entry = _finish(to_draft(rng, hd), subset, index)
+    if entry is None:
+        return None
+    meta = entry["metadata"]
+    if search_steps(meta["objects"], meta["open"], meta["goal"], entry["instruction"]) > MAX_SEARCH_STEPS:
+        return None
+    return entry
 
 
 def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "hard",
