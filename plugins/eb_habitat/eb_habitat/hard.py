@@ -92,8 +92,8 @@ CONFUSERS: dict[str, tuple[str, ...]] = {
     "screwdriver": ("wrench", "hammer"), "toy_airplane": ("ball",), "ball": ("toy_airplane",),
 }
 
-#: Types that look too much like a target type in a small view to be fair clutter beside it in common_sense and
-#: visual_appearance (a red apple and a red ball are both red spheres at a glance).
+#: Types that look too much like a target or landmark type in a small view to be fair clutter beside it (a red
+#: apple and a red ball are both red spheres at a glance): never added as clutter where that type matters.
 SHAPE_TWINS: dict[str, tuple[str, ...]] = {"ball": ("apple", "orange", "plum", "lemon"), "soda_can": ("soup_can",)}
 
 #: How a type looks, as a noun phrase after "the" (our words; visual_appearance). ``{c}`` is the colour.
@@ -109,10 +109,10 @@ LOOKS: dict[str, str] = {
 }
 
 _NOTHING_ELSE = (
-    "Pick up nothing else, and pick up {it} only once.",
+    "Pick up nothing else, and pick {it} up only once.",
     "Do not pick up anything else, and take {it} straight to {its} place: a second pick-up spoils the task.",
-    "Touch nothing else (picking up any other object spoils the task) and pick up {it} only once.",
-    "Leave every other object where it is, untouched, and pick up {it} just once.",
+    "Touch nothing else (picking up any other object spoils the task) and pick {it} up only once.",
+    "Leave every other object where it is, untouched, and pick {it} up just once.",
 )
 
 
@@ -166,12 +166,15 @@ def _colors(rng: random.Random, type_key: str, n: int) -> list[str]:
 def _clutter(rng: random.Random, scene: Scene, level: Level, exclude: set[str], avoid: tuple[str, ...] = (),
              keep_free: tuple[str, ...] = ()) -> None:
     """Add objects of other types (several of a type now and then, in their own colours) up to the level's count,
-    keeping the receptacles in ``avoid`` as they are and one slot free on those in ``keep_free``."""
+    keeping the receptacles in ``avoid`` as they are and one slot free on every surface and on those in
+    ``keep_free``."""
     total = rng.randint(*level.clutter)
-    pool = [t.key for t in OBJECT_TYPES if t.key not in exclude]
+    twins = {k for x in exclude for k in SHAPE_TWINS.get(x, ())}
+    pool = [t.key for t in OBJECT_TYPES if t.key not in exclude and t.key not in twins]
 
-    def room(k: str) -> bool:
-        return len(scene.used_slots(k)) + (2 if k in keep_free else 1) <= receptacle(k).capacity
+    def room(k: str) -> bool:  # every surface keeps a free slot: a failed place must not tell the destination
+        free = 2 if k in keep_free or receptacle(k).kind == "surface" else 1
+        return len(scene.used_slots(k)) + free <= receptacle(k).capacity
 
     for _ in range(200):
         if len(scene.objects) >= total:
@@ -260,13 +263,17 @@ _CS = (
 )
 
 
-def _confusers(rng: random.Random, scene: Scene, x: str, color: str, avoid: tuple[str, ...]) -> None:
-    """One or two objects of a related type in the target's colour where it has that colour (a cup beside the mugs)."""
-    for key in CONFUSERS[x][:rng.choice((1, 2))]:
+def _confusers(rng: random.Random, scene: Scene, target: dict[str, Any], avoid: tuple[str, ...]) -> None:
+    """One or two objects of a related type in the target's colour where it has that colour (a red cup beside the
+    red mug), the first on the target's own receptacle when there is room: in view together."""
+    x, color = target["type"], target["color"]
+    for i, key in enumerate(CONFUSERS[x][:rng.choice((1, 2))]):
         colors = allowed_colors(key)
         c = color if color in colors else rng.choice(colors)
         places = [k for k in _visible_places(scene) if k not in avoid and scene.has_room(k)
                   and key not in scene.types_at(k)]
+        if i == 0 and target["at"] in places:
+            places = [target["at"]]
         if places:
             scene.add(rng, key, at=rng.choice(places), color=c)
 
@@ -275,8 +282,8 @@ def _common_sense(rng: random.Random, level: Level) -> HardDraft:
     scene = _new_scene(rng)
     x, y = _two_types(rng)
     target, _, lm, lms = _target_and_landmark(rng, scene, level, x, y)
-    _confusers(rng, scene, x, target["color"], _places_of([lm, *lms]))
-    _clutter(rng, scene, level, {x, y, *CONFUSERS[x], *SHAPE_TWINS.get(x, ())}, keep_free=_places_of([lm, *lms]))
+    _confusers(rng, scene, target, _places_of([lm, *lms]))
+    _clutter(rng, scene, level, {x, y, *CONFUSERS[x]}, keep_free=_places_of([lm, *lms]))
     i = rng.randrange(len(_CS))
     text = _CS[i].format(c=target["color"], u=USES[x], lc=lm["color"], lu=USES[y])
     return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.common_sense.{i}")
@@ -460,8 +467,8 @@ def _visual(rng: random.Random, level: Level) -> HardDraft:
     scene = _new_scene(rng)
     x, y = _two_types(rng)
     target, _, lm, lms = _target_and_landmark(rng, scene, level, x, y)
-    _confusers(rng, scene, x, target["color"], _places_of([lm, *lms]))
-    _clutter(rng, scene, level, {x, y, *CONFUSERS[x], *SHAPE_TWINS.get(x, ())}, keep_free=_places_of([lm, *lms]))
+    _confusers(rng, scene, target, _places_of([lm, *lms]))
+    _clutter(rng, scene, level, {x, y, *CONFUSERS[x]}, keep_free=_places_of([lm, *lms]))
     i = rng.randrange(len(_LOOK_FRAMES))
     text = _LOOK_FRAMES[i].format(look=LOOKS[x].format(c=target["color"]), llook=LOOKS[y].format(c=lm["color"]))
     return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.visual.looks.{i}")
