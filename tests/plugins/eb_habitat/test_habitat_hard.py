@@ -142,9 +142,10 @@ def test_the_object_cannot_be_tried_at_one_receptacle_after_another() -> None:
 
 def test_blind_players_stay_at_or_below_five_percent_per_subset() -> None:
     for subset, tasks in BY_SUBSET.items():
-        guess = sum(blind_guess(t, s) for t in tasks for s in range(2))
-        sweep = sum(blind_sweep(t, s) for t in tasks for s in range(2))
-        assert guess <= 5 and sweep <= 5, (subset, guess, sweep)
+        n = len(tasks) * 6  # 300 episodes each: one seeded episode per task scatters too much around ~2 %
+        guess = sum(blind_guess(t, s) for t in tasks for s in range(6))
+        sweep = sum(blind_sweep(t, s) for t in tasks for s in range(6))
+        assert guess <= 0.05 * n and sweep <= 0.05 * n, (subset, guess, sweep)
 
 
 def test_blind_players_do_solve_classic_tasks() -> None:
