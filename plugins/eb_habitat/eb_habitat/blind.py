@@ -25,7 +25,7 @@ from eb_core.env import Task
 from eb_habitat.catalog import COLORS, OBJECT_TYPES, RECEPTACLES, receptacle
 from eb_habitat.skills import skill_id
 from eb_habitat.tasks import spec_of
-from eb_habitat.world import World, item_label
+from eb_habitat.world import World
 
 __all__ = ["MAX_FAILURES", "MAX_STEPS", "blind_guess", "blind_sweep", "text_rule_agent"]
 

@@ -33,8 +33,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from eb_habitat.catalog import HARD_COLORS, N_APARTMENTS, OBJECT_TYPES, RECEPTACLES, allowed_colors, object_type, \
-    receptacle
+from eb_habitat.catalog import (
+    HARD_COLORS,
+    N_APARTMENTS,
+    OBJECT_TYPES,
+    RECEPTACLES,
+    allowed_colors,
+    object_type,
+    receptacle,
+)
 from eb_habitat.generate import Draft, Scene, _finish, _Reject
 
 __all__ = ["DIFFICULTIES", "LEVELS", "Level", "generate_subset", "HARD_BUILDERS"]

@@ -25,13 +25,14 @@ import sys
 from collections import defaultdict
 from typing import Any
 
-from eb_core.env import Task
-from eb_core.stats import p50
 from eb_habitat.blind import MAX_FAILURES, MAX_STEPS, blind_guess, blind_sweep, text_rule_agent
 from eb_habitat.env import HabitatEnv
 from eb_habitat.hard import search_steps
 from eb_habitat.skills import SKILLS, skill_id
 from eb_habitat.tasks import SUBSETS, spec_of
+
+from eb_core.env import Task
+from eb_core.stats import p50
 
 NOISE = (0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)
 
@@ -49,7 +50,6 @@ def _targets(task: Task) -> tuple[list[str], str]:
 def _pixels(env: HabitatEnv) -> dict[str, int]:
     """Segmentation pixel count of every object in the current first-person view."""
     import numpy as np
-
     from eb_habitat.render import AGENT
 
     r = env._renderer._renderer  # the scene kit's renderer behind the apartment

@@ -7,8 +7,6 @@ import re
 from pathlib import Path
 
 import pytest
-
-from eb_core.env import Task
 from eb_habitat.blind import blind_guess, blind_sweep, text_rule_agent
 from eb_habitat.catalog import HARD_COLORS
 from eb_habitat.env import HabitatEnv
@@ -16,6 +14,8 @@ from eb_habitat.goals import PredicateError, parse_predicate
 from eb_habitat.make import generate
 from eb_habitat.skills import skill_id
 from eb_habitat.tasks import SUBSETS, TaskFileError, load_task_file, spec_of, taskset_dir
+
+from eb_core.env import Task
 
 HARD = HabitatEnv.load_tasks(taskset="hard")
 BY_SUBSET = {s: [t for t in HARD if t.subset == s] for s in SUBSETS}
