@@ -7,7 +7,8 @@ changes is the scenes and the words:
   on its own receptacle and each in its own colour (:data:`~eb_habitat.catalog.HARD_COLORS`: colours a person
   tells apart one object at a time), so the type in ``pick up the <object>`` does not say which one;
 * **a destination told by what lies there**: the object goes beside a landmark (one of ``m`` same-type instances
-  in different colours) or, in spatial and long-horizon tasks, to a named receptacle while the object itself is
+  in different colours; most draws also hold the swapped pair, a blue mug beside a red bowl for "the red mug
+  beside the blue bowl") or, in spatial and long-horizon tasks, to a named receptacle while the object itself is
   told by a relation or a colour;
 * **every other object must stay untouched**, stated in every instruction ("Pick up nothing else"): the goal holds
   ``(untouched x)`` for every other instance, so a wrong pick is final even if it is put back; the pick feedback
@@ -208,7 +209,25 @@ def _renumber(rng: random.Random, scene: Scene) -> None:
 def _target_and_landmark(rng: random.Random, scene: Scene, level: Level, x: str, y: str
                          ) -> tuple[dict[str, Any], list[dict[str, Any]], dict[str, Any], list[dict[str, Any]]]:
     """``level.m`` landmarks of type ``y`` on surfaces (each with a free slot) and ``level.k`` instances of ``x``
-    on visible receptacles; returns (target, its look-alikes, landmark, its look-alikes)."""
+    on visible receptacles; returns (target, its look-alikes, landmark, its look-alikes).
+
+    When the two types share colours, most draws also lay a binding trap: for "the red mug beside the blue
+    bowl", a blue mug lies beside a red bowl elsewhere, so seeing both colours in one view is not enough."""
+    shared = [c for c in HARD_COLORS[x] if c in HARD_COLORS[y]]
+    if len(shared) >= 2 and level.m >= 2 and rng.random() < 0.6:
+        ct, cl = rng.sample(shared, 2)
+        ycolors = [cl, ct] + rng.sample([c for c in HARD_COLORS[y] if c not in (ct, cl)], level.m - 2)
+        xcolors = [ct, cl] + rng.sample([c for c in HARD_COLORS[x] if c not in (ct, cl)], level.k - 2)
+        wide = [k for k in SURFACES if receptacle(k).capacity >= 3]
+        landmarks = _spread(rng, scene, y, ycolors, wide, keep_room=True)
+        lm, trap_lm = landmarks[0], landmarks[1]
+        if len(scene.used_slots(trap_lm["at"])) + 2 > receptacle(trap_lm["at"]).capacity:
+            raise _Reject("no room for the trap")
+        trap = scene.add(rng, x, at=trap_lm["at"], color=cl)
+        places = [k for k in _visible_places(scene) if k not in (lm["at"], trap_lm["at"])]
+        xs = [trap] + _spread(rng, scene, x, [ct] + xcolors[2:], places)
+        target = xs[1]
+        return target, [o for o in xs if o is not target], lm, landmarks[1:]
     landmarks = _spread(rng, scene, y, _colors(rng, y, level.m), SURFACES, keep_room=True)
     xs = _spread(rng, scene, x, _colors(rng, x, level.k), _visible_places(scene))
     lm = rng.choice(landmarks)
