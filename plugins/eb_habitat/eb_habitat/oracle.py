@@ -7,7 +7,7 @@ a copy of the world, so the plan it returns is exactly what the env will execute
 from __future__ import annotations
 
 from eb_habitat.catalog import RECEPTACLES
-from eb_habitat.goals import Predicate
+from eb_habitat.goals import HISTORY, Predicate
 from eb_habitat.skills import skill_id
 from eb_habitat.world import HAND, Item, World
 
@@ -147,6 +147,11 @@ class _Planner:
         return cands[0]
 
     def solve(self) -> list[int]:
+        lost = [p for p in self.goal if p.name in HISTORY and not p.holds(self.w)]
+        if lost:  # the hard set's rules about the past: nothing brings them back
+            how = "at all" if lost[0].name == "untouched" else "more than once"
+            raise OracleError(f"{lost[0]} no longer holds: {lost[0].args[0]} was picked up {how}, which the task "
+                              f"forbids")
         for _ in range(3):  # a later goal may be undone by an earlier one only in odd states: retry a little
             # What is in hand first: deliver it if a goal wants it, else put it down harmlessly.
             held = self.w.held_item

@@ -116,6 +116,8 @@ def test_a_wrong_pick_is_final_even_when_put_back() -> None:
     assert picked.action_success and twin.color in picked.feedback
     assert env.step(skill_id("place", twin.at)).action_success
     assert env.expert_plan() is None  # no plan reaches the goal any more
+    assert env.expert_reason == (f"(untouched {twin.name}) no longer holds: {twin.name} was picked up at all, "
+                                 f"which the task forbids")
     assert f"(untouched {twin.name})" in env.step(skill_id("navigate", mover.at)).info["unmet_goals"]
 
 
