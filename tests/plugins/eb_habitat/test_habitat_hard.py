@@ -153,8 +153,8 @@ def test_blind_players_stay_at_or_below_five_percent_per_subset() -> None:
 def test_blind_players_do_solve_classic_tasks() -> None:
     """The players are not broken: the classic set lets them through (the problem issue 25 names)."""
     classic = [t for t in HabitatEnv.load_tasks() if t.subset == "base"]
-    assert sum(blind_guess(t) for t in classic) > 25
-    assert sum(text_rule_agent(t) for t in classic) > 25
+    assert sum(blind_guess(t) for t in classic) > 20  # 29 of 50
+    assert sum(text_rule_agent(t) for t in classic) > 30  # 42 of 50
 
 
 def test_hard_train_split_is_drawn_at_the_knob_and_kept_apart() -> None:
