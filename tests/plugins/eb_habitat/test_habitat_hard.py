@@ -204,3 +204,10 @@ def test_target_and_landmark_are_in_view_where_the_agent_stands(subset: str) -> 
             assert types  # the landmark lies there
     finally:
         env.close()
+
+
+def test_generating_a_form_reports_progress_on_stderr(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    generate(out=str(tmp_path), seed=7, per_subset=10, subset="long_horizon", difficulty="hard")
+    err = capsys.readouterr().err
+    assert "habitat hard long_horizon: 10/10 tasks" in err
+    assert len(load_task_file(tmp_path / "long_horizon.json")) == 10
