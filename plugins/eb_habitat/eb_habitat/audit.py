@@ -196,8 +196,10 @@ def _first_branch(instruction: str) -> tuple[str | None, str | None]:
     mentions = _object_mentions(toks)
     if not mentions:
         return None, None
+    if len(mentions) > 1 and mentions[0][1] in COLORS and mentions[1][0] == mentions[0][0] + 1:
+        return mentions[1][1], mentions[0][1]  # "the orange ball": the colour, not the fruit
     pos = mentions[0][0]
-    for color in COLORS:
+    for color in sorted(COLORS, key=lambda c: -len(c.split())):  # "light green" before "green"
         words = _tokens(color)
         if pos >= len(words) and toks[pos - len(words):pos] == words:
             return mentions[0][1], color

@@ -617,6 +617,19 @@ def draw(subset: str, rng: random.Random, difficulty: str, index: int) -> dict[s
     return entry
 
 
+def _answers_first_branch(entry: dict[str, Any]) -> bool | None:
+    """For a conditional (``hard.complex.if_beside``): whether the branch named first is the answer; else None."""
+    meta = entry["metadata"]
+    if ".if_beside." not in meta["template"]:
+        return None
+    mover = meta["goal"][0].split()[1]
+    obj = next(o for o in meta["objects"] if o["name"] == mover)
+    after = entry["instruction"].split(",", 1)[1]
+    name = object_type(obj["type"]).name
+    named = [c for c in HARD_COLORS[obj["type"]] if f"the {c} {name}" in after]
+    return min(named, key=lambda c: after.index(f"the {c} {name}")) == obj["color"]
+
+
 def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "hard",
                     progress: bool = False) -> list[dict[str, Any]]:
     """``n`` validated task entries of ``subset`` at ``difficulty`` (deterministic in ``seed``), distinct
@@ -626,6 +639,7 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
     rng = random.Random(f"eb-habitat-{difficulty}/{HARD_VERSION}/{seed}/{subset}")
     out: list[dict[str, Any]] = []
     seen: set[str] = set()
+    branches = {True: 0, False: 0}  # conditionals answered by the branch named first / by the other one
     tries = 0
     while len(out) < n:
         tries += 1
@@ -637,6 +651,11 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
             continue
         if entry is None or entry["instruction"] in seen:
             continue
+        first = _answers_first_branch(entry)
+        if first is not None:  # keep the two within one of each other: always following one branch never pays
+            if branches[first] > branches[not first]:
+                continue
+            branches[first] += 1
         seen.add(entry["instruction"])
         out.append(entry)
         if progress and (len(out) % 10 == 0 or len(out) == n):

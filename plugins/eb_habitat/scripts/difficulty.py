@@ -7,8 +7,9 @@ Per set and subset:
 * target area: the share of the first image (the start, in the middle of the apartment) that the goal's object
   covers, and of the view after ``navigate to`` its receptacle (and ``open`` if it is closed); pixel counts of the
   segmentation at 500 x 500, median over a sample (for a goal that accepts any instance of a type, the largest);
-* same-type: instances of the object's type in the apartment (mean), and look-alikes -- instances the goal does
-  not accept -- visible in the view at the object's receptacle (mean, same sample);
+* same-type: instances of the object's type in the apartment (mean), and look-alikes -- instances of its type the
+  goal does not accept, and objects of a related type in its colour (a red cup for the red mug,
+  ``hard.CONFUSERS``) -- visible in the view at the object's receptacle (mean, same sample);
 * plan: the expert's optimal plan length (mean of ``oracle_steps``);
 * text rule / blind guess / blind sweep / random: success of the players of :mod:`eb_habitat.blind` (random: a
   uniformly random skill each step), with the benchmark's 30 steps and 10 failures, ``--seeds`` episodes a task;
@@ -27,7 +28,7 @@ from typing import Any
 
 from eb_habitat.blind import MAX_FAILURES, MAX_STEPS, blind_guess, blind_sweep, text_rule_agent
 from eb_habitat.env import HabitatEnv
-from eb_habitat.hard import search_steps
+from eb_habitat.hard import CONFUSERS, search_steps
 from eb_habitat.skills import SKILLS, skill_id
 from eb_habitat.tasks import SUBSETS, spec_of
 
@@ -76,7 +77,9 @@ def _views(tasks: list[Task]) -> dict[str, tuple[float, float, int, int]]:
                 env.step(skill_id("open", src))
             there = _pixels(env)
             same = [o.name for o in spec.objects if o.type == kind]
-            others = [n for n in same if n not in targets and there.get(n, 0) > 0]
+            colors = {o.color for o in spec.objects if o.name in targets}
+            related = [o.name for o in spec.objects if o.type in CONFUSERS.get(kind, ()) and o.color in colors]
+            others = [n for n in same + related if n not in targets and there.get(n, 0) > 0]
             out[task.id] = (max(first.get(n, 0) for n in targets) / total,
                             max(there.get(n, 0) for n in targets) / total, len(same), len(others))
     finally:

@@ -211,3 +211,19 @@ def test_generating_a_form_reports_progress_on_stderr(tmp_path: Path, capsys: py
     err = capsys.readouterr().err
     assert "habitat hard long_horizon: 10/10 tasks" in err
     assert len(load_task_file(tmp_path / "long_horizon.json")) == 10
+
+
+def test_first_branch_probe_reads_the_colour_of_a_hard_conditional() -> None:
+    from eb_habitat.audit import _first_branch, conditional_first_branch
+
+    tasks = BY_SUBSET["complex_instruction"]
+    cond = [t for t in tasks if ".if_" in t.metadata["template"]]
+    assert cond and conditional_first_branch(tasks, {}).passed
+    broken = []
+    for t in cond:  # make the first-named branch the answer every time
+        kind, color = _first_branch(t.instruction)
+        first = next(o["name"] for o in t.metadata["objects"] if o["type"] == kind and o["color"] == color)
+        meta = json.loads(json.dumps(t.metadata))
+        meta["goal"][0] = f"(on {first} {meta['goal'][0].split()[2]}"
+        broken.append(t.model_copy(update={"metadata": meta}))
+    assert not conditional_first_branch(broken, {}).passed
