@@ -20,7 +20,7 @@ from typing import Any
 
 from eb_core.audit.contract import AuditProbe, ProbeResult
 from eb_core.env import Task
-from eb_habitat.catalog import OBJECT_TYPES, RECEPTACLES, receptacle
+from eb_habitat.catalog import COLORS, OBJECT_TYPES, RECEPTACLES, receptacle
 from eb_habitat.goals import Predicate
 from eb_habitat.oracle import OracleError, expert_plan
 from eb_habitat.tasks import spec_of
@@ -186,9 +186,24 @@ def word_matching_spatial(tasks: list[Task], env_params: dict[str, Any] | None =
 def _first_branch_type(instruction: str) -> str | None:
     """The object type of the first "move the X" branch: the first object named after the condition's comma or
     full stop (the condition itself may name an object, as in "If there is a mug on ...")."""
+    return _first_branch(instruction)[0]
+
+
+def _first_branch(instruction: str) -> tuple[str | None, str | None]:
+    """The object type of the first branch and the colour word right before it, if any (the hard set's branches
+    name two colours of one type: "If it is red, bring the blue mug ...; otherwise the white mug")."""
     toks = _tokens(instruction.split(",", 1)[1] if "," in instruction else instruction)
     mentions = _object_mentions(toks)
-    return mentions[0][1] if mentions else None
+    if not mentions:
+        return None, None
+    if len(mentions) > 1 and mentions[0][1] in COLORS and mentions[1][0] == mentions[0][0] + 1:
+        return mentions[1][1], mentions[0][1]  # "the orange ball": the colour, not the fruit
+    pos = mentions[0][0]
+    for color in sorted(COLORS, key=lambda c: -len(c.split())):  # "light green" before "green"
+        words = _tokens(color)
+        if pos >= len(words) and toks[pos - len(words):pos] == words:
+            return mentions[0][1], color
+    return mentions[0][1], None
 
 
 def conditional_first_branch(tasks: list[Task], env_params: dict[str, Any] | None = None) -> ProbeResult:
@@ -196,11 +211,12 @@ def conditional_first_branch(tasks: list[Task], env_params: dict[str, Any] | Non
     cond = [t for t in tasks if t.subset == "complex_instruction" and "if" in str(t.metadata.get("template", ""))]
     wins, solved = 0, []
     for t in cond:
-        first = _first_branch_type(t.instruction)
-        goal = spec_of(t).goal_predicates()
-        placed = [p for p in goal if p.name in ("on", "inside")]
-        types = {spec_of(t).instances().get(p.args[0], p.args[0].lstrip("?")) for p in placed}
-        if first is not None and types == {first}:
+        first, color = _first_branch(t.instruction)
+        spec = spec_of(t)
+        placed = [p for p in spec.goal_predicates() if p.name in ("on", "inside")]
+        types = {spec.instances().get(p.args[0], p.args[0].lstrip("?")) for p in placed}
+        colors = {o.color for o in spec.objects for p in placed if o.name == p.args[0]}
+        if first is not None and types == {first} and (color is None or colors == {color}):
             wins += 1
             solved.append(t.id)
     share = wins / len(cond) if cond else 0.0

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 __all__ = [
     "COLORS",
     "FRIDGE_END",
+    "HARD_COLORS",
     "KITCHEN_ROWS",
     "KITCHEN_SIDE_CHAIR",
     "N_APARTMENTS",
@@ -18,6 +19,7 @@ __all__ = [
     "RECEPTACLES",
     "ObjectType",
     "Receptacle",
+    "allowed_colors",
     "object_type",
     "receptacle",
 ]
@@ -227,12 +229,39 @@ def object_type(key: str) -> ObjectType:
         raise KeyError(f"unknown object type {key!r}; known: {', '.join(_OBJECT_BY_KEY)}") from None
 
 
+#: Colour variants the hard task set adds to the types that already come in several colours (the classic set
+#: uses only :attr:`ObjectType.colors`). Every list holds colours a person tells apart on their own, one object
+#: at a time, in the 500-pixel first-person view: no two shades of one hue (red / dark red, blue / navy). Not the
+#: sponge (its green scouring layer covers the top, only a thin band shows its colour) and no white soda can (it
+#: renders as bare metal).
+HARD_COLORS: dict[str, tuple[str, ...]] = {
+    "apple": ("red", "green", "yellow"),
+    "soda_can": ("red", "blue", "green", "yellow", "black"),
+    "bowl": ("red", "blue", "green", "white", "yellow", "black", "orange", "purple"),
+    "cup": ("red", "blue", "yellow", "green", "white", "orange", "purple", "pink"),
+    "mug": ("red", "blue", "white", "yellow", "green", "black", "orange", "purple"),
+    "plate": ("white", "blue", "yellow", "green", "red", "black"),
+    "screwdriver": ("red", "blue", "yellow", "green", "black"),
+    "toy_airplane": ("red", "blue", "yellow", "green", "white", "orange"),
+    "ball": ("light green", "red", "blue", "yellow", "orange", "purple"),
+}
+
+
+def allowed_colors(key: str) -> tuple[str, ...]:
+    """Every colour a task file may give an instance of type ``key``: its classic variants, then the hard set's."""
+    t = object_type(key)
+    return t.colors + tuple(c for c in HARD_COLORS.get(key, ()) if c not in t.colors)
+
+
 def _check() -> None:
     assert len({r.key for r in RECEPTACLES}) == len(RECEPTACLES)
     assert len({o.key for o in OBJECT_TYPES}) == len(OBJECT_TYPES)
     for o in OBJECT_TYPES:
         for c in o.colors:
             assert c in COLORS, (o.key, c)
+    for key, colors in HARD_COLORS.items():
+        assert object_type(key).has_variants and set(object_type(key).colors) <= set(colors), key
+        assert all(c in COLORS for c in colors), key
 
 
 _check()

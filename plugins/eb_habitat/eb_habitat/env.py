@@ -45,6 +45,8 @@ class HabitatParams(BaseModel):
     out=...``)."""
     task_dir: str | None = None
     """The old spelling of ``task_file`` (a folder); still accepted."""
+    difficulty: str | None = None
+    """Generator level of the generated train/val splits (classic, medium, hard); default: the taskset's."""
 
     def tasks_path(self) -> str | None:
         return self.task_file or self.task_dir
@@ -117,9 +119,10 @@ class HabitatEnv(Env):
     # -- tasks -----------------------------------------------------------------------------------
 
     @classmethod
-    def load_tasks(cls, **params: Any) -> list[Task]:
+    def load_tasks(cls, taskset: str = "classic", **params: Any) -> list[Task]:
+        """The shipped tasks of ``taskset`` (``classic`` or ``hard``), or the file/folder in ``task_file``."""
         p = _params(params)
-        return load_tasks(p.tasks_path())
+        return load_tasks(p.tasks_path(), taskset=taskset)
 
     # -- episode ---------------------------------------------------------------------------------
 
@@ -244,11 +247,13 @@ class HabitatEnv(Env):
     splits = ("train", "val")
 
     @classmethod
-    def split_tasks(cls, split: str, start: int, count: int, **params: Any) -> list[Task]:
-        """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_habitat.splits`)."""
+    def split_tasks(cls, split: str, start: int, count: int, taskset: str = "classic", **params: Any) -> list[Task]:
+        """Generated train/val tasks, disjoint from the shipped ones (:mod:`eb_habitat.splits`); ``taskset=hard``
+        (or ``env.params.difficulty``) draws them at that generator level."""
         from eb_habitat.splits import split_tasks
 
-        return split_tasks(split, start, count, task_dir=_params(params).tasks_path())
+        p = _params(params)
+        return split_tasks(split, start, count, task_dir=p.tasks_path(), difficulty=p.difficulty or taskset)
 
     def close(self) -> None:
         self._closed = True

@@ -1,8 +1,11 @@
 """PDDL-style goal predicates, their evaluation on a :class:`~eb_habitat.world.World`, and sticky progress.
 
 A predicate is written as a string, e.g. ``(on ?apple sofa)``, ``(inside mug_2 fridge)``, ``(open fridge)``,
-``(closed left_drawer)``, ``(holding ?banana)``. An object argument is an instance name (``mug_2``) or
-``?type`` meaning "any instance of that type".
+``(closed left_drawer)``, ``(holding ?banana)``, ``(untouched mug_1)``, ``(once mug_2)``. An object argument is an
+instance name (``mug_2``) or ``?type`` meaning "any instance of that type". Two conditions of the hard set read the
+episode's history: ``untouched`` holds while that instance has never been picked up (a look-alike taken by mistake
+stays a mistake even if it is put back), ``once`` while it has been picked up at most once (the object to move
+goes straight to its place: trying receptacle after receptacle is no way to find it).
 
 A task succeeds when every goal predicate holds. Its progress is the fraction of its subgoal predicate sets
 that have held at some point of the episode (sticky: once reached, a set stays counted), as in the paper.
@@ -19,9 +22,11 @@ from eb_habitat.catalog import object_type, receptacle
 if TYPE_CHECKING:
     from eb_habitat.world import World
 
-__all__ = ["GoalTracker", "Predicate", "PredicateError", "default_subgoals", "parse_predicate"]
+__all__ = ["HISTORY", "GoalTracker", "Predicate", "PredicateError", "default_subgoals", "parse_predicate"]
 
-_ARITY = {"on": 2, "inside": 2, "open": 1, "closed": 1, "holding": 1}
+_ARITY = {"on": 2, "inside": 2, "open": 1, "closed": 1, "holding": 1, "untouched": 1, "once": 1}
+#: Predicates about the episode's history of one instance (hold at the start, can only get lost).
+HISTORY = ("untouched", "once")
 _FORM = re.compile(r"^\(\s*([a-z]+)((?:\s+[?A-Za-z0-9_]+)+)\s*\)$")
 
 
@@ -66,6 +71,10 @@ class Predicate:
         if self.name == "holding":
             held = world.held_item
             return held is not None and self.matches(held.name, held.type)
+        if self.name == "untouched":
+            return world.picks.get(self.args[0], 0) == 0
+        if self.name == "once":
+            return world.picks.get(self.args[0], 0) <= 1
         raise AssertionError(self.name)  # pragma: no cover
 
 
@@ -84,6 +93,11 @@ def parse_predicate(text: str, instances: dict[str, str] | None = None) -> Predi
     if len(args) != _ARITY[name]:
         raise PredicateError(f"{name} takes {_ARITY[name]} argument(s), got {len(args)} in {text!r}")
     pred = Predicate(name, args)
+    if name in HISTORY:
+        if args[0].startswith("?"):
+            raise PredicateError(f"{text!r}: {name} takes one instance name (e.g. mug_2), not a type")
+        if instances is not None and args[0] not in instances:
+            raise PredicateError(f"{text!r} names object {args[0]!r}, which is not in the scene")
     if pred.obj is not None:
         arg = pred.obj
         try:
@@ -109,9 +123,12 @@ def parse_predicate(text: str, instances: dict[str, str] | None = None) -> Predi
 
 def default_subgoals(goal: list[Predicate]) -> list[list[Predicate]]:
     """The subgoal sets of a goal: for each object to move, holding it then having it in place;
-    one set for each open/closed condition; holding goals are their own set."""
+    one set for each open/closed condition; holding goals are their own set. ``untouched`` and ``once`` hold from
+    the start and only ever get lost, so they are no step of progress."""
     sets: list[list[Predicate]] = []
     for p in goal:
+        if p.name in HISTORY:
+            continue
         if p.name in ("on", "inside"):
             sets.append([Predicate("holding", (p.args[0],))])
             sets.append([p])

@@ -7,7 +7,7 @@ a copy of the world, so the plan it returns is exactly what the env will execute
 from __future__ import annotations
 
 from eb_habitat.catalog import RECEPTACLES
-from eb_habitat.goals import Predicate
+from eb_habitat.goals import HISTORY, Predicate
 from eb_habitat.skills import skill_id
 from eb_habitat.world import HAND, Item, World
 
@@ -23,8 +23,14 @@ class _Planner:
         self.w = world.copy()
         self.goal = goal
         self.plan: list[int] = []
+        self.protected = {p.args[0] for p in goal if p.name == "untouched"}
+        """Instances the goal forbids to pick up (the hard set's look-alikes): never taken, never moved aside."""
 
     def do(self, kind: str, arg: str) -> None:
+        if kind == "pick":
+            cand = self.w.pick_candidate(arg)
+            if cand is not None and cand.name in self.protected:
+                raise OracleError(f"picking the {arg} here would take {cand.name}, which must stay untouched")
         action = skill_id(kind, arg)
         out = self.w.step(action)
         if not out.success:
@@ -86,7 +92,7 @@ class _Planner:
         locked = self.locked()
         here = self.w.items_at(target)
         # `pick up` takes the leftmost of a kind: only the leftmost of its kind can be taken away directly.
-        blockers = [it for it in here if it.name not in locked
+        blockers = [it for it in here if it.name not in locked and it.name not in self.protected
                     and next(o for o in here if o.type == it.type).name == it.name]
         if not blockers:
             raise OracleError(f"the {target} is full and everything on it is needed there")
@@ -131,7 +137,8 @@ class _Planner:
     def choose(self, p: Predicate) -> Item:
         """The instance to bring for an unmet placement goal."""
         locked = self.locked()
-        cands = [it for it in self.w.items.values() if p.matches(it.name, it.type) and it.name not in locked]
+        cands = [it for it in self.w.items.values() if p.matches(it.name, it.type) and it.name not in locked
+                 and it.name not in self.protected]
         if not cands:
             raise OracleError(f"no object left for {p}")
         held = self.w.held
@@ -140,6 +147,11 @@ class _Planner:
         return cands[0]
 
     def solve(self) -> list[int]:
+        lost = [p for p in self.goal if p.name in HISTORY and not p.holds(self.w)]
+        if lost:  # the hard set's rules about the past: nothing brings them back
+            how = "at all" if lost[0].name == "untouched" else "more than once"
+            raise OracleError(f"{lost[0]} no longer holds: {lost[0].args[0]} was picked up {how}, which the task "
+                              f"forbids")
         for _ in range(3):  # a later goal may be undone by an earlier one only in odd states: retry a little
             # What is in hand first: deliver it if a goal wants it, else put it down harmlessly.
             held = self.w.held_item

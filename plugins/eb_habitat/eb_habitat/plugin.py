@@ -23,6 +23,7 @@ def eb_register_envs() -> list[EnvSpec]:
             description="EB-Habitat: rearrange small objects in an apartment with 70 fixed high-level skills "
             "(navigate to receptacles only, pick, place, open, close); 300 tasks in 6 subsets",
             subsets=dict(SUBSETS),
+            tasksets=("classic", "hard"),
             task_generator="eb_habitat.make:generate",
             audit_probes="eb_habitat.audit:probes",
             install_hint="pip install -e plugins/eb_scenekit -e plugins/eb_habitat",

@@ -5,6 +5,9 @@ template builders as the shipped files, from a random stream named ``eb-habitat-
 (the shipped files draw from ``eb-habitat/<generator>/<seed>/<subset>``, so no stream is shared). A draw is
 refused (and the stream drawn again) when its scene -- the apartment with every object's place and the open
 receptacles -- is the scene of a shipped task, or its instruction is a shipped instruction word for word.
+``difficulty=medium|hard`` (or ``taskset=hard`` in a run) draws with :mod:`eb_habitat.hard` instead, from the
+stream ``eb-habitat-split/<difficulty>/<generator>/<split>/<i>``, and stays apart from the classic and the hard
+test tasks alike (a curriculum: classic, then medium, then hard).
 The apartments themselves are the three layouts of the catalog: train, val and test share them (as the
 original's training set shares its scenes); what differs is the arrangement and the task.
 """
@@ -31,26 +34,39 @@ def scene_key(metadata: dict[str, Any]) -> tuple[Any, ...]:
 
 
 @lru_cache(maxsize=4)
-def test_keys(task_dir: str | None = None) -> tuple[frozenset[tuple[Any, ...]], frozenset[str]]:
-    """Scene keys and instructions of the shipped (or ``task_dir``) test tasks."""
+def test_keys(task_dir: str | None = None, taskset: str = "classic") -> tuple[frozenset[tuple[Any, ...]],
+                                                                              frozenset[str]]:
+    """Scene keys and instructions of the shipped test tasks of ``taskset`` (or of ``task_dir``)."""
     from eb_habitat.tasks import load_tasks
 
-    tasks = load_tasks(task_dir)
+    tasks = load_tasks(task_dir, taskset=taskset)
     return frozenset(scene_key(t.metadata) for t in tasks), frozenset(t.instruction for t in tasks)
 
 
-def _one(split: str, index: int, scenes: frozenset[Any], instructions: frozenset[str]) -> Task:
+def _all_test_keys() -> tuple[frozenset[tuple[Any, ...]], frozenset[str]]:
+    """Scene keys and instructions of every shipped test set (classic and hard)."""
+    from eb_habitat.tasks import TASKSETS
+
+    parts = [test_keys(None, t) for t in TASKSETS]
+    return frozenset().union(*(p[0] for p in parts)), frozenset().union(*(p[1] for p in parts))
+
+
+def _one(split: str, index: int, scenes: frozenset[Any], instructions: frozenset[str],
+         difficulty: str = "classic") -> Task:
     from eb_habitat.generate import BUILDERS, GENERATOR_VERSION, _finish, _Reject
+    from eb_habitat.hard import draw
     from eb_habitat.tasks import SUBSETS
 
     subset = SUBSETS[index % len(SUBSETS)]
-    rng = random.Random(f"eb-habitat-split/{GENERATOR_VERSION}/{split}/{index}")
+    stream = f"eb-habitat-split/{GENERATOR_VERSION}/{split}/{index}" if difficulty == "classic" else \
+        f"eb-habitat-split/{difficulty}/{GENERATOR_VERSION}/{split}/{index}"
+    rng = random.Random(stream)
     for _ in range(2000):
         try:
-            draft = BUILDERS[subset](rng)
+            entry = _finish(BUILDERS[subset](rng), subset, index) if difficulty == "classic" else \
+                draw(subset, rng, difficulty, index)
         except _Reject:
             continue
-        entry = _finish(draft, subset, index)
         if entry is None or entry["instruction"] in instructions or scene_key(entry["metadata"]) in scenes:
             continue
         return Task(id=f"{split}-{subset}-{index:06d}", subset=subset, instruction=entry["instruction"],
@@ -64,21 +80,29 @@ checking a task again (a reset of the same seed, a group of rollouts from one ta
 is a look-up. Callers get deep copies."""
 
 
-def split_tasks(split: str, start: int, count: int, task_dir: str | None = None, **_: Any) -> list[Task]:
-    """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``)."""
+def split_tasks(split: str, start: int, count: int, task_dir: str | None = None, difficulty: str = "classic",
+                **_: Any) -> list[Task]:
+    """Tasks ``start .. start + count - 1`` of the generated ``split`` (``train`` or ``val``) at ``difficulty``
+    (classic, medium, hard: a curriculum)."""
+    from eb_habitat.hard import DIFFICULTIES
+
+    if difficulty not in DIFFICULTIES:
+        raise ValueError(f"habitat: unknown difficulty {difficulty!r}; allowed: {', '.join(DIFFICULTIES)}")
     SOURCE.check(split, start, count)
-    scenes, instructions = test_keys(task_dir)
-    return SOURCE.tasks(split, start, count, scenes=scenes, instructions=instructions)
+    scenes, instructions = test_keys(task_dir) if difficulty == "classic" or task_dir else _all_test_keys()
+    if difficulty == "classic":  # the classic call as before (same memo keys, same tasks)
+        return SOURCE.tasks(split, start, count, scenes=scenes, instructions=instructions)
+    return SOURCE.tasks(split, start, count, scenes=scenes, instructions=instructions, difficulty=difficulty)
 
 
-def write_split(out: str, split: str, n: int, start: int = 0) -> list[Path]:
+def write_split(out: str, split: str, n: int, start: int = 0, difficulty: str = "classic") -> list[Path]:
     """Write tasks ``start .. start + n - 1`` of ``split`` as task files (one per subset) into the folder ``out``,
     so that ``eb run env=habitat env.params.task_file=<out>`` evaluates on them. Returns the paths written."""
     from eb_habitat.generate import GENERATOR_VERSION
     from eb_habitat.tasks import FILE_FORMAT, SUBSETS
 
     folder = Path(out)
-    tasks = split_tasks(split, start, n)
+    tasks = split_tasks(split, start, n, difficulty=difficulty)
     written = []
     for subset in SUBSETS:
         mine = [t.model_dump() for t in tasks if t.subset == subset]
@@ -86,5 +110,7 @@ def write_split(out: str, split: str, n: int, start: int = 0) -> list[Path]:
             continue
         generator = {"name": "eb_habitat.splits", "version": GENERATOR_VERSION, "seed": 0, "split": split,
                      "start": start, "n": n}
+        if difficulty != "classic":
+            generator["difficulty"] = difficulty
         written.append(FILE_FORMAT.write(folder / f"{subset}.json", mine, generator=generator, subset=subset))
     return written

@@ -25,7 +25,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from eb_core.env import Task
 from eb_core.taskfile import TaskFileError as _CoreTaskFileError
 from eb_core.taskfile import TaskFileFormat
-from eb_habitat.catalog import N_APARTMENTS, object_type, receptacle
+from eb_habitat.catalog import N_APARTMENTS, allowed_colors, object_type, receptacle
 from eb_habitat.goals import GoalTracker, Predicate, PredicateError, parse_predicate
 from eb_habitat.world import World
 
@@ -33,6 +33,7 @@ __all__ = [
     "FILE_FORMAT",
     "FORMAT",
     "SUBSETS",
+    "TASKSETS",
     "TASK_DIR",
     "VERSION",
     "TaskFileError",
@@ -40,6 +41,7 @@ __all__ = [
     "load_task_file",
     "load_tasks",
     "spec_of",
+    "taskset_dir",
 ]
 
 FORMAT = "eb-habitat-tasks"
@@ -48,6 +50,8 @@ VERSION = 2
 Version-1 files are refused with a one-line message that says to regenerate them."""
 SUBSETS = ("base", "common_sense", "complex_instruction", "spatial_relationship", "visual_appearance", "long_horizon")
 TASK_DIR = Path(__file__).parent / "tasks"
+TASKSETS = ("classic", "hard")
+"""Shipped task sets: ``tasks/*.json`` (classic) and ``tasks/hard/*.json`` (:mod:`eb_habitat.hard`, seed 0)."""
 
 
 TaskFileError = _CoreTaskFileError
@@ -129,8 +133,8 @@ def _semantic_problem(entry: _TaskEntry) -> tuple[str, str] | None:
             return f + ".type", exc.args[0]
         if not o.name.startswith(o.type + "_") or not o.name[len(o.type) + 1:].isdigit():
             return f + ".name", f"{o.name!r} must be the type key and a number, e.g. '{o.type}_1'"
-        if o.color not in t.colors:
-            return f + ".color", f"{o.color!r} is not a colour of {t.name} (have {', '.join(t.colors)})"
+        if o.color not in allowed_colors(t.key):
+            return f + ".color", f"{o.color!r} is not a colour of {t.name} (have {', '.join(allowed_colors(t.key))})"
         try:
             r = receptacle(o.at)
         except KeyError as exc:
@@ -180,10 +184,18 @@ def load_task_file(path: str | Path) -> list[Task]:
     return [_task(e) for e in FILE_FORMAT.read(path)]
 
 
-def load_tasks(task_dir: str | Path | None = None) -> list[Task]:
-    """All tasks of every ``*.json`` file in ``task_dir`` (a folder, or one file; default: the shipped ones),
-    subsets in paper order."""
-    folder = Path(task_dir) if task_dir is not None else TASK_DIR
+def taskset_dir(taskset: str = "classic") -> Path:
+    """The folder of a shipped task set: ``tasks/`` for classic, ``tasks/<name>/`` for the others."""
+    if taskset not in TASKSETS:
+        raise ValueError(f"habitat: unknown taskset {taskset!r}; shipped sets are {', '.join(TASKSETS)}. "
+                         f"Fix: taskset=classic or taskset=hard")
+    return TASK_DIR if taskset == "classic" else TASK_DIR / taskset
+
+
+def load_tasks(task_dir: str | Path | None = None, taskset: str = "classic") -> list[Task]:
+    """All tasks of every ``*.json`` file in ``task_dir`` (a folder, or one file; default: the shipped folder of
+    ``taskset``), subsets in paper order."""
+    folder = Path(task_dir) if task_dir is not None else taskset_dir(taskset)
     if folder.is_file():
         return load_task_file(folder)
     files = sorted(folder.glob("*.json"), key=lambda p: (SUBSETS.index(p.stem) if p.stem in SUBSETS else 99, p.name))

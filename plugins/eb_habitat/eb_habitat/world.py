@@ -71,6 +71,9 @@ class World:
         self.opened: set[str] = set(opened)
         self.agent_at: str | None = agent_at
         self.held: str | None = None
+        self.picks: dict[str, int] = {}
+        """How often each instance has been picked up in the episode (the ``untouched`` and ``once`` goal
+        predicates read it)."""
 
     # -- queries ---------------------------------------------------------------------------------
 
@@ -169,6 +172,7 @@ class World:
                            "precondition" if elsewhere else "absent")
         item.loc, item.slot = HAND, 0
         self.held = item.name
+        self.picks[item.name] = self.picks.get(item.name, 0) + 1
         return Outcome(True, f"You picked up the {item_label(item)} from the {r.name}; it is now in your hand.")
 
     def _place(self, key: str) -> Outcome:

@@ -1,0 +1,690 @@
+"""The hard (and medium) EB-Habitat task generator: ``eb tasks generate env=habitat difficulty=hard seed=N``.
+
+Same skills, prompt, feedback, 30-step budget, 10-failure cap and goal-condition success as the classic set; what
+changes is the scenes and the words:
+
+* **look-alikes**: the object to move is one of ``k`` instances of its type (5 at ``hard``, 3 at ``medium``), each
+  on its own receptacle and each in its own colour (:data:`~eb_habitat.catalog.HARD_COLORS`: colours a person
+  tells apart one object at a time), so the type in ``pick up the <object>`` does not say which one;
+* **a destination told by what lies there**: the object goes beside a landmark (one of ``m`` same-type instances
+  in different colours; most draws also hold the swapped pair, a blue mug beside a red bowl for "the red mug
+  beside the blue bowl") or, in spatial and long-horizon tasks, to a named receptacle while the object itself is
+  told by a relation or a colour;
+* **every other object must stay untouched**, stated in every instruction ("Pick up nothing else"): the goal holds
+  ``(untouched x)`` for every other instance, so a wrong pick is final even if it is put back; the pick feedback
+  may keep naming the colour of what was taken (it comes too late to help);
+* **clutter**: 16-20 objects (12-14 at ``medium``), several per receptacle, other types in several colours;
+* per subset: colour names (base), use descriptions with a same-colour object of a related type in the
+  apartment (common_sense), long stories and negations (complex_instruction), two-hop relations in rows of
+  three or four with the landmark's look-alikes in rows of the same shape (spatial_relationship), looks only,
+  with a same-colour look-alike type (visual_appearance), three objects among look-alikes (long_horizon).
+
+A blind player can neither tell the look-alikes apart nor find the landmark without picking it up, so guessing
+is about one chance in (look-alikes x receptacles). The expert solves every task within the classic step bounds
+(12 steps, 20 for long_horizon), and a seeing agent that first visits every receptacle in catalogue order until it
+has seen what it needs, then acts, within 26 (:func:`search_steps`).
+"""
+
+from __future__ import annotations
+
+import random
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from eb_habitat.catalog import (
+    HARD_COLORS,
+    N_APARTMENTS,
+    OBJECT_TYPES,
+    RECEPTACLES,
+    allowed_colors,
+    object_type,
+    receptacle,
+)
+from eb_habitat.generate import Draft, Scene, _finish, _Reject
+
+__all__ = ["DIFFICULTIES", "LEVELS", "Level", "generate_subset", "HARD_BUILDERS"]
+
+DIFFICULTIES = ("classic", "medium", "hard")
+"""Generator levels: ``classic`` is :mod:`eb_habitat.generate`, the others are drawn here."""
+
+HARD_VERSION = "1"
+
+SURFACES = [r.key for r in RECEPTACLES if r.kind == "surface"]
+CONTAINERS = [r.key for r in RECEPTACLES if r.kind == "container"]
+#: Surfaces that hold a row of three or more objects.
+ROWS = [k for k in SURFACES if receptacle(k).capacity >= 3]
+#: Types with at least four colours of their own in the hard set (targets and landmarks).
+VARIED = [k for k, colors in HARD_COLORS.items() if len(colors) >= 5]
+
+
+@dataclass(frozen=True)
+class Level:
+    k: int
+    """Instances of the target's type (the target and its look-alikes)."""
+    m: int
+    """Instances of the landmark's type."""
+    clutter: tuple[int, int]
+    """Objects in the scene, at least and at most."""
+    long_k: int
+    """Instances per type in long_horizon (three types)."""
+
+
+LEVELS = {"medium": Level(k=3, m=2, clutter=(12, 14), long_k=2), "hard": Level(k=5, m=3, clutter=(16, 20), long_k=4)}
+
+
+# -- words -------------------------------------------------------------------------------------------------------
+
+def _plural(key: str) -> str:
+    name = object_type(key).name
+    return name if name.endswith("s") else name + "s"
+
+
+#: What a type is for, as a noun phrase after "the <colour>" (our words; common_sense).
+USES: dict[str, str] = {
+    "mug": "thing you drink hot coffee from",
+    "cup": "small handleless thing you drink water from",
+    "bowl": "deep dish you eat cereal from",
+    "plate": "flat dish you serve a meal on",
+    "soda_can": "fizzy drink in a metal can",
+    "screwdriver": "tool for turning screws",
+    "toy_airplane": "toy that pretends to fly",
+    "ball": "toy you throw for a dog",
+}
+
+#: A type a careless reader could take for the target (same colour in the scene): the description must be read.
+CONFUSERS: dict[str, tuple[str, ...]] = {
+    "mug": ("cup",), "cup": ("mug",), "bowl": ("plate",), "plate": ("bowl",), "soda_can": ("tuna_can",),
+    "screwdriver": ("wrench", "hammer"), "toy_airplane": ("ball",), "ball": ("toy_airplane",),
+}
+
+#: Types that look too much like a target or landmark type in a small view to be fair clutter beside it (a red
+#: apple and a red ball are both red spheres at a glance): never added as clutter where that type matters.
+SHAPE_TWINS: dict[str, tuple[str, ...]] = {"ball": ("apple", "orange", "plum", "lemon"), "soda_can": ("soup_can",)}
+
+#: How a type looks, as a noun phrase after "the" (our words; visual_appearance). ``{c}`` is the colour.
+LOOKS: dict[str, str] = {
+    "mug": "{c} drinking vessel with a handle",
+    "cup": "small {c} drinking vessel without a handle",
+    "bowl": "{c} round open dish",
+    "plate": "flat {c} disc",
+    "soda_can": "slim {c} metal can",
+    "screwdriver": "tool with a {c} handle and a thin metal shaft",
+    "toy_airplane": "small {c} toy with wings",
+    "ball": "{c} round toy",
+}
+
+_NOTHING_ELSE = (
+    "Pick up nothing else, and pick {it} up only once.",
+    "Do not pick up anything else, and take {it} straight to {its} place: a second pick-up spoils the task.",
+    "Touch nothing else (picking up any other object spoils the task) and pick {it} up only once.",
+    "Leave every other object where it is, untouched, and pick {it} up just once.",
+)
+
+
+def _rule(rng: random.Random, n: int = 1) -> str:
+    return rng.choice(_NOTHING_ELSE).format(it="it" if n == 1 else "each of them",
+                                            its="its" if n == 1 else "their")
+
+
+# -- scene building ---------------------------------------------------------------------------------------------
+
+@dataclass
+class HardDraft:
+    instruction: str
+    scene: Scene
+    moves: list[tuple[dict[str, Any], str]]
+    """(object, receptacle key) pairs the goal wants; every other object must stay untouched."""
+    template: str
+    extra: list[str] = field(default_factory=list)
+
+
+def _new_scene(rng: random.Random) -> Scene:
+    return Scene(apartment=rng.randrange(N_APARTMENTS), open=[c for c in CONTAINERS if rng.random() < 0.35])
+
+
+def _visible_places(scene: Scene) -> list[str]:
+    """Receptacles whose objects are seen on arrival: surfaces and the containers that start open."""
+    return SURFACES + [c for c in scene.open if c in CONTAINERS]
+
+
+def _spread(rng: random.Random, scene: Scene, type_key: str, colors: list[str], places: list[str],
+            keep_room: bool = False) -> list[dict[str, Any]]:
+    """One instance of ``type_key`` per colour, each on its own receptacle from ``places`` (``keep_room``: one
+    slot stays free there, for the object that will be put beside it)."""
+    out = []
+    for color in colors:
+        choices = [k for k in places if type_key not in scene.types_at(k)
+                   and len(scene.used_slots(k)) + (2 if keep_room else 1) <= receptacle(k).capacity]
+        if not choices:
+            raise _Reject(f"no place left for another {type_key}")
+        out.append(scene.add(rng, type_key, at=rng.choice(choices), color=color))
+    return out
+
+
+def _colors(rng: random.Random, type_key: str, n: int) -> list[str]:
+    pool = list(HARD_COLORS.get(type_key) or object_type(type_key).colors)
+    if len(pool) < n:
+        raise _Reject(f"{type_key} has fewer than {n} colours")
+    return rng.sample(pool, n)
+
+
+def _clutter(rng: random.Random, scene: Scene, level: Level, exclude: set[str], avoid: tuple[str, ...] = (),
+             keep_free: tuple[str, ...] = ()) -> None:
+    """Add objects of other types (several of a type now and then, in their own colours) up to the level's count,
+    keeping the receptacles in ``avoid`` as they are and one slot free on every surface and on those in
+    ``keep_free``."""
+    total = rng.randint(*level.clutter)
+    twins = {k for x in exclude for k in SHAPE_TWINS.get(x, ())}
+    pool = [t.key for t in OBJECT_TYPES if t.key not in exclude and t.key not in twins]
+
+    def room(k: str) -> bool:  # every surface keeps a free slot: a failed place must not tell the destination
+        free = 2 if k in keep_free or receptacle(k).kind == "surface" else 1
+        return len(scene.used_slots(k)) + free <= receptacle(k).capacity
+
+    for _ in range(200):
+        if len(scene.objects) >= total:
+            return
+        key = rng.choice(pool)
+        places = [k for k in (SURFACES + CONTAINERS) if k not in avoid and room(k) and key not in scene.types_at(k)]
+        if not places:
+            continue
+        scene.add(rng, key, at=rng.choice(places), color=rng.choice(allowed_colors(key)))
+
+
+def _renumber(rng: random.Random, scene: Scene) -> None:
+    """Shuffle the instance numbers of every type, so that ``mug_1`` says nothing about which mug matters."""
+    by_type: dict[str, list[dict[str, Any]]] = {}
+    for o in scene.objects:
+        by_type.setdefault(o["type"], []).append(o)
+    for key, objs in by_type.items():
+        numbers = list(range(1, len(objs) + 1))
+        rng.shuffle(numbers)
+        for o, n in zip(objs, numbers):
+            o["name"] = f"{key}_{n}"
+
+
+def _target_and_landmark(rng: random.Random, scene: Scene, level: Level, x: str, y: str
+                         ) -> tuple[dict[str, Any], list[dict[str, Any]], dict[str, Any], list[dict[str, Any]]]:
+    """``level.m`` landmarks of type ``y`` on surfaces (each with a free slot) and ``level.k`` instances of ``x``
+    on visible receptacles; returns (target, its look-alikes, landmark, its look-alikes).
+
+    When the two types share colours, most draws also lay a binding trap: for "the red mug beside the blue
+    bowl", a blue mug lies beside a red bowl elsewhere, so seeing both colours in one view is not enough."""
+    shared = [c for c in HARD_COLORS[x] if c in HARD_COLORS[y]]
+    if len(shared) >= 2 and level.m >= 2 and rng.random() < 0.6:
+        ct, cl = rng.sample(shared, 2)
+        ycolors = [cl, ct] + rng.sample([c for c in HARD_COLORS[y] if c not in (ct, cl)], level.m - 2)
+        xcolors = [ct, cl] + rng.sample([c for c in HARD_COLORS[x] if c not in (ct, cl)], level.k - 2)
+        wide = [k for k in SURFACES if receptacle(k).capacity >= 3]
+        landmarks = _spread(rng, scene, y, ycolors, wide, keep_room=True)
+        lm, trap_lm = landmarks[0], landmarks[1]
+        if len(scene.used_slots(trap_lm["at"])) + 2 > receptacle(trap_lm["at"]).capacity:
+            raise _Reject("no room for the trap")
+        trap = scene.add(rng, x, at=trap_lm["at"], color=cl)
+        places = [k for k in _visible_places(scene) if k not in (lm["at"], trap_lm["at"])]
+        xs = [trap] + _spread(rng, scene, x, [ct] + xcolors[2:], places)
+        target = xs[1]
+        return target, [o for o in xs if o is not target], lm, landmarks[1:]
+    landmarks = _spread(rng, scene, y, _colors(rng, y, level.m), SURFACES, keep_room=True)
+    xs = _spread(rng, scene, x, _colors(rng, x, level.k), _visible_places(scene))
+    lm = rng.choice(landmarks)
+    target = rng.choice([o for o in xs if o["at"] != lm["at"]])
+    return target, [o for o in xs if o is not target], lm, [o for o in landmarks if o is not lm]
+
+
+def _places_of(objs: list[dict[str, Any]]) -> tuple[str, ...]:
+    return tuple(o["at"] for o in objs)
+
+
+def _two_types(rng: random.Random) -> tuple[str, str]:
+    x, y = rng.sample(VARIED, 2)
+    return x, y
+
+
+# -- base --------------------------------------------------------------------------------------------------------
+
+_BASE = (
+    "Put the {c} {o} on the same piece of furniture as the {lc} {l}.",
+    "Move the {c} {o} to wherever the {lc} {l} is.",
+    "The {c} {o} belongs next to the {lc} {l}; take it there.",
+    "Find the {c} {o} and set it down beside the {lc} {l}.",
+    "Bring the {c} {o} over to the {lc} {l}.",
+    "Take the {c} {o} to the piece of furniture where the {lc} {l} stands.",
+    "Carry the {c} {o} over to wherever you find the {lc} {l}.",
+    "The {lc} {l} needs company: put the {c} {o} beside it.",
+    "Please relocate the {c} {o} so that it lies next to the {lc} {l}.",
+    "Go get the {c} {o} and leave it by the {lc} {l}.",
+    "Set the {c} {o} down on the furniture that holds the {lc} {l}.",
+    "I would like the {c} {o} placed near the {lc} {l}.",
+)
+
+
+def _base(rng: random.Random, level: Level) -> HardDraft:
+    scene = _new_scene(rng)
+    x, y = _two_types(rng)
+    target, _, lm, lms = _target_and_landmark(rng, scene, level, x, y)
+    _clutter(rng, scene, level, {x, y}, keep_free=_places_of([lm, *lms]))
+    i = rng.randrange(len(_BASE))
+    text = _BASE[i].format(c=target["color"], o=object_type(x).name, lc=lm["color"], l=object_type(y).name)
+    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.base.{i}")
+
+
+# -- common sense ------------------------------------------------------------------------------------------------
+
+_CS = (
+    "Take the {c} {u} and put it beside the {lc} {lu}.",
+    "I want the {c} {u} next to the {lc} {lu}.",
+    "Find the {c} {u}; it goes where the {lc} {lu} is.",
+    "Move the {c} {u} to the piece of furniture that holds the {lc} {lu}.",
+    "Bring the {c} {u} over to the {lc} {lu}.",
+    "The {c} {u} should sit on the same piece of furniture as the {lc} {lu}.",
+    "Please move the {c} {u} next to the {lc} {lu}.",
+    "Go and find the {c} {u}, then leave it by the {lc} {lu}.",
+    "Where the {lc} {lu} is, the {c} {u} should be too.",
+    "Carry the {c} {u} to the {lc} {lu}.",
+    "Set the {c} {u} down beside the {lc} {lu}.",
+)
+
+
+def _confusers(rng: random.Random, scene: Scene, target: dict[str, Any], avoid: tuple[str, ...]) -> None:
+    """One or two objects of a related type in the target's colour where it has that colour (a red cup beside the
+    red mug), the first on the target's own receptacle when there is room: in view together."""
+    x, color = target["type"], target["color"]
+    for i, key in enumerate(CONFUSERS[x][:rng.choice((1, 2))]):
+        colors = allowed_colors(key)
+        c = color if color in colors else rng.choice(colors)
+        places = [k for k in _visible_places(scene) if k not in avoid and scene.has_room(k)
+                  and key not in scene.types_at(k)]
+        if i == 0 and target["at"] in places:
+            places = [target["at"]]
+        if places:
+            scene.add(rng, key, at=rng.choice(places), color=c)
+
+
+def _common_sense(rng: random.Random, level: Level) -> HardDraft:
+    scene = _new_scene(rng)
+    x, y = _two_types(rng)
+    target, _, lm, lms = _target_and_landmark(rng, scene, level, x, y)
+    _confusers(rng, scene, target, _places_of([lm, *lms]))
+    _clutter(rng, scene, level, {x, y, *CONFUSERS[x]}, keep_free=_places_of([lm, *lms]))
+    i = rng.randrange(len(_CS))
+    text = _CS[i].format(c=target["color"], u=USES[x], lc=lm["color"], lu=USES[y])
+    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.common_sense.{i}")
+
+
+# -- complex instructions ----------------------------------------------------------------------------------------
+
+_STORY = (
+    "My sister visits tomorrow and she is very particular about her things, so I have been tidying all evening; "
+    "what is still left is the {c} {o}, which has to end up beside the {lc} {l}.",
+    "The kitchen smelled of paint all week and everything got moved around while the walls dried. Now the {c} {o} "
+    "needs to go back next to the {lc} {l}, where it always stood.",
+    "Before the guests arrive I would like one small change, and please do not get creative with the rest: the "
+    "{c} {o} should be on the same piece of furniture as the {lc} {l}.",
+    "Yesterday the children played in every room and carried things around; I found most of them, but the {c} "
+    "{o} still has to be returned to the spot where the {lc} {l} lies.",
+    "I am expecting a delivery any minute and cannot leave the door, and the dog keeps barking at the postman; "
+    "meanwhile, could you move the {c} {o} so that it stands beside the {lc} {l}?",
+    "We rearranged the furniture last weekend and lost track of half our things. The {c} {o} is one of them: "
+    "it goes on the same piece of furniture as the {lc} {l}, as it did before the move.",
+)
+_NEGATION = (
+    "Not the {na} {o} and not the {nb} one: it is the {c} {o} that goes beside the {lc} {l}.",
+    "Several {os} are lying around. Ignore the {na} and the {nb} ones; bring the {c} {o} to the {lc} {l}.",
+    "The {c} {o}, not any other {o}, should end up next to the {lc} {l}, and not next to any other {l}.",
+)
+_IF_BESIDE = (
+    "Check the {o} beside the {lc} {l}. If it is {ca}, bring the {cb} {o} to that spot; if it has any other colour, "
+    "bring the {cc} {o} there instead.",
+    "If the {o} lying next to the {lc} {l} is {ca}, put the {cb} {o} beside them; otherwise put the {cc} {o} there.",
+    "There is {a_o} next to the {lc} {l}. Should it be {ca}, move the {cb} {o} to that piece of furniture; should "
+    "it not, move the {cc} {o} there.",
+)
+
+
+def _conditional(rng: random.Random, level: Level) -> HardDraft:
+    """The landmark's receptacle holds a look-alike whose colour decides which of two others goes there."""
+    scene = _new_scene(rng)
+    x, y = _two_types(rng)
+    wide = [k for k in SURFACES if receptacle(k).capacity >= 3]
+    landmarks = _spread(rng, scene, y, _colors(rng, y, level.m), wide, keep_room=True)
+    lm = rng.choice(landmarks)
+    if len(scene.used_slots(lm["at"])) + 2 > receptacle(lm["at"]).capacity:
+        raise _Reject("no room for the witness and the object")
+    colors = _colors(rng, x, level.k)
+    witness = scene.add(rng, x, at=lm["at"], color=colors[0])
+    xs = _spread(rng, scene, x, colors[1:], [k for k in _visible_places(scene) if k != lm["at"]])
+    target, other = rng.sample(xs, 2)
+    if rng.random() < 0.5:  # the condition holds
+        ca, cb, cc = witness["color"], target["color"], other["color"]
+    else:
+        ca = rng.choice([c for c in HARD_COLORS[x] if c != witness["color"]])
+        cb, cc = other["color"], target["color"]
+    _clutter(rng, scene, level, {x, y}, keep_free=_places_of(landmarks))
+    i = rng.randrange(len(_IF_BESIDE))
+    name = object_type(x).name
+    text = _IF_BESIDE[i].format(o=name, a_o=f"a {name}", lc=lm["color"], l=object_type(y).name, ca=ca, cb=cb, cc=cc)
+    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.complex.if_beside.{i}")
+
+
+def _complex(rng: random.Random, level: Level) -> HardDraft:
+    if rng.random() < 0.3:
+        return _conditional(rng, level)
+    scene = _new_scene(rng)
+    x, y = _two_types(rng)
+    target, others, lm, lms = _target_and_landmark(rng, scene, level, x, y)
+    _clutter(rng, scene, level, {x, y}, keep_free=_places_of([lm, *lms]))
+    w = dict(c=target["color"], o=object_type(x).name, os=_plural(x), lc=lm["color"], l=object_type(y).name)
+    if rng.random() < 0.5:
+        i = rng.randrange(len(_STORY))
+        text, template = _STORY[i].format(**w), f"hard.complex.story.{i}"
+    else:
+        i = rng.randrange(len(_NEGATION))
+        na, nb = (o["color"] for o in rng.sample(others, 2))
+        text, template = _NEGATION[i].format(na=na, nb=nb, **w), f"hard.complex.negation.{i}"
+    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], template)
+
+
+# -- spatial relationships ---------------------------------------------------------------------------------------
+
+_HOP2 = (
+    "Find the {lc} {l}. Just to its {side} stands {a_w}, and the object just to the {side} of that {w} is the one "
+    "to move: put it {pt}.",
+    "Start at the {lc} {l}. Go one object to the {side}, to the {w}, then one more to the {side}: that object goes "
+    "to the {t}.",
+    "Take the object that stands {side} of the {w}, which itself stands {side} of the {lc} {l}, and bring it to "
+    "the {t}.",
+    "On the furniture with the {lc} {l}, look {side} of it: first comes {a_w}, then the object you need. Move that "
+    "object {pt}.",
+    "Two steps to the {side} of the {lc} {l}, past the {w}, stands the thing to carry to the {t}.",
+    "The {w} stands just {side} of the {lc} {l}; move the object directly {side} of that {w} to the {t}.",
+    "Find the {lc} {l} and the {w} beside it. Whatever stands on the far side of the {w} belongs {pt}.",
+)
+_SKIP = (
+    "Take the object two places to the {side} of the {lc} {l} and move it to the {t}.",
+    "Count two objects to the {side} of the {lc} {l}; the second one goes {pt}.",
+    "Skip one object to the {side} of the {lc} {l} and take the next one to the {t}.",
+    "The second object to the {side} of the {lc} {l} goes {pt}.",
+    "Move the object that is two positions {side} of the {lc} {l} to the {t}.",
+)
+
+
+def _row(rng: random.Random, scene: Scene, src: str, keys: list[str], colors: list[str], first: int
+         ) -> list[dict[str, Any]]:
+    out = []
+    for key, color, slot in zip(keys, colors, range(first, first + len(keys))):
+        if slot in scene.used_slots(src) or key in scene.types_at(src):
+            raise _Reject("row slot taken")
+        obj = {"name": f"{key}_{1 + sum(o['type'] == key for o in scene.objects)}", "type": key, "color": color,
+               "at": src, "slot": slot}
+        scene.objects.append(obj)
+        out.append(obj)
+    return out
+
+
+def _spatial(rng: random.Random, level: Level) -> HardDraft:
+    """Rows ``landmark, w, object`` (or mirrored) on ``level.m`` surfaces, one row per landmark colour; the
+    object is named only by the two hops from the landmark of the instruction's colour."""
+    scene = _new_scene(rng)
+    y = rng.choice(VARIED)
+    w = rng.choice([t.key for t in OBJECT_TYPES if t.key != y])
+    side = rng.choice(("left", "right"))
+    rows = rng.sample(ROWS, level.m)
+    lcolors = _colors(rng, y, level.m)
+    ends: list[dict[str, Any]] = []
+    for src, lc in zip(rows, lcolors):
+        cap = receptacle(src).capacity
+        first = rng.randrange(cap - 2)
+        z = rng.choice([t.key for t in OBJECT_TYPES if t.key not in (y, w)])
+        keys = [y, w, z] if side == "right" else [z, w, y]
+        colors = [lc, rng.choice(allowed_colors(w)), rng.choice(allowed_colors(z))]
+        if side == "left":
+            colors = colors[::-1]
+        row = _row(rng, scene, src, keys, colors, first)
+        ends.append(row[2] if side == "right" else row[0])
+    chosen = rng.randrange(level.m)
+    target, lc = ends[chosen], lcolors[chosen]
+    dest = rng.choice([k for k in SURFACES if k not in rows and scene.has_room(k)])
+    # the target's own look-alikes elsewhere: its type alone does not find it
+    for _ in range(level.k - 2 + rng.randrange(2)):
+        places = [k for k in SURFACES + scene.open if k != dest and scene.has_room(k)
+                  and target["type"] not in scene.types_at(k)]
+        if places:
+            colors = [c for c in allowed_colors(target["type"]) if c != target["color"]] or [target["color"]]
+            scene.add(rng, target["type"], at=rng.choice(places), color=rng.choice(colors))
+    _clutter(rng, scene, level, {y}, avoid=(dest,))
+    if not scene.has_room(dest):
+        raise _Reject("destination full")
+    t = receptacle(dest)
+    fmt = dict(lc=lc, l=object_type(y).name, side=side, w=object_type(w).name,
+               a_w=f"a pair of {object_type(w).name}" if w == "scissors" else f"a {object_type(w).name}",
+               t=t.name, pt=f"{t.preposition} the {t.name}")
+    if rng.random() < 0.7:
+        i = rng.randrange(len(_HOP2))
+        text, template = _HOP2[i].format(**fmt), f"hard.spatial.two_hops.{i}"
+    else:
+        i = rng.randrange(len(_SKIP))
+        text, template = _SKIP[i].format(**fmt), f"hard.spatial.two_places.{i}"
+    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, dest)], template)
+
+
+# -- visual appearance -------------------------------------------------------------------------------------------
+
+_LOOK_FRAMES = (
+    "Put the {look} next to the {llook}.",
+    "Somewhere there is the {look}. Bring it to the piece of furniture with the {llook} on it.",
+    "Move the {look} so that it lies beside the {llook}.",
+    "Look for the {look} and set it down where the {llook} is.",
+    "Take the {look} and bring it to the {llook}.",
+    "The {look} belongs beside the {llook}; take it there.",
+    "Carry the {look} over to the furniture where the {llook} is.",
+    "Find the {look}. It should end up next to the {llook}.",
+    "Set the {look} down by the {llook}.",
+    "Please move the {look} to the {llook}.",
+    "Where the {llook} stands, the {look} should stand as well.",
+    "Go get the {look} and leave it beside the {llook}.",
+)
+
+
+def _visual(rng: random.Random, level: Level) -> HardDraft:
+    scene = _new_scene(rng)
+    x, y = _two_types(rng)
+    target, _, lm, lms = _target_and_landmark(rng, scene, level, x, y)
+    _confusers(rng, scene, target, _places_of([lm, *lms]))
+    _clutter(rng, scene, level, {x, y, *CONFUSERS[x]}, keep_free=_places_of([lm, *lms]))
+    i = rng.randrange(len(_LOOK_FRAMES))
+    text = _LOOK_FRAMES[i].format(look=LOOKS[x].format(c=target["color"]), llook=LOOKS[y].format(c=lm["color"]))
+    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.visual.looks.{i}")
+
+
+# -- long horizon ------------------------------------------------------------------------------------------------
+
+_LONG_ONE = ("Put the {p} {pt}.", "Gather the {p} {pt}.", "Bring the {p} to the {t}, one after another.",
+             "Collect the {p} and leave them {pt}.", "All of these go {pt}: the {p}.", "Move the {p} over to the {t}.")
+_LONG_EACH = ("Rearrange as follows: {p}.", "Please place {p}.", "Here is what I want: {p}.", "Tidy up: {p}.",
+              "Put things in order: {p}.", "I want {p}.")
+
+
+def _join(parts: list[str]) -> str:
+    return ", ".join(parts[:-1]) + (", and " if len(parts) > 2 else " and ") + parts[-1]
+
+
+def _long(rng: random.Random, level: Level) -> HardDraft:
+    scene = _new_scene(rng)
+    keys = rng.sample(VARIED, 3)
+    one_place = rng.random() < 0.5
+    targets: list[dict[str, Any]] = []
+    for key in keys:
+        xs = _spread(rng, scene, key, _colors(rng, key, level.long_k), _visible_places(scene))
+        targets.append(rng.choice(xs))
+    if one_place:
+        dest = rng.choice([k for k in SURFACES if receptacle(k).capacity >= 3 and len(scene.used_slots(k)) == 0
+                           and all(t["at"] != k for t in targets)] or [None])
+        if dest is None:
+            raise _Reject("no empty surface")
+        moves = [(t, dest) for t in targets]
+        _clutter(rng, scene, level, set(keys), avoid=(dest,))
+        r = receptacle(dest)
+        i = rng.randrange(len(_LONG_ONE))
+        p = _join([f"{t['color']} {object_type(t['type']).name}" for t in targets])
+        text = _LONG_ONE[i].format(p=p, pt=f"{r.preposition} the {r.name}", t=r.name)
+        template = f"hard.long.one_place.{i}"
+    else:
+        dests = rng.sample([k for k in SURFACES if len(scene.used_slots(k)) < receptacle(k).capacity], 3)
+        if any(t["at"] == d for t, d in zip(targets, dests)):
+            raise _Reject("already there")
+        moves = list(zip(targets, dests))
+        _clutter(rng, scene, level, set(keys), avoid=tuple(dests))
+        i = rng.randrange(len(_LONG_EACH))
+        p = _join([f"the {t['color']} {object_type(t['type']).name} {receptacle(d).preposition} the "
+                   f"{receptacle(d).name}" for t, d in moves])
+        text, template = _LONG_EACH[i].format(p=p), f"hard.long.each.{i}"
+    return HardDraft(f"{text} {_rule(rng, len(moves))}", scene, moves, template)
+
+
+HARD_BUILDERS: dict[str, Callable[[random.Random, Level], HardDraft]] = {
+    "base": _base,
+    "common_sense": _common_sense,
+    "complex_instruction": _complex,
+    "spatial_relationship": _spatial,
+    "visual_appearance": _visual,
+    "long_horizon": _long,
+}
+
+
+# -- validation ---------------------------------------------------------------------------------------------------
+
+def _place_pred(name: str, target: str) -> str:
+    return f"({'inside' if receptacle(target).kind == 'container' else 'on'} {name} {target})"
+
+
+def to_draft(rng: random.Random, hd: HardDraft) -> Draft:
+    """Shuffle instance numbers and write the goal: the moves, each object picked up ``once``, and ``untouched``
+    for every other object."""
+    _renumber(rng, hd.scene)
+    movers = {id(o) for o, _ in hd.moves}
+    goal = [_place_pred(o["name"], at) for o, at in hd.moves] + [f"(once {o['name']})" for o, _ in hd.moves]
+    goal += [f"(untouched {o['name']})" for o in sorted(hd.scene.objects, key=lambda o: o["name"])
+             if id(o) not in movers]
+    return Draft(hd.instruction, hd.scene, goal, hd.template)
+
+
+MAX_SEARCH_STEPS = 26
+"""Bound on :func:`search_steps`: a seeing agent that first looks everywhere still has 4 steps to spare."""
+
+
+def search_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[str], instruction: str) -> int:
+    """Steps of a seeing agent without privileged knowledge: it walks to the receptacles in catalogue order
+    (opening the closed ones) until it has seen every object the goal moves and every destination the
+    instruction does not name (a landmark's place), then follows the expert's plan from there."""
+    from eb_habitat.goals import parse_predicate
+    from eb_habitat.oracle import expert_plan
+    from eb_habitat.skills import skill_id
+    from eb_habitat.world import World
+
+    w = World(objects, opened)
+    inst = {o["name"]: o["type"] for o in objects}
+    preds = [parse_predicate(g, inst) for g in goal]
+    places = [p for p in preds if p.name in ("on", "inside")]
+    need = {next(o["at"] for o in objects if o["name"] == p.args[0]) for p in places if p.args[0] in inst}
+    need |= {p.args[1] for p in places if receptacle(p.args[1]).name.lower() not in instruction.lower()}
+    steps = 0
+    for r in RECEPTACLES:
+        if not need:
+            break
+        w.step(skill_id("navigate", r.key))
+        steps += 1
+        if not w.is_open(r.key):
+            w.step(skill_id("open", r.key))
+            steps += 1
+        need.discard(r.key)
+    return steps + len(expert_plan(w, preds))
+
+
+def draw(subset: str, rng: random.Random, difficulty: str, index: int) -> dict[str, Any] | None:
+    """One validated task entry of ``subset`` at ``difficulty`` (``medium`` or ``hard``), or None if the draw
+    fails validation (the caller draws again). Raises :class:`~eb_habitat.generate._Reject` for a bad scene."""
+    hd = HARD_BUILDERS[subset](rng, LEVELS[difficulty])
+    entry = _finish(to_draft(rng, hd), subset, index)
+    if entry is None:
+        return None
+    meta = entry["metadata"]
+    if search_steps(meta["objects"], meta["open"], meta["goal"], entry["instruction"]) > MAX_SEARCH_STEPS:
+        return None
+    return entry
+
+
+def _answers_first_branch(entry: dict[str, Any]) -> bool | None:
+    """For a conditional (``hard.complex.if_beside``): whether the branch named first is the answer; else None."""
+    meta = entry["metadata"]
+    if ".if_beside." not in meta["template"]:
+        return None
+    mover = meta["goal"][0].split()[1]
+    obj = next(o for o in meta["objects"] if o["name"] == mover)
+    after = entry["instruction"].split(",", 1)[1]
+    name = object_type(obj["type"]).name
+    named = [c for c in HARD_COLORS[obj["type"]] if f"the {c} {name}" in after]
+    return min(named, key=lambda c: after.index(f"the {c} {name}")) == obj["color"]
+
+
+def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "hard",
+                    progress: bool = False) -> list[dict[str, Any]]:
+    """``n`` validated task entries of ``subset`` at ``difficulty`` (deterministic in ``seed``), distinct
+    instructions."""
+    if difficulty not in LEVELS:
+        raise ValueError(f"habitat: unknown difficulty {difficulty!r}; allowed: {', '.join(DIFFICULTIES)}")
+    rng = random.Random(f"eb-habitat-{difficulty}/{HARD_VERSION}/{seed}/{subset}")
+    out: list[dict[str, Any]] = []
+    seen: set[str] = set()
+    branches = {True: 0, False: 0}  # conditionals answered by the branch named first / by the other one
+    tries = 0
+    while len(out) < n:
+        tries += 1
+        if tries > 400 * n:
+            raise RuntimeError(f"could not draw {n} valid {difficulty} {subset} tasks")
+        try:
+            entry = draw(subset, rng, difficulty, len(out))
+        except _Reject:
+            continue
+        if entry is None or entry["instruction"] in seen:
+            continue
+        first = _answers_first_branch(entry)
+        if first is not None:  # keep the two within one of each other: always following one branch never pays
+            if branches[first] > branches[not first]:
+                continue
+            branches[first] += 1
+        seen.add(entry["instruction"])
+        out.append(entry)
+        if progress and (len(out) % 10 == 0 or len(out) == n):
+            print(f"habitat {difficulty} {subset}: {len(out)}/{n} tasks ({tries} draws)", file=sys.stderr, flush=True)
+    return out
+
+
+def write(out: str | None = None, seed: int = 0, per_subset: int = 50, subset: str | None = None,
+          difficulty: str = "hard", progress: bool = True) -> list[str]:
+    """Write ``medium``/``hard`` task files (one ``<subset>.json`` per subset, or ``out=<file>.json`` for one
+    subset) and return their paths. Default ``out``: the shipped ``tasks/hard/`` folder (``hard`` only)."""
+    from eb_habitat.tasks import FILE_FORMAT, SUBSETS, taskset_dir
+
+    if difficulty not in LEVELS:
+        raise ValueError(f"habitat: unknown difficulty {difficulty!r}; allowed: {', '.join(DIFFICULTIES)}. "
+                         f"Fix: difficulty=hard (or classic, medium)")
+    if out is None and difficulty != "hard":
+        raise ValueError(f"habitat: difficulty={difficulty} has no shipped folder; pass out=<folder>")
+    subsets = list(SUBSETS) if subset is None else [s.strip() for s in str(subset).split(",") if s.strip()]
+    for name in subsets:
+        if name not in HARD_BUILDERS:
+            raise ValueError(f"habitat: unknown subset {name!r}; known: {', '.join(SUBSETS)}")
+    target = Path(out) if out is not None else taskset_dir("hard")
+    if target.suffix == ".json" and len(subsets) != 1:
+        raise ValueError("habitat: out=<file>.json writes one subset: also pass subset=<name>, or give a folder")
+    written: list[str] = []
+    for name in subsets:
+        tasks = generate_subset(name, int(per_subset), int(seed), difficulty, progress=progress)
+        path = target if target.suffix == ".json" else target / f"{name}.json"
+        generator = {"name": "eb_habitat.hard", "version": HARD_VERSION, "seed": int(seed), "difficulty": difficulty}
+        written.append(str(FILE_FORMAT.write(path, tasks, generator=generator, subset=name)))
+    return written
