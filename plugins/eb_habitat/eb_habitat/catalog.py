@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 __all__ = [
     "COLORS",
+    "DECOR",
     "FRIDGE_END",
     "HARD_COLORS",
     "KITCHEN_ROWS",
@@ -70,6 +71,11 @@ class Receptacle:
     @property
     def preposition(self) -> str:
         return self.prep or ("in" if self.kind == "container" else "on")
+
+
+#: Decoration every apartment draws (scene-kit type names): no skill touches it, but it is in the images, so a
+#: description that names it ("the ball in front of the TV") speaks of the scene, not of something imagined.
+DECOR: tuple[str, ...] = ("Television", "DeskLamp", "FloorLamp", "HousePlant", "Painting")
 
 
 #: The 15 receptacles, in skill order. Containers (fridge, drawers, cabinet) are articulated.

@@ -23,7 +23,7 @@ from eb_core.env import (
     Task,
 )
 from eb_habitat import prompts
-from eb_habitat.catalog import object_type
+from eb_habitat.catalog import DECOR, object_type
 from eb_habitat.goals import GoalTracker, Predicate
 from eb_habitat.oracle import OracleError, expert_plan
 from eb_habitat.skills import SKILL_NAMES, SKILLS
@@ -219,7 +219,7 @@ class HabitatEnv(Env):
             text=w.describe(),
             objects=objects,
             visible_objects=[_in_view(it) for it in visible if it.name in boxes] if images else None,
-            scene_objects=sorted({object_type(it.type).name for it in w.items.values()}),
+            scene_objects=sorted({object_type(it.type).name for it in w.items.values()} | set(DECOR)),
         )
 
     # -- planner support -------------------------------------------------------------------------
