@@ -112,6 +112,9 @@ class TaskFileFormat(Generic[T]):
         if raw.get("format") != self.format:
             raise TaskFileError(f"{path}: field format: {raw.get('format')!r} is not {self.format!r}. Fix: give "
                                 f"an eb-{self.world} task file")
+        if "version" not in raw:
+            raise TaskFileError(f"{path}: field version: is missing; this eb-{self.world} reads version "
+                                f"{self.version}. Fix: regenerate it with `eb tasks generate env={self.world}`")
         if raw.get("version") != self.version:
             raise TaskFileError(f"{path}: field version: the file is version {raw.get('version')!r} but this "
                                 f"eb-{self.world} reads version {self.version}. Fix: regenerate it with "

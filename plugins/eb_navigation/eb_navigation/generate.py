@@ -37,7 +37,7 @@ from eb_navigation.baselines import BLIND_POLICIES, RULE_AGENTS, blind_successes
 from eb_navigation.geometry import STEP, AgentState, FreeSpace, bearing_to
 from eb_navigation.instructions import COMMON_SENSE_TYPES, SHAPES, instruction_for
 from eb_navigation.room import KINDS, ExtraSpec, NavObject, NavRoom, colour_distance, probe
-from eb_navigation.tasks import SUBSETS, TASK_FILE_FORMAT, TASK_FILE_VERSION
+from eb_navigation.tasks import FORMAT, SUBSETS, TASK_FILE_FORMAT, TASK_FILE_VERSION
 from eb_navigation.visibility import Visibility
 
 __all__ = ["GENERATOR_VERSION", "TARGETS_BY_KIND", "audit_form", "generate"]
@@ -302,10 +302,13 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
                       "rule_cap": rule_cap, **({"slots": [int(x) for x in slots]} if slots is not None else {})},
         "tasks": tasks,
     }
+    FORMAT.parse(doc, path)  # the core's validation before anything is written
     path.parent.mkdir(parents=True, exist_ok=True)
     lines = ",\n".join("  " + json.dumps(t, separators=(", ", ": ")) for t in tasks)
     head = json.dumps({k: v for k, v in doc.items() if k != "tasks"}, indent=1)[:-2]
-    path.write_text(head + ',\n "tasks": [\n' + lines + "\n ]\n}\n", encoding="utf-8")
+    tmp = path.with_name(path.name + ".tmp")  # one task per line (the classic file's layout), renamed into place
+    tmp.write_text(head + ',\n "tasks": [\n' + lines + "\n ]\n}\n", encoding="utf-8")
+    tmp.replace(path)
     steps_all = [t["oracle_steps"] for t in tasks]
     return (f"wrote {len(tasks)} tasks ({len(tasks) // len(SUBSETS)} scenes x {len(SUBSETS)} subsets) to {path}; "
             f"oracle steps {min(steps_all)}-{max(steps_all)}, mean {np.mean(steps_all):.1f}")

@@ -20,8 +20,6 @@ end within 1 m of the target inside the step budget.
 
 from __future__ import annotations
 
-import hashlib
-import json
 import math
 from collections import OrderedDict
 from functools import lru_cache
@@ -31,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from eb_core.env import Task
+from eb_core.taskfile import split_rng
 
 __all__ = ["SEED_RANGE", "SPLITS", "split_tasks", "take_room", "test_keys", "write_split"]
 
@@ -54,8 +53,8 @@ def test_keys(task_file: str | None = None) -> tuple[frozenset[tuple[str, int]],
 
 
 def _stream(split: str, index: int) -> np.random.Generator:
-    digest = hashlib.sha256(f"navigation:{split}:{index}".encode()).digest()
-    return np.random.default_rng(int.from_bytes(digest[:16], "big"))
+    """The random stream of split task ``index``: the core's :func:`~eb_core.taskfile.split_rng` for navigation."""
+    return split_rng("navigation", split, index)
 
 
 def _expert_solves(free: Any, state: Any, xy: tuple[float, float], budget: int) -> bool:
@@ -243,19 +242,13 @@ def write_split(out: str, split: str, n: int, start: int = 0, difficulty: str = 
     folder that gets ``navigation_<split>.json``), so that ``eb run env=navigation env.params.task_file=<file>``
     evaluates on them. Returns a one-line summary."""
     from eb_navigation.placement import GENERATOR_VERSION
-    from eb_navigation.tasks import TASK_FILE_FORMAT, TASK_FILE_VERSION, TaskFile
+    from eb_navigation.tasks import FORMAT
 
     path = Path(out)
     if path.suffix != ".json":
         path = path / f"navigation_{split}.json"
     tasks = [{"id": t.id, "subset": t.subset, "instruction": t.instruction, **t.metadata}
              for t in split_tasks(split, start, n, difficulty=difficulty)]
-    doc = {"format": TASK_FILE_FORMAT, "version": TASK_FILE_VERSION,
-           "generator": {"function": "eb_navigation.splits:split_tasks", "generator_version": GENERATOR_VERSION,
-                         "split": split, "start": start, "n": n,
-                         **({"difficulty": difficulty} if difficulty != "classic" else {})},
-           "tasks": tasks}
-    TaskFile.model_validate(doc)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
-    return [path]
+    generator = {"function": "eb_navigation.splits:split_tasks", "generator_version": GENERATOR_VERSION,
+                 "split": split, "start": start, "n": n, **({"difficulty": difficulty} if difficulty != "classic" else {})}
+    return [FORMAT.write(path, tasks, generator=generator)]

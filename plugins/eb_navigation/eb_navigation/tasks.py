@@ -13,12 +13,14 @@ A task file is JSON written by :mod:`eb_navigation.generate`::
 Rooms are the scene kit's ``generate_room(kind, seed)`` (centred on the origin); types and colours are the kit
 catalogue's names.
 
-Loading validates everything and fails with ONE line naming the file, the task and the field.
+Reading, validating (ONE error line naming the file, the task and the field), caching and writing are the core's
+:mod:`eb_core.taskfile` (:data:`FORMAT`); this module keeps the task model and the per-subset folder layout.
 """
 
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 from typing import Any, Literal
@@ -167,76 +169,49 @@ class NavTaskSpec(_Strict):
         return Task(id=self.id, subset=self.subset, instruction=self.instruction, metadata=meta)
 
 
-class TaskFile(_Strict):
-    format: Literal["eb-navigation-tasks"]
-    version: int = Field(ge=1)
-    generator: dict[str, Any]
+@dataclass(frozen=True)
+class TaskFile:
+    """A single-file task set (the classic file, a generated file or split): its validated tasks, read through the
+    core's :data:`FORMAT`, and the envelope's ``format``, ``version`` and ``generator`` parameters."""
+
+    path: Path
     tasks: tuple[NavTaskSpec, ...]
 
-    @model_validator(mode="after")
-    def _unique_ids(self) -> "TaskFile":
-        seen: set[str] = set()
-        for t in self.tasks:
-            if t.id in seen:
-                raise ValueError(f"duplicate task id {t.id!r}")
-            seen.add(t.id)
-        return self
+    @property
+    def format(self) -> str:
+        return str(self._head()["format"])
+
+    @property
+    def version(self) -> int:
+        return int(self._head()["version"])
+
+    @property
+    def generator(self) -> dict[str, Any]:
+        """The parameters the file was made with (its envelope's ``generator`` block)."""
+        gen = self._head().get("generator")
+        return dict(gen) if isinstance(gen, dict) else {}
+
+    def _head(self) -> dict[str, Any]:
+        return _envelope_head(str(self.path), self.path.stat().st_mtime_ns)
+
+
+@lru_cache(maxsize=8)
+def _envelope_head(path_str: str, _mtime_ns: int) -> dict[str, Any]:
+    """The envelope of a file the core has validated, without its tasks (cached by modification time)."""
+    raw = json.loads(Path(path_str).read_text(encoding="utf-8"))
+    return {k: v for k, v in raw.items() if k != "tasks"}
 
 
 def task_file_path(task_file: str | Path | None) -> Path:
     return DEFAULT_TASK_FILE if task_file is None else Path(task_file).expanduser()
 
 
-def _one_line(path: Path, raw: Any, exc: ValidationError) -> str:
-    err = exc.errors()[0]
-    loc = list(err["loc"])
-    where = ""
-    if len(loc) >= 2 and loc[0] == "tasks" and isinstance(loc[1], int):
-        idx = loc[1]
-        tid = None
-        try:
-            tid = raw["tasks"][idx].get("id")
-        except (KeyError, IndexError, TypeError, AttributeError):
-            pass
-        where = f"task {tid!r} (#{idx})" if tid else f"task #{idx}"
-        loc = loc[2:]
-    field = ".".join(str(p) for p in loc) or "(the whole entry)"
-    msg = err["msg"]
-    if err["type"] == "missing":
-        msg = "is missing"
-    elif err["type"] == "extra_forbidden":
-        msg = "is not a known field"
-    else:
-        msg = f"{msg} (got {err.get('input')!r})"
-    head = f"{path}: {where}: " if where else f"{path}: "
-    return f"{head}field {field}: {msg}"
-
-
-@lru_cache(maxsize=8)
-def _load_cached(path_str: str, mtime: float) -> TaskFile:
-    path = Path(path_str)
-    try:
-        raw = json.loads(path.read_text(encoding="utf-8"))
-    except json.JSONDecodeError as exc:
-        raise TaskFileError(f"{path}: not valid JSON: {exc.msg} at line {exc.lineno} column {exc.colno}") from None
-    if not isinstance(raw, dict):
-        raise TaskFileError(f"{path}: field (top level): must be a JSON object")
-    if isinstance(raw.get("version"), int) and raw["version"] != TASK_FILE_VERSION:
-        raise TaskFileError(f"{path}: field version: the file is version {raw['version']} but this eb-navigation "
-                            f"reads version {TASK_FILE_VERSION}; regenerate it with "
-                            f"`eb tasks generate env=navigation`")
-    try:
-        tf = TaskFile.model_validate(raw)
-    except ValidationError as exc:
-        raise TaskFileError(_one_line(path, raw, exc)) from None
-    return tf
-
-
 def load_task_file(task_file: str | Path | None = None) -> TaskFile:
+    """The tasks of one task file (default: the shipped classic file), validated by the core's
+    :class:`~eb_core.taskfile.TaskFileFormat` (one-line :class:`TaskFileError` naming file, task and field; cached
+    by modification time)."""
     path = task_file_path(task_file)
-    if not path.is_file():
-        raise TaskFileError(f"{path}: task file not found")
-    return _load_cached(str(path.resolve()), path.stat().st_mtime)
+    return TaskFile(path, FORMAT.read(path))
 
 
 def spec_of(task: Task) -> NavTaskSpec:
