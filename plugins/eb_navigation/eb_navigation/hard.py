@@ -244,9 +244,11 @@ def _sector_ok(b: float, sector: str, min_bearing: float) -> bool:
 
 def _pick(room: NavRoom, target: NavObject, lo: float, hi: float, min_plan: int, max_plan: int, sector: str,
           level: Level, tally: Tally, rng: np.random.Generator, accept: Any, limit: int = 48,
-          avoid: AgentState | None = None, agents: dict[str, Any] | None = None) -> _Start | None:
+          avoid: AgentState | None = None, agents: dict[str, Any] | None = None, strict: bool = False
+          ) -> _Start | None:
     """An admissible start that ``accept`` (the rendered check) takes: candidates in random order, checked one by
-    one against the blind baselines; the first that no baseline solves wins, else the first admissible one."""
+    one against the blind baselines; the first that no baseline solves wins, else the first admissible one
+    (``strict``: only a start that no blind policy and none of ``agents`` solves)."""
     free = room.free_space(room.extra_ids)
     xy = (target.x, target.y)
     states = []
@@ -267,7 +269,7 @@ def _pick(room: NavRoom, target: NavObject, lo: float, hi: float, min_plan: int,
         if not tally.admits(st):
             continue
         clean = not (st.blind.any() or st.rules.any())
-        if not clean and fallback is not None:
+        if not clean and (strict or fallback is not None):
             continue
         tried += 1
         if tried > _VIS_TRIES:
@@ -306,8 +308,11 @@ class Scene:
 
 def draw_scene(kind: str, seed: int, type_name: str, level: Level, rng: np.random.Generator,
                tallies: dict[str, Tally], vis: Any | None, sector: str,
-               parts: tuple[str, ...] = ("plain", "visual_appearance", "long_horizon")) -> Scene | None:
-    """The tasks of one room, or None when this room cannot give them (the caller draws another)."""
+               parts: tuple[str, ...] = ("plain", "visual_appearance", "long_horizon"), strict: bool = False
+               ) -> Scene | None:
+    """The tasks of one room, or None when this room cannot give them (the caller draws another). ``strict``:
+    every start must be clean of all blind policies and of :data:`CHECK_AGENTS` (see :func:`seal`)."""
+    agents = CHECK_AGENTS if strict else None
     made = _furnish(kind, seed, level, type_name, rng)
     if made is None:
         return None
@@ -319,11 +324,12 @@ def draw_scene(kind: str, seed: int, type_name: str, level: Level, rng: np.rando
         if part == "long_horizon":
             min_plan = starts["plain"].plan + 2 if "plain" in starts else 8
             pick = _pick(room, target, lo, hi + 1.0, min_plan, level.lh_max_plan, sector, level, tallies[part], rng,
-                         lambda c: _hidden(room, c, target_id, vis))
+                         lambda c: _hidden(room, c, target_id, vis), agents=agents, strict=strict)
         else:
             avoid = starts["plain"].state if part == "visual_appearance" and "plain" in starts else None
             pick = _pick(room, target, lo, hi, 6, level.max_plan, "ahead", level, tallies[part], rng,
-                         lambda c: _visible(room, c, target_id, look_ids, level, vis), avoid=avoid)
+                         lambda c: _visible(room, c, target_id, look_ids, level, vis), avoid=avoid, agents=agents,
+                         strict=strict)
         if pick is None:
             return None
         starts[part] = pick
@@ -398,30 +404,12 @@ def repair(tasks: list[dict[str, Any]], level: Level, cap: int, rng: np.random.G
                 break
             k = bad[0]
             e, room = entries[k], rooms[int(entries[k]["scene"]["seed"])]
+            slot = e["id"].rsplit("_", 1)[1]
             tally = Tally(cap)
             others = [s for j, s in enumerate(starts) if j != k]
             tally.blind = np.sum([s.blind for s in others], axis=0).astype(np.int32)
             tally.rules = np.sum([s.rules for s in others], axis=0).astype(np.int32)
-            target = room.get(e["target"]["id"])
-            looks = [o.id for o in room.objects if o.type == target.type and o.id != target.id]
-            lo, hi = level.distance
-            slot = e["id"].rsplit("_", 1)[1]
-            if part == "long_horizon":
-                base_plan = by_id[f"base_{slot}"]["oracle_steps"]
-                b = bearing_to(starts[k].state, (target.x, target.y))
-                sector = "behind" if abs(b) > 135 else "left" if b > 0 else "right"
-                pick = _pick(room, target, lo, hi + 1.0, base_plan + 2, level.lh_max_plan, sector, level, tally, rng,
-                             lambda c: _hidden(room, c, target.id, vis), limit=400, agents=CHECK_AGENTS)
-            else:
-                lh_plan = by_id[f"long_horizon_{slot}"]["oracle_steps"]
-                avoid = None
-                if part == "visual_appearance":
-                    p = by_id[f"base_{slot}"]["start"]
-                    avoid = AgentState.from_pose(p["x"], p["y"], p["yaw"])
-                top = level.max_plan if part == "visual_appearance" else max(min(level.max_plan, lh_plan - 2), 12)
-                pick = _pick(room, target, lo - 0.5, hi + 1.0, 6, top, "wide", level, tally, rng,
-                             lambda c: _visible(room, c, target.id, looks, level, vis), limit=400, avoid=avoid,
-                             agents=CHECK_AGENTS)
+            pick = _replacement(part, e, room, by_id, starts[k].state, level, tally, rng, vis)
             if pick is None:
                 if progress:
                     print(f"repair: no admissible start for {e['id']}", file=sys.stderr, flush=True)
@@ -436,6 +424,111 @@ def repair(tasks: list[dict[str, Any]], level: Level, cap: int, rng: np.random.G
             if progress:
                 print(f"repair: moved the start of {', '.join(names)}", file=sys.stderr, flush=True)
     return tasks
+
+
+def _replacement(part: str, e: dict[str, Any], room: NavRoom, by_id: dict[str, dict[str, Any]], now: AgentState,
+                 level: Level, tally: Tally, rng: np.random.Generator, vis: Any | None, strict: bool = False
+                 ) -> _Start | None:
+    """Another start for the task ``e`` (of ``part``) in its room, under the rules of a repaired start: a
+    long_horizon start keeps its side (left, right, behind) and stays 2+ actions longer than base; an in-view start
+    may have the target up to 45 degrees off, 2-4.5 m away, and stays 2+ actions shorter than long_horizon."""
+    target = room.get(e["target"]["id"])
+    looks = [o.id for o in room.objects if o.type == target.type and o.id != target.id]
+    lo, hi = level.distance
+    slot = e["id"].rsplit("_", 1)[1]
+    if part == "long_horizon":
+        base_plan = by_id[f"base_{slot}"]["oracle_steps"]
+        b = bearing_to(now, (target.x, target.y))
+        sector = "behind" if abs(b) > 135 else "left" if b > 0 else "right"
+        return _pick(room, target, lo, hi + 1.0, base_plan + 2, level.lh_max_plan, sector, level, tally, rng,
+                     lambda c: _hidden(room, c, target.id, vis), limit=400, agents=CHECK_AGENTS, strict=strict)
+    lh_plan = by_id[f"long_horizon_{slot}"]["oracle_steps"]
+    avoid = None
+    if part == "visual_appearance":
+        p = by_id[f"base_{slot}"]["start"]
+        avoid = AgentState.from_pose(p["x"], p["y"], p["yaw"])
+    top = level.max_plan if part == "visual_appearance" else max(min(level.max_plan, lh_plan - 2), 12)
+    return _pick(room, target, lo - 0.5, hi + 1.0, 6, top, "wide", level, tally, rng,
+                 lambda c: _visible(room, c, target.id, looks, level, vis), limit=400, avoid=avoid,
+                 agents=CHECK_AGENTS, strict=strict)
+
+
+_PARTS = {"plain": ("base", "common_sense", "complex_instruction"), "visual_appearance": ("visual_appearance",),
+          "long_horizon": ("long_horizon",)}
+SEAL_TRIES = 300
+"""Rooms :func:`seal` draws for a slot whose room has no start left that no blind agent solves."""
+
+
+def _room_of(entry: dict[str, Any]) -> NavRoom:
+    from eb_navigation.tasks import NavTaskSpec
+
+    spec = NavTaskSpec.model_validate(entry)
+    return NavRoom(spec.scene.kind, spec.scene.seed, [x.spec() for x in spec.extra_objects], spec.scene.clutter)
+
+
+def seal(tasks: list[dict[str, Any]], level: Level, rng: np.random.Generator, vis: Any | None,
+         progress: bool = False) -> list[dict[str, Any]]:
+    """The last pass: no task keeps a start that any blind policy (all 10,948) or any of :data:`CHECK_AGENTS`
+    (the core audit's feedback policies among them) solves. Such a start moves to a clean one in the same room
+    (the rules of :func:`repair`); a slot whose room has none left is drawn again (same kind, target type and
+    long_horizon side; a new room, fresh wording). Returns the entries (in place where possible)."""
+    by_id = {t["id"]: t for t in tasks}
+    slots = sorted({t["id"].rsplit("_", 1)[1] for t in tasks})
+    for slot in slots:
+        room = _room_of(by_id[f"base_{slot}"])
+        for part, names in _PARTS.items():
+            e = by_id[f"{names[0]}_{slot}"]
+            now = _start_of(room, e, CHECK_AGENTS)
+            if not (now.blind.any() or now.rules.any()):
+                continue
+            pick = _replacement(part, e, room, by_id, now.state, level, Tally(None), rng, vis, strict=True)
+            if pick is None:
+                _redraw(slot, tasks, by_id, level, rng, vis, progress)
+                break
+            for name in names:
+                by_id[f"{name}_{slot}"]["start"] = {"x": pick.state.x, "y": pick.state.y,
+                                                   "yaw": pick.state.yaw_deg, "tilt": 0}
+                by_id[f"{name}_{slot}"]["oracle_steps"] = pick.plan
+            if progress:
+                print(f"seal: moved the start of {', '.join(f'{n}_{slot}' for n in names)}", file=sys.stderr,
+                      flush=True)
+    return tasks
+
+
+def _redraw(slot: str, tasks: list[dict[str, Any]], by_id: dict[str, dict[str, Any]], level: Level,
+            rng: np.random.Generator, vis: Any | None, progress: bool) -> None:
+    """Replace the five tasks of ``slot`` (in place) by those of a fresh room whose every start is clean."""
+    old = {s: by_id[f"{s}_{slot}"] for s in SUBSETS}
+    kind, type_name = old["base"]["scene"]["kind"], old["base"]["target"]["type"]
+    lh = old["long_horizon"]
+    s = AgentState.from_pose(lh["start"]["x"], lh["start"]["y"], lh["start"]["yaw"])
+    b = bearing_to(s, (lh["target"]["position"][0], lh["target"]["position"][1]))
+    sector = "behind" if abs(b) > 135 else "left" if b > 0 else "right"
+    taken = {int(t["scene"]["seed"]) for t in tasks}
+    wording: dict[str, dict[str, int]] = {}
+    for t in tasks:
+        if t["id"].rsplit("_", 1)[1] != slot:
+            used = wording.setdefault(t["subset"], {})
+            used[t["instruction"]] = used.get(t["instruction"], 0) + 1
+            k = "#" + str(int(t["template"].rsplit(".", 1)[1]))
+            used[k] = used.get(k, 0) + 1
+    for attempt in range(SEAL_TRIES):
+        seed = SEED_BASE + int(rng.integers(0, 100_000))
+        if seed in taken:
+            continue
+        tallies = {p: Tally(None) for p in _PARTS}
+        sc = draw_scene(kind, seed, type_name, level, rng, tallies, vis, sector, strict=True)
+        if sc is None:
+            continue
+        for entry in scene_tasks(sc, int(slot), rng, wording):
+            old[entry["subset"]].clear()
+            old[entry["subset"]].update(entry)
+        if progress:
+            print(f"seal: slot {slot} drawn again ({kind} seed {seed}, {sc.target.colour} {type_name}, after "
+                  f"{attempt + 1} room(s))", file=sys.stderr, flush=True)
+        return
+    raise RuntimeError(f"seal: no {kind} room with a {type_name} gives slot {slot} starts that no blind agent "
+                       f"solves in {SEAL_TRIES} rooms; try another seed")
 
 
 _SECTORS = ("left", "behind", "right")
@@ -487,6 +580,8 @@ def generate_level(level: str = "hard", seed: int = 0, scenes: int = 60, out: st
     try:
         tasks = repair(tasks, lv, cap, np.random.default_rng([int(seed), 0x4A4D, DIFFICULTIES.index(level), 1]),
                        vis, progress)
+        tasks = seal(tasks, lv, np.random.default_rng([int(seed), 0x4A4D, DIFFICULTIES.index(level), 2]), vis,
+                     progress)
     finally:
         vis.close()
     gen = {"function": "eb_navigation.generate:generate", "difficulty": level, "seed": int(seed),
