@@ -348,13 +348,13 @@ def blind_table(task_file: str | None = None) -> str:
         return NavRoom(t.scene.kind, t.scene.seed, [e.spec() for e in t.extra_objects], t.scene.clutter)
 
     tf = load_task_file(task_file)
-    rooms: dict[tuple, object] = {}
+    rooms: dict[tuple, NavRoom] = {}
     blind: dict[str, list[np.ndarray]] = defaultdict(list)
     rules: dict[str, list[np.ndarray]] = defaultdict(list)
     for t in tf.tasks:
         key = (t.scene.kind, t.scene.seed, t.scene.clutter, t.extra_objects)
         room = rooms.get(key) or rooms.setdefault(key, build_room(t))
-        free = room.free_space(room.extra_ids)  # type: ignore[attr-defined]
+        free = room.free_space(room.extra_ids)
         s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
         blind[t.subset].append(blind_successes(free, s, t.target.position[:2]))
         rules[t.subset].append(np.array(list(rule_agent_successes(free, s, t.target.position[:2]).values())))
@@ -362,7 +362,7 @@ def blind_table(task_file: str | None = None) -> str:
     random_wins: dict[str, int] = defaultdict(int)
     for t in tf.tasks:  # a seeded random agent, stepped on the same free space the env uses
         room = rooms[(t.scene.kind, t.scene.seed, t.scene.clutter, t.extra_objects)]
-        free = room.free_space(room.extra_ids)  # type: ignore[attr-defined]
+        free = room.free_space(room.extra_ids)
         s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw, t.start.tilt)
         for _ in range(MAX_STEPS):
             s, _, _ = free.apply(s, int(rng.integers(8)))

@@ -237,11 +237,11 @@ class FreeSpace:
                 parent[nxt] = (cur, a)
                 if a <= 3 and goal[nxt[0] - self.i0, nxt[1] - self.j0]:
                     plan = []
-                    node = nxt
-                    while parent[node] is not None:
-                        prev, act = parent[node]  # type: ignore[misc]
+                    link = parent[nxt]
+                    while link is not None:
+                        node, act = link
                         plan.append(act)
-                        node = prev
+                        link = parent[node]
                     return plan[::-1]
                 queue.append(nxt)
         return None

@@ -250,5 +250,6 @@ def write_split(out: str, split: str, n: int, start: int = 0, difficulty: str = 
     tasks = [{"id": t.id, "subset": t.subset, "instruction": t.instruction, **t.metadata}
              for t in split_tasks(split, start, n, difficulty=difficulty)]
     generator = {"function": "eb_navigation.splits:split_tasks", "generator_version": GENERATOR_VERSION,
-                 "split": split, "start": start, "n": n, **({"difficulty": difficulty} if difficulty != "classic" else {})}
+                 "split": split, "start": start, "n": n,
+                 **({"difficulty": difficulty} if difficulty != "classic" else {})}
     return [FORMAT.write(path, tasks, generator=generator)]
