@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Callable, Sequence
+from functools import partial
 
 import numpy as np
 
@@ -304,10 +305,10 @@ REACTIVE_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
 
 SIDESTEP_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
     **{f"step {name} {k} times, then forward, step {name} on a bump":
-       _turn_first((side,) * k, lambda side=side: _forward_sidestep(side))
+       _turn_first((side,) * k, partial(_forward_sidestep, side))
        for k in (3, 4, 5, 6) for side, name in ((2, "right"), (3, "left"))},
     **{f"step {name} {k} times, then forward, turn {name} on a bump":
-       _turn_first((side,) * k, lambda turn=turn: _forward_turn(turn))
+       _turn_first((side,) * k, partial(_forward_turn, turn))
        for k in (1, 2, 3, 4) for side, name, turn in ((2, "right", 4), (3, "left", 5))},
 }
 """Side-step-first agents: a blind guess that the target is ahead and a little to one side. The hard generator

@@ -31,7 +31,8 @@ def step_times(n: int = 50, resolution: int = 500) -> dict[str, Any]:
     tasks = NavigationEnv.load_tasks()
     env = NavigationEnv(resolution=resolution)
     try:
-        resets, same = [], []
+        resets: list[float] = []
+        same: list[float] = []
         previous = None
         for task in tasks[: max(10, min(30, n // 2))]:
             t0 = time.perf_counter()
@@ -45,7 +46,9 @@ def step_times(n: int = 50, resolution: int = 500) -> dict[str, Any]:
         actions = iter(cycle * (n // len(cycle) + 1))
         option = mujoco.MjvOption()
         option.geomgroup[CEILING_GROUP] = 1  # the same geoms a step draws (the ceiling is in view)
-        scene = env._world.scene  # noqa: SLF001 - the benchmark looks inside on purpose
+        world = env._world  # noqa: SLF001 - the benchmark looks inside on purpose
+        assert world is not None and world.scene is not None, "reset() builds the scene"
+        scene = world.scene
         # Each raw render follows the step it is compared with: same viewpoint, same machine load.
         timing = median_step_vs_render(lambda: env.step(next(actions)), lambda: (scene.model, scene.data),
                                        AGENT_CAMERA, n, resolution, scene_option=option)

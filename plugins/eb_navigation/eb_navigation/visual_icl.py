@@ -105,7 +105,7 @@ def build(out_dir: Path = ICL_DIR) -> Path:
                     break
                 chunk = plan[:size]
                 scene.set_agent(s)
-                img = Image.fromarray(scene.first_person()).resize((IMAGE_SIZE, IMAGE_SIZE), Image.LANCZOS)
+                img = Image.fromarray(scene.first_person()).resize((IMAGE_SIZE, IMAGE_SIZE), Image.Resampling.LANCZOS)
                 fname = f"example{k}_step{n_img}.png"
                 img.save(out_dir / fname, optimize=True)
                 images.append(fname)
