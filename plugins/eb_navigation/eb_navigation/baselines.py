@@ -23,7 +23,7 @@ import numpy as np
 from eb_core.audit.contract import BlindPolicy
 from eb_navigation.geometry import SUCCESS_DISTANCE, AgentState, FreeSpace, _move_delta
 
-__all__ = ["BLIND_POLICIES", "BlindPolicy", "HARD_RULE_AGENTS", "MAX_STEPS", "REACTIVE_RULE_AGENTS", "RULE_AGENTS", "SIDESTEP_RULE_AGENTS",
+__all__ = ["BLIND_POLICIES", "BlindPolicy", "HARD_RULE_AGENTS", "MAX_STEPS", "REACTIVE_ON_FAIL", "REACTIVE_RULE_AGENTS", "RULE_AGENTS", "SIDESTEP_RULE_AGENTS",
            "blind_policy",
            "blind_successes", "plan_lengths", "policy_name", "rule_agent_successes"]
 
@@ -296,10 +296,14 @@ def _reactive(on_fail: tuple[int, ...]) -> Callable[[], RuleAgent]:
 
 
 _WORD = {2: "step right", 3: "step left", 4: "turn right", 5: "turn left"}
-REACTIVE_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
-    **{f"forward; after a failure {_WORD[r]}": _reactive((r,)) for r in (4, 5, 2, 3)},
-    **{f"forward; after a failure {_WORD[s]}, after two {_WORD[t]}": _reactive((s, t)) for s in (2, 3) for t in (4, 5)},
+REACTIVE_ON_FAIL: dict[str, tuple[int, ...]] = {
+    **{f"forward; after a failure {_WORD[r]}": (r,) for r in (4, 5, 2, 3)},
+    **{f"forward; after a failure {_WORD[s]}, after two {_WORD[t]}": (s, t) for s in (2, 3) for t in (4, 5)},
 }
+"""The core audit's ``feedback_policies`` for navigation by name: the actions played after 1, 2, ... failures in a
+row (:class:`eb_core.audit.blind.ReactivePolicy`'s ``on_fail``); the cycle is always forward."""
+REACTIVE_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
+    name: _reactive(on_fail) for name, on_fail in REACTIVE_ON_FAIL.items()}
 """The core audit's ``feedback_policies`` for navigation, on the geometry."""
 
 

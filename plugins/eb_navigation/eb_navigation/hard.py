@@ -17,7 +17,10 @@ and instructions. Per scene slot one room (seeds from :data:`SEED_BASE`, apart f
 No start sits in a pocket: from every start at least 1 m (4 moves) is clear straight ahead or to one side. Every
 start is checked on the geometry (:mod:`eb_navigation.baselines`) against all 10,948 blind constant-action
 policies and the feedback-only rule agents; a start that would lift any of them above ``cap`` tasks of its subset
-(default 3.4 % of the scenes, at least 1) is refused.
+(default 3.4 % of the scenes, at least 1) is refused. Two passes over the finished set follow: :func:`repair`
+holds the agents of :data:`CHECK_AGENTS` to the cap too, and :func:`seal` leaves no start that ANY blind policy or
+agent solves (a start moves within its room; a room with no clean start left is drawn again), so a blind or
+feedback-only player solves no shipped task and no sample of them.
 """
 
 from __future__ import annotations
@@ -44,7 +47,8 @@ from eb_navigation.hard_words import HARD_COMMON_SENSE, HARD_SHAPES, hard_instru
 from eb_navigation.room import KINDS, ExtraSpec, NavObject, NavRoom, colour_distance, probe
 from eb_navigation.tasks import SUBSETS
 
-__all__ = ["DIFFICULTIES", "LEVELS", "Level", "MIN_LOOKALIKE_GAP", "SEED_BASE", "draw_scene", "generate_level"]
+__all__ = ["CHECK_AGENTS", "DIFFICULTIES", "LEVELS", "Level", "MIN_LOOKALIKE_GAP", "SEED_BASE", "draw_scene",
+           "generate_level", "repair", "seal"]
 
 DIFFICULTIES = ("classic", "medium", "hard")
 """The generator's difficulty knob: ``classic`` is the shipped classic generator (:mod:`eb_navigation.generate`)."""
