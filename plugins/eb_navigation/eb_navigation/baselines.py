@@ -4,9 +4,10 @@ The task generator uses them to reject starts that an agent could solve without 
 probes (:mod:`eb_navigation.audit`) measure them on a whole task file. Everything runs on the lattice of
 :class:`~eb_navigation.geometry.FreeSpace` (no rendering), with the same collision checks as the env.
 
-* **Blind policies** (the core's :class:`~eb_core.audit.contract.BlindPolicy` over action indices) ignore everything: a fixed prefix (none, one or two turns) followed by a fixed action cycle
-  of length 1-4 repeated until the step budget runs out (always forward; turn left once then forward; forward,
-  forward, left, ...). Tilting never moves the agent, so actions 6 and 7 are folded into one "wait" action.
+* **Blind policies** (the core's :class:`~eb_core.audit.contract.BlindPolicy` over action indices) ignore
+  everything: a fixed prefix (none, one or two turns) followed by a fixed action cycle of length 1-4 repeated
+  until the step budget runs out (always forward; turn left once then forward; forward, forward, left, ...).
+  Tilting never moves the agent, so actions 6 and 7 are folded into one "wait" action.
   All policies are stepped together with numpy over a transition table of the room's ``(cell, heading)`` states.
 * **Rule agents** see what a language-only model sees when it is told nothing about the scene: the instruction
   (useless without a view) and whether each action succeeded. They walk forward and react to bumps.
@@ -23,8 +24,8 @@ import numpy as np
 from eb_core.audit.contract import BlindPolicy
 from eb_navigation.geometry import SUCCESS_DISTANCE, AgentState, FreeSpace, _move_delta
 
-__all__ = ["BLIND_POLICIES", "BlindPolicy", "HARD_RULE_AGENTS", "MAX_STEPS", "REACTIVE_ON_FAIL", "REACTIVE_RULE_AGENTS", "RULE_AGENTS", "SIDESTEP_RULE_AGENTS",
-           "blind_policy",
+__all__ = ["BLIND_POLICIES", "CHECK_AGENTS", "HARD_RULE_AGENTS", "MAX_STEPS", "REACTIVE_ON_FAIL",
+           "REACTIVE_RULE_AGENTS", "RULE_AGENTS", "SIDESTEP_RULE_AGENTS", "BlindPolicy", "blind_policy",
            "blind_successes", "plan_lengths", "policy_name", "rule_agent_successes"]
 
 MAX_STEPS = 20
@@ -316,7 +317,13 @@ SIDESTEP_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
        for k in (1, 2, 3, 4) for side, name, turn in ((2, "right", 4), (3, "left", 5))},
 }
 """Side-step-first agents: a blind guess that the target is ahead and a little to one side. The hard generator
-repairs every start that would lift one of them above its cap (:func:`eb_navigation.hard.repair`)."""
+repairs every start that would lift one of them above its cap (:func:`eb_navigation.hard_set.repair`)."""
+
+
+CHECK_AGENTS: dict[str, Callable[[], RuleAgent]] = {**HARD_RULE_AGENTS, **SIDESTEP_RULE_AGENTS, **REACTIVE_RULE_AGENTS}
+"""Every feedback-only agent a finished hard set is held to (the hard generator's first pass uses the cheaper
+:data:`HARD_RULE_AGENTS`; :func:`eb_navigation.hard_set.repair` and :func:`~eb_navigation.hard_set.seal` move the
+starts the rest would solve)."""
 
 
 def rule_agent_successes(free: FreeSpace, start: AgentState, target_xy: tuple[float, float],

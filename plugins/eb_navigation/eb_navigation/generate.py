@@ -208,7 +208,7 @@ def generate(seed: int = 0, scenes: int = 60, min_distance: float = 2.5, max_dis
         level = "" if difficulty == "classic" else f"{difficulty} "
         return f"wrote {int(n)} {level}{split} tasks ({int(start)}..{int(start) + int(n) - 1}) to {paths[0]}"
     if difficulty != "classic":
-        from eb_navigation.hard import generate_level
+        from eb_navigation.hard_set import generate_level
 
         return generate_level(difficulty, seed=int(seed), scenes=int(scenes), out=out, progress=True)
     seed, scenes = int(seed), int(scenes)
@@ -320,7 +320,7 @@ def audit_form(out: str, seed: int, per_subset: int, difficulty: str = "classic"
     and rule-agent caps scaled to the smaller file. Written as one task file at ``out`` (a harder ``difficulty``:
     a folder of per-subset files, ``per_subset`` scenes of that level)."""
     if difficulty != "classic":
-        from eb_navigation.hard import generate_level
+        from eb_navigation.hard_set import generate_level
 
         return generate_level(difficulty, seed=int(seed), scenes=max(1, int(per_subset)), out=out, progress=False)
     full = 60
