@@ -126,7 +126,7 @@ def _replacement(part: str, e: dict[str, Any], room: NavRoom, by_id: dict[str, d
     if part == "visual_appearance":
         p = by_id[f"base_{slot}"]["start"]
         avoid = AgentState.from_pose(p["x"], p["y"], p["yaw"])
-    top = level.max_plan if part == "visual_appearance" else max(min(level.max_plan, lh_plan - 2), 12)
+    top = level.max_plan if part == "visual_appearance" else max(min(level.max_plan, lh_plan - 2), 6)
     return _pick(room, target, lo - 0.5, hi + 1.0, 6, top, "wide", level, tally, rng,
                  lambda c: _visible(room, c, target.id, looks, level, vis), limit=400, avoid=avoid,
                  agents=CHECK_AGENTS, strict=strict)

@@ -28,6 +28,7 @@ ACTION_RULES = """\
 - Tilting (ids 6-7) points the camera 30 degrees up or down (at most 60 down and 30 up) to see things near the floor or high up.
 - A move into a wall or a piece of furniture fails and you stay where you were. After each action you learn only whether it worked.
 - When an action fails, the rest of your plan is dropped: nothing after it is carried out, and you are asked for a new plan from where you stand.
+- The episode ends after 20 actions in all, failed ones included. Plan a way that gets there well within that: moves that bump into things and turns that only look around use up the same budget.
 - Success is measured from the centre of your body to the centre of the target object, along the floor: the episode ends by itself, as a success, once that distance is 1 metre (4 moves) or less. Beside a large object, such as the long side of a table or a sofa, its centre can still be more than 1 metre away, so keep moving toward the middle of the object until the episode ends."""
 
 GUIDELINES = (
