@@ -92,9 +92,9 @@ LEVELS: dict[str, Level] = {
 }
 """``hard`` keeps the expert's plan at 11 actions or fewer (long_horizon 13) of the 20-step budget: 7-9 steps of
 slack for looking around and for bumps, so running out of steps is the player's doing."""
-LOW_TOP = 0.7
+LOW_TOP = 0.5
 """Metres: a floor object lower than this drops below the untilted view when the agent comes near it."""
-CORRIDOR_HALF_WIDTH = 0.35
+CORRIDOR_HALF_WIDTH = 0.25
 """Metres either side of the straight line from a hard start toward the target kept free of low objects."""
 
 

@@ -5,14 +5,13 @@ from __future__ import annotations
 import hashlib
 import math
 import random
+import re
 from collections import Counter, defaultdict
+from pathlib import Path
 
+import eb_navigation
 import numpy as np
 import pytest
-
-from eb_core.planner import PlannerConfig
-from eb_core.taskfile import TaskFileError as CoreTaskFileError
-from eb_core.taskfile import task_set_digest
 from eb_navigation.baselines import (
     BLIND_POLICIES,
     HARD_RULE_AGENTS,
@@ -31,6 +30,7 @@ from eb_navigation.hard import (
     LEVELS,
     MIN_COLOUR_DISTANCE,
     MIN_LOOKALIKE_GAP,
+    clear_corridor,
     not_in_pocket,
 )
 from eb_navigation.instructions import colour_word
@@ -44,6 +44,10 @@ from eb_navigation.tasks import (
     load_taskset,
     spec_of,
 )
+
+from eb_core.planner import PlannerConfig
+from eb_core.taskfile import TaskFileError as CoreTaskFileError
+from eb_core.taskfile import task_set_digest
 
 CLASSIC_FILE_SHA256 = "cc21c96a5369e4ce3da7802eda0810e930189ac32f4c6b9480bd31cd73a79f36"
 CLASSIC_TASKS_DIGEST = "fd8b8664512ca5b10095c64d3e187b48822da98b22c45f8a6ac39757e3a7f60c"
@@ -108,11 +112,17 @@ def test_targets_are_small_with_lookalikes_told_apart_by_colour(hard, rooms) -> 
 
 def test_starts_no_pocket_and_long_horizon_direction_must_be_found(hard, rooms) -> None:
     sides = Counter()
+    level = LEVELS["hard"]
     for t in hard:
         room = rooms(t)
         free = room.free_space(room.extra_ids)
         s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
         assert not_in_pocket(free, s), t.id
+        # slack for looking around and bumps: the expert needs <= 11 of the 20 steps (long_horizon <= 13), and no
+        # low floor object (below the untilted view when near) stands on the straight way toward the target
+        assert t.oracle_steps <= (level.lh_max_plan if t.subset == "long_horizon" else level.max_plan), t.id
+        assert MAX_STEPS - t.oracle_steps >= 7, t.id
+        assert clear_corridor(room, s, room.get(t.target.id)), t.id
         b = bearing_to(s, t.target.position[:2])
         if t.subset == "long_horizon":
             assert abs(b) >= LEVELS["hard"].lh_min_bearing, t.id
@@ -270,6 +280,9 @@ def test_language_only_prompt_speaks_of_no_camera_or_image() -> None:
     assert "camera" in head(texts[False]).lower() and "image" in head(texts[False]).lower()
     for text in texts.values():  # both say how success is measured and that a failure drops the plan
         assert "centre of your body to the centre of the target" in text and "the rest of your plan is dropped" in text
+        assert "The episode ends after 20 actions in all, failed ones included." in text  # the step budget
+    conf = (Path(eb_navigation.__file__).parent / "conf" / "env" / "navigation.yaml").read_text()
+    assert re.search(r"^max_steps: 20$", conf, re.M) and MAX_STEPS == 20  # the budget the prompt states
 
 
 @pytest.mark.parametrize("level", ["medium", "hard"])
