@@ -306,6 +306,8 @@ def test_levels_draw_scenes_with_their_knobs(level: str) -> None:
     assert 0 < bearing_to(lh.state, (sc.target.x, sc.target.y)) <= 135  # "left" asked for
     assert lh.plan >= sc.starts["plain"].plan + 2 and lh.plan <= lv.lh_max_plan
     assert all(not_in_pocket(free, st.state) for st in sc.starts.values())
+    assert all(clear_corridor(sc.room, st.state, sc.target) for st in sc.starts.values())
+    assert sc.starts["plain"].plan <= lv.max_plan
 
 
 def test_generate_rejects_an_unknown_difficulty(tmp_path) -> None:
