@@ -43,7 +43,7 @@ from eb_navigation.room import ExtraSpec, NavObject, NavRoom, colour_distance, p
 from eb_navigation.tasks import SUBSETS
 
 __all__ = ["CHECK_AGENTS", "DIFFICULTIES", "HARD_TYPES", "LEVELS", "Level", "MIN_LOOKALIKE_GAP", "SEED_BASE", "Scene",
-           "Tally", "clear_corridor", "draw_scene", "free_run", "not_in_pocket", "scene_tasks"]
+           "Tally", "draw_scene", "free_run", "not_in_pocket", "scene_tasks"]
 
 DIFFICULTIES = ("classic", "medium", "hard")
 """The generator's difficulty knob: ``classic`` is the shipped classic generator (:mod:`eb_navigation.generate`)."""
@@ -88,14 +88,8 @@ class Level:
 
 LEVELS: dict[str, Level] = {
     "medium": Level("medium", 12, (1, 2), (1, 1), 50, (2.5, 3.5), 15, 17, 100.0),
-    "hard": Level("hard", 20, (3, 5), (2, 3), 15, (2.5, 3.5), 11, 13, 60.0),
+    "hard": Level("hard", 20, (3, 5), (2, 3), 15, (2.5, 3.5), 16, 18, 60.0),
 }
-"""``hard`` keeps the expert's plan at 11 actions or fewer (long_horizon 13) of the 20-step budget: 7-9 steps of
-slack for looking around and for bumps, so running out of steps is the player's doing."""
-LOW_TOP = 0.5
-"""Metres: a floor object lower than this drops below the untilted view when the agent comes near it."""
-CORRIDOR_HALF_WIDTH = 0.25
-"""Metres either side of the straight line from a hard start toward the target kept free of low objects."""
 
 
 # -- the room -----------------------------------------------------------------------------------------------------
@@ -200,27 +194,6 @@ def not_in_pocket(free: FreeSpace, s: AgentState) -> bool:
     return any(free_run(free, s, a) >= MIN_FREE_RUN for a in (0, 2, 3))
 
 
-def clear_corridor(room: NavRoom, s: AgentState, target: NavObject) -> bool:
-    """No floor object lower than :data:`LOW_TOP` (teddy bears, balls, boxes, look-alikes) comes within
-    :data:`CORRIDOR_HALF_WIDTH` of the straight way from ``s`` toward the target (up to 1 m short of it, where the
-    episode ends): such a thing sits below the untilted view once the agent is near it, and a bump names nothing."""
-    sx, sy = s.x, s.y
-    dx, dy = target.x - sx, target.y - sy
-    length = math.hypot(dx, dy)
-    if length <= 1.0:
-        return True
-    ux, uy = dx / length, dy / length
-    run = length - 1.0
-    for o in room.objects:
-        if not o.on_floor or o.id == target.id or 2 * o.centre[2] >= LOW_TOP:
-            continue
-        t = min(max((o.x - sx) * ux + (o.y - sy) * uy, 0.0), run)
-        if math.hypot(o.x - (sx + t * ux), o.y - (sy + t * uy)) - max(get_type(o.type).half_extents) \
-                < CORRIDOR_HALF_WIDTH:
-            return False
-    return True
-
-
 @dataclass
 class _Start:
     state: AgentState
@@ -284,8 +257,7 @@ def _pick(room: NavRoom, target: NavObject, lo: float, hi: float, min_plan: int,
         if not lo - 1e-9 <= math.hypot(i * STEP - xy[0], j * STEP - xy[1]) <= hi + 1e-9:
             continue
         s = AgentState(i, j, h)
-        if s != avoid and _sector_ok(bearing_to(s, xy), sector, level.lh_min_bearing) and not_in_pocket(free, s) \
-                and clear_corridor(room, s, target):
+        if s != avoid and _sector_ok(bearing_to(s, xy), sector, level.lh_min_bearing) and not_in_pocket(free, s):
             states.append((s, n))
     fallback, tried = None, 0
     for k in rng.permutation(len(states))[:limit]:

@@ -9,8 +9,8 @@ Three passes, all seeded by ``seed``:
    (side-step-first guesses, the core audit's feedback policies) above the cap;
 3. :func:`seal` leaves no start that ANY of the 10,948 blind policies or of those agents solves: such a start moves
    to a clean one in its room, and a slot whose room has none left is drawn again (same kind, target type and
-   long_horizon side while they give rooms). A blind or feedback-only player then solves no shipped task, so no
-   sample of them either (``eb audit --quick`` plays 20 per subset).
+   long_horizon side). A blind or feedback-only player then solves no shipped task, so no sample of them either
+   (``eb audit --quick`` plays 20 per subset).
 """
 
 from __future__ import annotations
@@ -126,7 +126,7 @@ def _replacement(part: str, e: dict[str, Any], room: NavRoom, by_id: dict[str, d
     if part == "visual_appearance":
         p = by_id[f"base_{slot}"]["start"]
         avoid = AgentState.from_pose(p["x"], p["y"], p["yaw"])
-    top = level.max_plan if part == "visual_appearance" else max(min(level.max_plan, lh_plan - 2), 6)
+    top = level.max_plan if part == "visual_appearance" else max(min(level.max_plan, lh_plan - 2), 12)
     return _pick(room, target, lo - 0.5, hi + 1.0, 6, top, "wide", level, tally, rng,
                  lambda c: _visible(room, c, target.id, looks, level, vis), limit=400, avoid=avoid,
                  agents=CHECK_AGENTS, strict=strict)
@@ -150,8 +150,7 @@ def seal(tasks: list[dict[str, Any]], level: Level, rng: np.random.Generator, vi
     """The last pass: no task keeps a start that any blind policy (all 10,948) or any of :data:`CHECK_AGENTS`
     (the core audit's feedback policies among them) solves. Such a start moves to a clean one in the same room
     (the rules of :func:`repair`); a slot whose room has none left is drawn again (same kind, target type and
-    long_horizon side, the next type or kind when they run dry; a new room, fresh wording). Returns the entries
-    (in place where possible)."""
+    long_horizon side; a new room, fresh wording). Returns the entries (in place where possible)."""
     by_id = {t["id"]: t for t in tasks}
     slots = sorted({t["id"].rsplit("_", 1)[1] for t in tasks})
     for slot in slots:
@@ -193,10 +192,6 @@ def _redraw(slot: str, tasks: list[dict[str, Any]], by_id: dict[str, dict[str, A
             k = "#" + str(int(t["template"].rsplit(".", 1)[1]))
             used[k] = used.get(k, 0) + 1
     for attempt in range(SEAL_TRIES):
-        if attempt and attempt % 30 == 0:  # this type runs dry here: the next one
-            type_name = HARD_TYPES[(HARD_TYPES.index(type_name) + 1) % len(HARD_TYPES)]
-        if attempt and attempt % 90 == 0:  # and this kind of room: the next kind
-            kind = KINDS[(KINDS.index(kind) + 1) % 3]
         seed = SEED_BASE + int(rng.integers(0, 100_000))
         if seed in taken:
             continue
@@ -243,9 +238,9 @@ def generate_level(level: str = "hard", seed: int = 0, scenes: int = 60, out: st
             sector = _SECTORS[slot % len(_SECTORS)]
             sc = None
             for attempt in range(400):
-                if attempt and attempt % 15 == 0:  # this type runs dry here: the next one
+                if attempt and attempt % 40 == 0:  # this type runs dry here: the next one
                     type_name = HARD_TYPES[(HARD_TYPES.index(type_name) + 1) % len(HARD_TYPES)]
-                if attempt and attempt % 45 == 0:  # and this kind of room: the next kind
+                if attempt and attempt % 120 == 0:
                     kind = KINDS[(KINDS.index(kind) + 1) % 3]
                 room_seed = SEED_BASE + int(rng.integers(0, 100_000))
                 sc = draw_scene(kind, room_seed, type_name, lv, rng, tallies, vis, sector)

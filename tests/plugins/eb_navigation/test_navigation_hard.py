@@ -30,7 +30,6 @@ from eb_navigation.hard import (
     LEVELS,
     MIN_COLOUR_DISTANCE,
     MIN_LOOKALIKE_GAP,
-    clear_corridor,
     not_in_pocket,
 )
 from eb_navigation.instructions import colour_word
@@ -118,11 +117,7 @@ def test_starts_no_pocket_and_long_horizon_direction_must_be_found(hard, rooms) 
         free = room.free_space(room.extra_ids)
         s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
         assert not_in_pocket(free, s), t.id
-        # slack for looking around and bumps: the expert needs <= 11 of the 20 steps (long_horizon <= 13), and no
-        # low floor object (below the untilted view when near) stands on the straight way toward the target
         assert t.oracle_steps <= (level.lh_max_plan if t.subset == "long_horizon" else level.max_plan), t.id
-        assert MAX_STEPS - t.oracle_steps >= 7, t.id
-        assert clear_corridor(room, s, room.get(t.target.id)), t.id
         b = bearing_to(s, t.target.position[:2])
         if t.subset == "long_horizon":
             assert abs(b) >= LEVELS["hard"].lh_min_bearing, t.id
@@ -306,7 +301,6 @@ def test_levels_draw_scenes_with_their_knobs(level: str) -> None:
     assert 0 < bearing_to(lh.state, (sc.target.x, sc.target.y)) <= 135  # "left" asked for
     assert lh.plan >= sc.starts["plain"].plan + 2 and lh.plan <= lv.lh_max_plan
     assert all(not_in_pocket(free, st.state) for st in sc.starts.values())
-    assert all(clear_corridor(sc.room, st.state, sc.target) for st in sc.starts.values())
     assert sc.starts["plain"].plan <= lv.max_plan
 
 
