@@ -148,7 +148,9 @@ class ManipulationEnv(Env):
 
         family = self._scene.family if self._scene is not None else "pick"
         sizes = [o.size for o in self._scene.objects if o.kind == "area" and o.size] if self._scene else []
-        kw = {"area_cm": (round(max(sizes[0]) * 100), round(min(sizes[0]) * 100))} if sizes else {}
+        kw: dict[str, Any] = {"area_cm": (round(max(sizes[0]) * 100), round(min(sizes[0]) * 100))} if sizes else {}
+        if self._scene is not None and any(o.hole_yaws for o in self._scene.objects):
+            kw["turned_holes"] = True
         return prompt_parts(family, example_set(self.params.detection_boxes, self.multi_view), self.multi_view,
                             **kw)
 
@@ -214,7 +216,8 @@ class ManipulationEnv(Env):
 
     def discrete_position(self, key: str) -> tuple[int, int, int]:
         """Discrete [x, y, z] bins of an object's reference point (what the object list shows)."""
-        p = self._world.reference_point(key)  # type: ignore[union-attr]
+        assert self._world is not None, "reset() first"
+        p = self._world.reference_point(key)
         return pos_to_bin(p[0], "x"), pos_to_bin(p[1], "y"), pos_to_bin(p[2], "z")
 
     def _is_target(self, key: str) -> bool:
@@ -292,7 +295,7 @@ class ManipulationEnv(Env):
                     f"hole's centre)"}.get(d.kind, d.description)
             if d.kind == "area":
                 spec = self._scene.get(k)
-                dx, dy = spec.size  # type: ignore[misc]
+                dx, dy = spec.extent
                 what = (f"{art} {d.description} on the table, {round(dy * 100)} cm from left to right and "
                         f"{round(dx * 100)} cm from front to back, centred at its coordinates")
             x, y, z = coords[k]

@@ -502,7 +502,7 @@ def _family_wipe(rng: np.random.Generator, subset: str, k: int) -> _Draft:
     if subset in ("base", "complex"):
         instr = _finish(rng, subset, t.format(c=target.colour, d=d))
     elif subset == "common_sense":
-        instr = t.format(s=pick(rng, SPILLS[target.colour]), d=DIRECTION_COMMON[direction])  # type: ignore[index]
+        instr = t.format(s=pick(rng, SPILLS[target.colour_name]), d=DIRECTION_COMMON[direction])
     else:  # spatial: the one of the two same-coloured areas on some side of the other
         twin = areas[1]
         sides = [side for side in _SIDE if _extreme([target, twin], side) is target]

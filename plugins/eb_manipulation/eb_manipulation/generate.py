@@ -81,84 +81,97 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
     """
     level = _level(difficulty)
     if split != "test":
-        from eb_manipulation.splits import SPLITS, write_split
-
-        if split not in SPLITS:
-            raise ValueError(f"unknown split {split!r}; allowed: test (the shipped tasks), {', '.join(SPLITS)}")
-        if n is None or int(n) < 1 or out is None:
-            raise ValueError(f"split={split} needs n=<tasks, >= 1> and out=<file.json or folder> (the shipped "
-                             f"task file holds the test split only)")
-        return write_split(str(out), split, int(n), int(start), difficulty=level)
+        return _write_split(out, split, n, start, level)
     if max_attempts is None:
         max_attempts = 40 if level == 0 else 300
+    out_path = _out_path(out, level, seed, difficulty)
+    chosen = _chosen(subsets)
+    tasks: list[dict[str, Any]] = []
+    t0 = time.time()
+    for subset in chosen:
+        seen: set[str] = set()  # every instruction of a subset is different
+        for family in SUBSET_FAMILIES[subset]:
+            tasks += [_solvable(seed, subset, family, k, level, max_attempts, verify, seen) for k in range(per_family)]
+            if not quiet:
+                print(f"  {subset:<13} {family:<7} {per_family} tasks  ({time.time() - t0:.0f}s)", flush=True,
+                      file=sys.stderr if level else sys.stdout)
+    _write(out_path, tasks, level, seed, verify)
+    if not quiet:
+        name = {v: k for k, v in LEVELS.items()}.get(level, str(level))
+        print(f"wrote {len(tasks)} tasks ({name}) to {out_path}" if level else f"wrote {len(tasks)} tasks to {out_path}",
+              file=sys.stderr if level else sys.stdout)
+    return out_path
+
+
+def _write_split(out: str | Path | None, split: str, n: int | None, start: int, level: int) -> list[Path]:
+    """``generate(split=train|val)``: tasks ``start .. start + n - 1`` of a generated split, to ``out``."""
+    from eb_manipulation.splits import SPLITS, write_split
+
+    if split not in SPLITS:
+        raise ValueError(f"unknown split {split!r}; allowed: test (the shipped tasks), {', '.join(SPLITS)}")
+    if n is None or int(n) < 1 or out is None:
+        raise ValueError(f"split={split} needs n=<tasks, >= 1> and out=<file.json or folder> (the shipped "
+                         f"task file holds the test split only)")
+    return write_split(str(out), split, int(n), int(start), difficulty=level)
+
+
+def _out_path(out: str | Path | None, level: int, seed: int, difficulty: str | int) -> Path:
+    """Where a test-split file goes: ``out``, else the shipped file of its set (classic; hard seed 0), else a fresh
+    form's own name in the current folder (it never overwrites a shipped file)."""
     if out is not None:
-        out_path = Path(out)
-    elif level == 0:
-        out_path = DEFAULT_OUT
-    elif level == LEVELS["hard"] and seed == 0:
+        return Path(out)
+    if level == 0:
+        return DEFAULT_OUT
+    if level == LEVELS["hard"] and seed == 0:
         from eb_manipulation.tasks import HARD_TASK_FILE
 
-        out_path = HARD_TASK_FILE  # the shipped hard set is seed 0
-    else:  # a fresh form never overwrites the shipped file
-        out_path = Path.cwd() / f"manipulation_{difficulty}_seed{seed}.json"
+        return HARD_TASK_FILE
+    return Path.cwd() / f"manipulation_{difficulty}_seed{seed}.json"
+
+
+def _chosen(subsets: list[str] | tuple[str, ...] | str | None) -> tuple[str, ...]:
     chosen = SUBSETS if subsets is None else ((subsets,) if isinstance(subsets, str) else tuple(subsets))
     unknown = [s for s in chosen if s not in SUBSETS]
     if unknown:
         raise ValueError(f"unknown subsets {unknown}; known: {list(SUBSETS)}")
-    tasks: list[dict[str, Any]] = []
-    seen: dict[str, set[str]] = {s: set() for s in chosen}
-    t0 = time.time()
-    for subset in chosen:
-        for family in SUBSET_FAMILIES[subset]:
-            for k in range(per_family):
-                for attempt in range(max_attempts):
-                    try:
-                        task = make_task(seed, subset, family, k, attempt, level)
-                    except _Retry:
-                        continue
-                    if task["instruction"] in seen[subset]:
-                        continue  # every instruction of a subset is different
-                    if verify:
-                        ok, steps = verify_task(task)
-                        if not ok or not verify_task(task, closed_loop=True)[0]:
-                            continue
-                        task["metadata"]["oracle_steps"] = steps
-                    seen[subset].add(task["instruction"])
-                    task["metadata"]["attempt"] = attempt
-                    tasks.append(task)
-                    break
-                else:
-                    raise RuntimeError(f"could not make a solvable task for {subset}/{family}/{k}")
-            if not quiet:
-                print(f"  {subset:<13} {family:<7} {per_family} tasks  ({time.time() - t0:.0f}s)", flush=True,
-                      file=sys.stderr if level else sys.stdout)
+    return tuple(chosen)
+
+
+def _solvable(seed: int, subset: str, family: str, k: int, level: int, max_attempts: int, verify: bool,
+              seen: set[str]) -> dict[str, Any]:
+    """The first draw of (subset, family, k) whose instruction is new in ``seen`` and (``verify``) that the expert
+    solves open and closed loop within the budget; its instruction is added to ``seen``."""
+    for attempt in range(max_attempts):
+        try:
+            task = make_task(seed, subset, family, k, attempt, level)
+        except _Retry:
+            continue
+        if task["instruction"] in seen:
+            continue
+        if verify:
+            ok, steps = verify_task(task)
+            if not ok or not verify_task(task, closed_loop=True)[0]:
+                continue
+            task["metadata"]["oracle_steps"] = steps
+        seen.add(task["instruction"])
+        task["metadata"]["attempt"] = attempt
+        return task
+    raise RuntimeError(f"could not make a solvable task for {subset}/{family}/{k}")
+
+
+def _write(out_path: Path, tasks: list[dict[str, Any]], level: int, seed: int, verify: bool) -> None:
+    """Write a test-split file: the core envelope for the harder levels, the classic file's own (format 2)."""
+    out_path.parent.mkdir(parents=True, exist_ok=True)
     if level:
-        from eb_manipulation.tasks import envelope
+        from eb_manipulation.tasks import FORMAT
 
         name = {v: k for k, v in LEVELS.items()}.get(level, str(level))
-        doc = envelope(tasks, generator={"name": "eb_manipulation.generate:generate", "seed": seed,
-                                         "difficulty": name, "verified": bool(verify), "count": len(tasks)})
-        out_path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = out_path.with_name(out_path.name + ".tmp")
-        tmp.write_text(json.dumps(doc, indent=1) + "\n")
-        tmp.replace(out_path)
-        if not quiet:
-            print(f"wrote {len(tasks)} tasks ({name}) to {out_path}", file=sys.stderr)
-        return out_path
-    doc = {
-        "format": TASK_FORMAT,
-        "version": TASKS_VERSION,
-        "generator": "eb_manipulation.generate:generate",
-        "seed": seed,
-        "verified": bool(verify),
-        "count": len(tasks),
-        "tasks": tasks,
-    }
-    out_path.parent.mkdir(parents=True, exist_ok=True)
+        FORMAT.write(out_path, tasks, generator={"name": "eb_manipulation.generate:generate", "seed": seed,
+                                                 "difficulty": name, "verified": bool(verify), "count": len(tasks)})
+        return
+    doc = {"format": TASK_FORMAT, "version": TASKS_VERSION, "generator": "eb_manipulation.generate:generate",
+           "seed": seed, "verified": bool(verify), "count": len(tasks), "tasks": tasks}
     out_path.write_text(json.dumps(doc, indent=1) + "\n")
-    if not quiet:
-        print(f"wrote {len(tasks)} tasks to {out_path}")
-    return out_path
 
 
 def audit_form(out: str, seed: int, per_subset: int, difficulty: str | int = "classic") -> Path:
@@ -175,7 +188,7 @@ def audit_form(out: str, seed: int, per_subset: int, difficulty: str | int = "cl
             per_family = max(1, math.ceil(int(per_subset) / len(SUBSET_FAMILIES[subset])))
             part = generate(out=Path(tmp) / f"{subset}.json", seed=seed, per_family=per_family, subsets=[subset],
                             quiet=True, difficulty=difficulty)
-            doc = json.loads(Path(part).read_text())  # type: ignore[arg-type]
+            doc = json.loads(Path(str(part)).read_text())
             tasks += doc["tasks"]
     if _level(difficulty):
         doc["tasks"] = tasks

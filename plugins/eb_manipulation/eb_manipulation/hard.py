@@ -34,7 +34,7 @@ from eb_manipulation.families import (
     _Retry,
     _spatial_ref,
 )
-from eb_manipulation.shapes import COLOURS, SHAPES, colours_confusable
+from eb_manipulation.shapes import COLOURS, SHAPES, SYMMETRY, colours_confusable
 from eb_manipulation.spec import DIRECTIONS, VARIANTS, GoalSpec, ObjectSpec
 from eb_manipulation.templates import (
     _CONTEXT_BRIDGE,
@@ -70,10 +70,15 @@ _KEEP_WIPE = (
     "Keep the sponge off every other area.",
     "No other area may be touched by the sponge.",
 )
-_KEEP_SORTER = (
+_KEEP_SORTER_MEDIUM = (
     "Drop it straight through its own hole: nothing may be left on the sorter's lid, and everything else stays "
     "where it is.",
     "Use its own hole at the first try, leave nothing on the lid, and move nothing else.",
+)
+_KEEP_SORTER = (
+    "Turn it to match its hole's outline and drop it straight through at the first try: nothing may be left on the "
+    "sorter's lid, and everything else stays where it is.",
+    "Line it up with the outline of its own hole, leave nothing on the lid, and move nothing else.",
 )
 _CLOSE = (
     "Thanks, that will make the rest of my day easier.",
@@ -209,9 +214,9 @@ def _finish(rng: np.random.Generator, subset: str, core: str, keep: tuple[str, .
 def _obj_text(subset: str, o: ObjectSpec, rng: np.random.Generator) -> str:
     """How an instruction names a loose object by its looks (base/complex: colour and shape)."""
     if subset == "common_sense":
-        return f"{pick(rng, SHAPE_COMMON[o.shape])} with the colour of {COLOUR_COMMON[o.colour]}"  # type: ignore
+        return f"{pick(rng, SHAPE_COMMON[o.shape_name])} with the colour of {COLOUR_COMMON[o.colour_name]}"
     if subset == "visual":
-        return f"the {COLOUR_VISUAL[o.colour]} object {SHAPE_VISUAL[o.shape]}"  # type: ignore[index]
+        return f"the {COLOUR_VISUAL[o.colour_name]} object {SHAPE_VISUAL[o.shape_name]}"
     return f"the {o.colour} {o.shape}"
 
 
@@ -247,7 +252,7 @@ def _pick(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
         core = _tpick(rng, ("Put {o} into the {c} container.", "Move {o} into the {c} container.",
                           "Pick up {o} and drop it into the {c} container."), rec).format(o=ref, c=box.colour)
     else:
-        o, c = _obj_text(subset, target, rng), _cont_text(subset, box.colour)  # type: ignore[arg-type]
+        o, c = _obj_text(subset, target, rng), _cont_text(subset, box.colour_name)
         core = _tpick(rng, ("Put only {o} into {c}.", "Move {o}, and nothing else, into {c}.",
                             "Pick up {o} and place it in {c}."), rec).format(o=o, c=c)
     instr = _finish(rng, subset, core[0].upper() + core[1:], rec=rec)
@@ -290,9 +295,9 @@ def _stack(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
                 raise _Retry("no unique spatial reference")
             refs.append(r)
     elif subset == "common_sense":
-        refs = [f"the cube the colour of {COLOUR_COMMON[c.colour]}" for c in order]  # type: ignore[index]
+        refs = [f"the cube the colour of {COLOUR_COMMON[c.colour_name]}" for c in order]
     elif subset == "visual":
-        refs = [f"the {COLOUR_VISUAL[c.colour]} cube" for c in order]  # type: ignore[index]
+        refs = [f"the {COLOUR_VISUAL[c.colour_name]} cube" for c in order]
     else:
         refs = [f"the {c.colour} cube" for c in order]
     if height == 2:
@@ -309,6 +314,22 @@ def _stack(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
                   tuple(c.id for c in order), variant, _tid("stack", subset, rec, f"/{mode}"))
 
 
+def _hole_yaws(rng: np.random.Generator, holes: list[str], target: ObjectSpec, sorter_yaw: float) -> tuple[float, ...]:
+    """Turns of the hole outlines on the lid (degrees, relative to the sorter): the target's own hole is turned at
+    least 30 degrees away from how the target lies (modulo its symmetry), so it must be turned to fit; the others at
+    random."""
+    out = []
+    for shape in holes:
+        sym = SYMMETRY[shape]
+        if shape == target.shape:
+            off = float(rng.uniform(30.0, max(30.0, sym / 2))) * float(rng.choice([-1, 1]))
+            turn = target.yaw + off - sorter_yaw
+        else:
+            turn = float(rng.uniform(-sym / 2, sym / 2))
+        out.append(round((turn + sym / 2) % sym - sym / 2, 1))
+    return tuple(out)
+
+
 def _sorter(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
     placer = _Placer(rng)
     rec: list[int] = []  # indices of the sentences drawn (the template id)
@@ -320,13 +341,16 @@ def _sorter(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft
         sx, sy = float(rng.uniform(0.08, 0.14)), float(rng.choice([-1, 1])) * float(rng.uniform(0.22, 0.26))
     if not placer.put("sorter", sx, sy, yaw, holes=3):
         raise _Retry("sorter")
-    sorter = ObjectSpec(id="sorter", kind="sorter", x=round(sx, 4), y=round(sy, 4), yaw=round(yaw, 1),
-                        holes=tuple(holes))
     n = 7 if level >= 2 else 5
-    target_shape = holes[int(rng.integers(3))]
+    # hard: the turn is part of the task, so the target is a shape whose turn a person reads off the image (not the
+    # cylinder, which fits any way, nor the five-pointed star, which looks the same every 72 degrees)
+    target_shape = str(pick(rng, [h for h in holes if h in ("cube", "moon", "triangle")] if level >= 2 else holes))
     shapes, colours = _lookalike_shapes(rng, target_shape, n, shape_pool=holes)
     objs = _place_shapes(rng, placer, shapes, colours, grid=subset == "spatial")
     target = objs[0]
+    turns = _hole_yaws(rng, holes, target, yaw) if level >= 2 else ()
+    sorter = ObjectSpec(id="sorter", kind="sorter", x=round(sx, 4), y=round(sy, 4), yaw=round(yaw, 1),
+                        holes=tuple(holes), hole_yaws=turns)
     if subset == "spatial":
         ref = _two_hop(objs, target, rng)
         if ref is None:
@@ -335,7 +359,8 @@ def _sorter(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft
         ref = _obj_text(subset, target, rng)
     core = _tpick(rng, ("Put {o} into the shape sorter.", "Slot {o} into its hole in the shape sorter.",
                         "Drop {o}, and only that object, through its hole in the shape sorter."), rec).format(o=ref)
-    instr = _finish(rng, subset, core[0].upper() + core[1:], keep=_KEEP_SORTER, rec=rec)
+    instr = _finish(rng, subset, core[0].upper() + core[1:], keep=_KEEP_SORTER if turns else _KEEP_SORTER_MEDIUM,
+                    rec=rec)
     keep = tuple(o.id for o in objs[1:]) + (sorter.id,)
     variant = "place_into_shape_sorter_relative" if subset == "spatial" else VARIANTS["sorter"]
     return _Draft([sorter] + objs, GoalSpec(family="sorter", target=target.id, keep_still=keep), instr,
@@ -347,56 +372,100 @@ def _area_size(direction: str) -> tuple[float, float]:
     return (short, long) if direction in ("left_to_right", "right_to_left") else (long, short)
 
 
+#: Unit step (dx, dy) of each wiping direction on the table (front = larger x).
+_STEP = {"left_to_right": (0.0, 1.0), "right_to_left": (0.0, -1.0), "front_to_back": (-1.0, 0.0),
+         "back_to_front": (1.0, 0.0)}
+
+
+def _wipe_colours(rng: np.random.Generator, subset: str, n: int) -> list[str]:
+    """Colours of the ``n`` areas, the target's first: a near shade beside it (spatial: the target's colour twice)."""
+    if subset == "common_sense":
+        a = str(pick(rng, list(SPILLS)))
+        near = [c for c in SPILLS if c != a and colours_confusable(a, c)] or [c for c in SPILLS if c != a]
+        b = str(pick(rng, near))
+        return [a, b, *[str(c) for c in rng.permutation(list(SPILLS)) if c not in (a, b)][: n - 2]]
+    a, b = _near_pair(rng)
+    if subset == "spatial":
+        return [a, a, b, *_others(rng, n - 3, [a, b])]
+    return [a, b, *_others(rng, n - 2, [a, b])]
+
+
+def _anchor_pose(rng: np.random.Generator, placer: _Placer, area: ObjectSpec, direction: str,
+                 ) -> tuple[float, float, float]:
+    """A place for the shape the stroke must move toward: straight beyond the area's end edge in ``direction``
+    (15-20 cm from its centre, at most 2.5 cm off its axis: within 10 degrees of the direction)."""
+    dx, dy = _STEP[direction]
+    for _ in range(40):
+        dist, side = float(rng.uniform(0.15, 0.20)), float(rng.uniform(-0.025, 0.025))
+        x, y = area.x + dx * dist + dy * side, area.y + dy * dist + dx * side
+        a = float(rng.uniform(-180, 180))
+        if -0.06 <= x <= 0.33 and -0.36 <= y <= 0.36 and placer.put("shape", x, y, a):
+            return round(x, 4), round(y, 4), round(a, 1)
+    raise _Retry("no room for the shape beyond the area")
+
+
 def _wipe(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
+    """Hard: 7 areas, and the stroke's direction is given only by a shape it must move toward (the text names no
+    direction), so a blind player guesses both the area and the direction."""
     placer = _Placer(rng)
     rec: list[int] = []  # indices of the sentences drawn (the template id)
     direction = DIRECTIONS[k % 4]
     size = _area_size(direction)
-    n = 7 if level >= 2 else 4
-    if subset == "common_sense":
-        spills = [c for c in SPILLS]
-        a = str(pick(rng, spills))
-        near = [c for c in spills if c != a and colours_confusable(a, c)] or [c for c in spills if c != a]
-        b = str(pick(rng, near))
-        rest = [c for c in rng.permutation(spills) if c not in (a, b)][: n - 2]
-        colours = [a, b, *[str(c) for c in rest]]
-    elif subset == "spatial":
-        a, b = _near_pair(rng)
-        colours = [a, a, b, *_others(rng, n - 3, [a, b])]
-    else:
-        a, b = _near_pair(rng)
-        colours = [a, b, *_others(rng, n - 2, [a, b])]
-    areas = []
+    colours = _wipe_colours(rng, subset, 7 if level >= 2 else 4)
+    areas: list[ObjectSpec] = []
+    anchor_pose = None
     for j, c in enumerate(colours):
         x, y, _ = placer.add("area", region_x=(-0.05, 0.31), region_y=(-0.33, 0.33), yaw=0.0, size=size, tries=600)
         areas.append(ObjectSpec(id=f"area{j}", kind="area", colour=c, x=x, y=y, size=size))
+        if j == 0 and level >= 2:
+            anchor_pose = _anchor_pose(rng, placer, areas[0], direction)
     sx, sy, syaw = placer.add("sponge", region_x=REGION_X, region_y=REGION_Y, tries=400)
     sponge = ObjectSpec(id="sponge", kind="sponge", x=sx, y=sy, yaw=syaw)
-    n_shapes = int(rng.integers(1, 3))
+    n_shapes = 3 if level >= 2 else int(rng.integers(1, 3))
     shapes = [str(s) for s in rng.choice(list(SHAPES), size=n_shapes)]
-    others = _place_shapes(rng, placer, shapes, _others(rng, n_shapes, []), grid=False)
-    target = areas[0]
-    d = DIRECTION_TEXT[direction]
-    if subset == "common_sense":
-        core = _tpick(rng, ("Wipe up the patch of {s} with the sponge, moving {d}.",
-                            "Some {s} was spilled; clean just that patch with the sponge, wiping {d}."), rec).format(
-            s=pick(rng, SPILLS[target.colour]), d=DIRECTION_COMMON[direction])  # type: ignore[index]
-    elif subset == "spatial":
-        twin = areas[1]
-        sides = [side for side in _SIDE if _extreme_pair(target, twin, side)]
-        if not sides:
-            raise _Retry("the two areas are not clearly apart")
-        core = _tpick(rng, ("Wipe {a} {d} using the sponge.", "With the sponge, wipe {a} {d}."), rec).format(
-            a=_AREA_SIDE[pick(rng, sides)].format(c=target.colour), d=d)
+    cols = _others(rng, n_shapes, [])
+    others = _place_shapes(rng, placer, shapes[1:], cols[1:], grid=False, prefix="obj") if anchor_pose else \
+        _place_shapes(rng, placer, shapes, cols, grid=False)
+    if anchor_pose is not None:
+        anchor = ObjectSpec(id="anchor", kind="shape", shape=shapes[0], colour=cols[0], x=anchor_pose[0],
+                            y=anchor_pose[1], yaw=anchor_pose[2])
+        others = [anchor, *others]
+        d = f"moving toward {_obj_text(subset, anchor, rng)}"
     else:
-        core = _tpick(rng, ("Wipe the {c} area {d} with the sponge.", "Use the sponge to wipe only the {c} area {d}."),
-                      rec).format(c=target.colour, d=d)
+        d = DIRECTION_TEXT[direction]
+    core = _wipe_core(rng, subset, areas, direction, d, rec, anchored=anchor_pose is not None)
     instr = _finish(rng, subset, core, keep=_KEEP_WIPE, rec=rec)
     keep = tuple(a.id for a in areas[1:]) + tuple(o.id for o in others)
     variant = "wipe_table_relative" if subset == "spatial" else VARIANTS["wipe"]
     return _Draft(areas + [sponge] + others,
-                  GoalSpec(family="wipe", target="sponge", area=target.id, direction=direction, keep_still=keep),
-                  instr, ("sponge", target.id), variant, _tid("wipe", subset, rec))
+                  GoalSpec(family="wipe", target="sponge", area=areas[0].id, direction=direction, keep_still=keep),
+                  instr, ("sponge", areas[0].id), variant, _tid("wipe", subset, rec))
+
+
+def _wipe_core(rng: np.random.Generator, subset: str, areas: list[ObjectSpec], direction: str, d: str,
+               rec: list[int], anchored: bool) -> str:
+    """The instruction's request: which area, and ``d`` (the direction, or the shape to move toward)."""
+    target = areas[0]
+    if subset == "common_sense":
+        spill = pick(rng, SPILLS[target.colour_name])
+        if anchored:
+            return _tpick(rng, ("Wipe up the patch of {s} with the sponge, {d}.",
+                                "Some {s} was spilled; clean just that patch with the sponge, {d}."), rec).format(
+                s=spill, d=d)
+        return _tpick(rng, ("Wipe up the patch of {s} with the sponge, moving {d}.",
+                            "Some {s} was spilled; clean just that patch with the sponge, wiping {d}."), rec).format(
+            s=spill, d=DIRECTION_COMMON[direction])
+    if subset == "spatial":
+        sides = [side for side in _SIDE if _extreme_pair(target, areas[1], side)]
+        if not sides:
+            raise _Retry("the two areas are not clearly apart")
+        forms = ("Wipe {a}, {d}, using the sponge.", "With the sponge, wipe {a}, {d}.") if anchored else \
+            ("Wipe {a} {d} using the sponge.", "With the sponge, wipe {a} {d}.")
+        core = _tpick(rng, forms, rec).format(a=_AREA_SIDE[pick(rng, sides)].format(c=target.colour), d=d)
+        return core[0].upper() + core[1:]
+    forms = ("Wipe the {c} area with the sponge, {d}.", "Use the sponge to wipe only the {c} area, {d}.") \
+        if anchored else ("Wipe the {c} area {d} with the sponge.", "Use the sponge to wipe only the {c} area {d}.")
+    return _tpick(rng, forms, rec).format(c=target.colour, d=d)
 
 
 def _extreme_pair(a: ObjectSpec, b: ObjectSpec, side: str, margin: float = 0.06) -> bool:

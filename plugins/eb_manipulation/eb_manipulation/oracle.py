@@ -26,7 +26,7 @@ import numpy as np
 
 from eb_manipulation.actions import angle_to_bin, bin_to_pos, pos_to_bin
 from eb_manipulation.scene import CONTAINER, SORTER, SPONGE, TABLE_TOP, hole_centres
-from eb_manipulation.shapes import CUBE_HALF, SHAPES
+from eb_manipulation.shapes import CUBE_HALF, SHAPES, SYMMETRY
 from eb_manipulation.spec import ObjectSpec, SceneSpec
 from eb_manipulation.world import wipe_axes
 
@@ -34,8 +34,6 @@ __all__ = ["NoPlan", "StateView", "expert_plan", "initial_state", "state_of_worl
 
 Action = tuple[int, int, int, int, int, int, int]
 
-#: Rotational symmetry (degrees) of each shape about the vertical, for fitting a sorter hole.
-SYMMETRY = {"cube": 90.0, "cylinder": 360.0, "star": 72.0, "triangle": 120.0, "moon": 360.0}
 #: Another object's centre closer than this (m) to the one being grasped: approach from above first.
 CROWDED = 0.13
 #: Another object's centre closer than this (m) to the carrying segment: lift before carrying.
@@ -77,9 +75,9 @@ def initial_state(scene: SceneSpec) -> StateView:
     pos, yaw = {}, {}
     for o in scene.objects:
         if o.kind == "shape":
-            z, below = TABLE_TOP + SHAPES[o.shape].height / 2, o.on  # type: ignore[index]
+            z, below = TABLE_TOP + SHAPES[o.shape_name].height / 2, o.on
             while below is not None:
-                z += SHAPES[scene.get(below).shape].height  # type: ignore[index]
+                z += SHAPES[scene.get(below).shape_name].height
                 below = scene.get(below).on
             pos[o.id] = np.array([o.x, o.y, z])
         elif o.kind == "sponge":
@@ -138,7 +136,7 @@ def _resting_z(scene: SceneSpec, obj: str) -> float:
     spec = scene.get(obj)
     if spec.kind == "sponge":
         return TABLE_TOP + SPONGE.size[2] / 2
-    return TABLE_TOP + SHAPES[spec.shape].height / 2  # type: ignore[index]
+    return TABLE_TOP + SHAPES[spec.shape_name].height / 2
 
 
 def _fixed_obstacles(scene: SceneSpec, skip: tuple[str, ...] = ()) -> list[tuple[float, float, float]]:
@@ -307,31 +305,32 @@ def expert_plan(scene: SceneSpec, state: StateView) -> list[Action]:
 
 def _plan_pick(scene: SceneSpec, state: StateView) -> list[Action]:
     g = scene.goal
-    obj, cont = g.target, scene.get(g.container)  # type: ignore[arg-type]
+    obj, cont = g.target_id, scene.get(g.container)
     _check_reachable(scene, state, [obj])
-    acts, yaw, off, low = _holding(scene, state, obj)  # type: ignore[arg-type]
-    h = SHAPES[scene.get(obj).shape].height  # type: ignore[arg-type, index]
+    acts, yaw, off, low = _holding(scene, state, obj)
+    h = SHAPES[scene.get(obj).shape_name].height
     centre = np.array([cont.x, cont.y, TABLE_TOP + CONTAINER.height + h / 2 + 0.03])
     tcp = _place_tcp(centre, off)
     zt = centre[2] - off[2]
     steps = [_act(tcp[0], tcp[1], zt, yaw, False), _act(tcp[0], tcp[1], zt, yaw, True)]
-    return _carry(scene, state, obj, acts, yaw, off, low, (cont.id,), steps)  # type: ignore[arg-type]
+    return _carry(scene, state, obj, acts, yaw, off, low, (cont.id,), steps)
 
 
 def _plan_sorter(scene: SceneSpec, state: StateView) -> list[Action]:
-    obj = scene.goal.target
-    spec = scene.get(obj)  # type: ignore[arg-type]
+    obj = scene.goal.target_id
+    spec = scene.get(obj)
     sorter = next(o for o in scene.objects if o.kind == "sorter")
     _check_reachable(scene, state, [obj])
-    if _inside_sorter(sorter, state.positions[obj]):  # type: ignore[index]
+    if _inside_sorter(sorter, state.positions[obj]):
         raise NoPlan("{obj} fell into a compartment of the shape sorter that is not its own", obj)
-    k = sorter.holes.index(spec.shape)  # type: ignore[arg-type]
+    k = sorter.holes.index(spec.shape_name)
     hx, hy = hole_centres(sorter)[k]
-    acts, yaw, off, low = _holding(scene, state, obj)  # type: ignore[arg-type]
-    h = SHAPES[spec.shape].height  # type: ignore[index]
+    acts, yaw, off, low = _holding(scene, state, obj)
+    h = SHAPES[spec.shape_name].height
     # turn the held shape so it lines up with its hole (modulo the shape's symmetry)
-    sym = SYMMETRY[spec.shape]  # type: ignore[index]
-    delta = 0.0 if spec.shape == "cylinder" else _wrap(sorter.yaw - state.yaws[obj], sym)  # type: ignore[index]
+    sym = SYMMETRY[spec.shape_name]
+    want = sorter.yaw + (sorter.hole_yaws[k] if sorter.hole_yaws else 0.0)  # a hard sorter's outline is turned
+    delta = 0.0 if spec.shape == "cylinder" else _wrap(want - state.yaws[obj], sym)
     yaw_place = _wrap(yaw + delta, 360.0)
     c, s = math.cos(math.radians(delta)), math.sin(math.radians(delta))
     off_r = np.array([c * off[0] - s * off[1], s * off[0] + c * off[1], off[2]])
@@ -340,7 +339,7 @@ def _plan_sorter(scene: SceneSpec, state: StateView) -> list[Action]:
     zt = target[2] - off_r[2]
     steps = [_act(tcp[0], tcp[1], zt + 0.05, yaw_place, False), _act(tcp[0], tcp[1], zt, yaw_place, False),
              _act(tcp[0], tcp[1], zt, yaw_place, True)]
-    return _carry(scene, state, obj, acts, yaw, off, low, (sorter.id,), steps)  # type: ignore[arg-type]
+    return _carry(scene, state, obj, acts, yaw, off, low, (sorter.id,), steps)
 
 
 def _inside_sorter(sorter: ObjectSpec, p: np.ndarray) -> bool:
@@ -450,10 +449,10 @@ def _put_aside(scene: SceneSpec, sv: StateView, obj: str) -> tuple[StateView, li
 
 def _plan_wipe(scene: SceneSpec, state: StateView) -> list[Action]:
     g = scene.goal
-    sponge, area = g.target, scene.get(g.area)  # type: ignore[arg-type]
+    sponge, area = g.target_id, scene.get(g.area)
     _check_reachable(scene, state, [sponge])
-    acts, yaw, off, low = _holding(scene, state, sponge)  # type: ignore[arg-type]
-    axis, sign, start, end, l_lo, l_hi = wipe_axes(area, g.direction)  # type: ignore[arg-type]
+    acts, yaw, off, low = _holding(scene, state, sponge)
+    axis, sign, start, end, l_lo, l_hi = wipe_axes(area, g.stroke)
     lateral = (l_lo + l_hi) / 2
     u0 = start - sign * 0.01
     u1 = end + sign * 0.015

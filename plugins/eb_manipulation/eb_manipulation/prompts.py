@@ -96,9 +96,22 @@ AREA_SIZE = ("each marked area is {long} cm long in the direction it is to be wi
 CLASSIC_AREA = (22, 12)
 
 
-def action_rules(area_cm: tuple[int, int] = CLASSIC_AREA) -> str:
-    """The action rules, with the size of this scene's marked areas (long side along the wiping direction)."""
-    return _ACTION_RULES.replace("{area_size}", AREA_SIZE.format(long=area_cm[0], short=area_cm[1]))
+#: Added to the sorter rule when the scene's hole outlines are turned (the hard set).
+TURNED_HOLES = (" Here each hole's outline is drawn turned on the lid: a shape passes its own hole only when it is "
+                "turned to match that outline, within {tol:g} degrees (a held object turns with the gripper); turned "
+                "any other way it stays on the lid.")
+_SORTER_RULE_END = "dropped there stays on the lid."
+
+
+def action_rules(area_cm: tuple[int, int] = CLASSIC_AREA, turned_holes: bool = False) -> str:
+    """The action rules, with the size of this scene's marked areas (long side along the wiping direction) and,
+    for a sorter whose hole outlines are turned, the rule that a shape must be turned to match."""
+    text = _ACTION_RULES.replace("{area_size}", AREA_SIZE.format(long=area_cm[0], short=area_cm[1]))
+    if turned_holes:
+        from eb_manipulation.spec import FIT_TOLERANCE
+
+        text = text.replace(_SORTER_RULE_END, _SORTER_RULE_END + TURNED_HOLES.format(tol=FIT_TOLERANCE))
+    return text
 
 
 ACTION_RULES = action_rules()
@@ -136,12 +149,14 @@ def _visual(family: str) -> tuple[VisualExample, ...]:
 
 
 def prompt_parts(family: str, which: ExampleSet = "baseline", multi_view: bool = False,
-                 visual: bool = True, area_cm: tuple[int, int] = CLASSIC_AREA) -> PromptParts:
+                 visual: bool = True, area_cm: tuple[int, int] = CLASSIC_AREA,
+                 turned_holes: bool = False) -> PromptParts:
     """Prompt parts for an episode of ``family`` (pick, stack, sorter or wipe) under an example set;
-    ``area_cm``: (length, width) of the scene's marked areas in cm."""
+    ``area_cm``: (length, width) of the scene's marked areas in cm; ``turned_holes``: the sorter's hole outlines
+    are turned (hard set), so a shape must be turned to match."""
     sets = _doc()["examples"].get(family, {})
     return PromptParts(
-        role=ROLE, action_rules=action_rules(area_cm), guidelines=GUIDELINES, output_notes=OUTPUT_NOTES,
+        role=ROLE, action_rules=action_rules(area_cm, turned_holes), guidelines=GUIDELINES, output_notes=OUTPUT_NOTES,
         examples=tuple(sets.get(which, ())), examples_language_only=tuple(sets.get("language_only", ())),
         visual_examples=_visual(family) if visual else (), text_before_images=True,
         view_descriptions={"wrist": WRIST_VIEW} if multi_view else {},

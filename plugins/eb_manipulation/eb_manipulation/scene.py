@@ -190,11 +190,11 @@ def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) ->
         pos_xy = (obj.x, obj.y)
         quat = (math.cos(math.radians(obj.yaw) / 2), 0.0, 0.0, math.sin(math.radians(obj.yaw) / 2))
         if obj.kind == "shape":
-            info = SHAPES[obj.shape]  # type: ignore[index]
+            info = SHAPES[obj.shape_name]
             z = TABLE_TOP + info.height / 2 + 0.001
             below = obj.on
             while below is not None:  # a cube that starts on top of others
-                z += SHAPES[scene.get(below).shape].height + 0.001  # type: ignore[index]
+                z += SHAPES[scene.get(below).shape_name].height + 0.001
                 below = scene.get(below).on
             rgba = _rgba(obj.colour or "gray")
             shape_world = f'contype="{WORLD_CONTYPE | SHAPE_BITS[obj.shape]}" conaffinity="{WORLD_CONAFFINITY}"'
@@ -207,7 +207,7 @@ def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) ->
             else:
                 mname = f"shape_{obj.shape}"
                 if mname not in shape_meshes:
-                    mesh_xml.append(_mesh_xml(mname, obj.shape, info.height))  # type: ignore[arg-type]
+                    mesh_xml.append(_mesh_xml(mname, obj.shape_name, info.height))
                     shape_meshes.add(mname)
                 geom = f'<geom name="{obj.id}#0" type="mesh" mesh="{mname}" {common}/>'
             bodies.append(f'<body name="{obj.id}" pos="{_fmt((*pos_xy, z))}" quat="{_fmt(quat)}">'
@@ -245,7 +245,7 @@ def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) ->
         elif obj.kind == "sorter":
             bodies.append(_sorter_body(obj, quat, world, mesh_xml, shape_meshes))
         elif obj.kind == "area":
-            dx, dy = obj.size  # type: ignore[misc]
+            dx, dy = obj.extent
             bodies.append(
                 f'<body name="{obj.id}" pos="{_fmt((*pos_xy, TABLE_TOP))}">'
                 f'<geom name="{obj.id}#0" type="box" size="{dx / 2} {dy / 2} 0.0008" pos="0 0 0.0008" '
@@ -344,8 +344,13 @@ def _sorter_body(obj: ObjectSpec, quat, world: str, mesh_xml: list[str], shape_m
         if mname not in shape_meshes:
             mesh_xml.append(_mesh_xml(mname, shape, 0.001, scale=1.12))
             shape_meshes.add(mname)
+        turn = ""  # a hard sorter's outline turned on the lid (README: The hard set); classic XML unchanged
+        if obj.hole_yaws:
+            half = math.radians(obj.hole_yaws[kk]) / 2
+            turn = f' quat="{_fmt((math.cos(half), 0.0, 0.0, math.sin(half)))}"'
         g.append(f'<geom name="{obj.id}_hole{kk}#decal" type="mesh" mesh="{mname}" '
-                 f'pos="0 {centres[kk]} {H + 0.0006}" rgba="0.08 0.07 0.06 1" contype="0" conaffinity="0" group="1"/>')
+                 f'pos="0 {centres[kk]} {H + 0.0006}"{turn} rgba="0.08 0.07 0.06 1" contype="0" conaffinity="0" '
+                 f'group="1"/>')
     for kk, shape in enumerate(obj.holes):  # the plates that keep every other shape out of this hole
         others = sum(bit for name, bit in SHAPE_BITS.items() if name != shape)
         g.append(f'<geom name="{obj.id}#{k}" type="box" size="{_fmt((o, o, p / 2))}" pos="{_fmt((0, centres[kk], zc))}" '

@@ -17,11 +17,15 @@ __all__ = [
     "COLOURS",
     "CONFUSABLE",
     "SHAPES",
+    "SYMMETRY",
     "ShapeInfo",
     "colours_confusable",
     "prism_mesh",
     "shape_outline",
 ]
+
+#: Rotational symmetry (degrees) of each shape about the vertical: turned by this much it looks (and fits) the same.
+SYMMETRY = {"cube": 90.0, "cylinder": 360.0, "star": 72.0, "triangle": 120.0, "moon": 360.0}
 
 #: The paper's 19 colours, name -> RGB in [0, 1].
 COLOURS: dict[str, tuple[float, float, float]] = {

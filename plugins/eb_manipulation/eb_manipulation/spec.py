@@ -8,7 +8,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from eb_manipulation.shapes import COLOURS, SHAPES
 
-__all__ = ["DIRECTIONS", "FAMILIES", "GoalSpec", "ObjectSpec", "SceneSpec", "TASK_FORMAT"]
+__all__ = ["DIRECTIONS", "FAMILIES", "FIT_TOLERANCE", "GoalSpec", "ObjectSpec", "SceneSpec", "TASK_FORMAT"]
 
 #: Version of the task-file format; bump when the meaning of a field changes.
 TASK_FORMAT = 2
@@ -21,8 +21,17 @@ VARIANTS = {
     "sorter": "place_into_shape_sorter_color",
     "wipe": "wipe_table_direction",
 }
+#: How far (degrees) a shape may be turned away from its hole's outline and still pass (sorters with ``hole_yaws``).
+FIT_TOLERANCE = 15.0
 #: Wiping directions, named as seen in the front image.
 DIRECTIONS = ("left_to_right", "right_to_left", "front_to_back", "back_to_front")
+
+
+def _need(value, what: str):
+    """``value``, which the spec's kind or family guarantees; a missing one is a bug in the caller."""
+    if value is None:
+        raise ValueError(f"this spec has no {what}")
+    return value
 
 
 class ObjectSpec(BaseModel):
@@ -41,6 +50,10 @@ class ObjectSpec(BaseModel):
     """Rotation about the vertical, degrees."""
     holes: tuple[str, ...] = ()
     """For ``sorter``: the hole shapes, along the sorter's length (its local y axis)."""
+    hole_yaws: tuple[float, ...] = ()
+    """For a ``sorter`` of the hard set: how each hole's outline is turned on the lid (degrees, about the vertical,
+    relative to the sorter). When given, a shape passes its own hole only when it is turned to match the outline
+    (within :data:`FIT_TOLERANCE`); otherwise it stays on the lid. Empty (and left out of files): any turn fits."""
     size: tuple[float, float] | None = None
     """For ``area``: extent along world x and y (m)."""
     on: str | None = None
@@ -56,9 +69,27 @@ class ObjectSpec(BaseModel):
             raise ValueError("a sorter needs holes")
         if any(h not in SHAPES for h in self.holes):
             raise ValueError(f"unknown hole shape in {self.holes}")
+        if self.hole_yaws and len(self.hole_yaws) != len(self.holes):
+            raise ValueError(f"hole_yaws needs one angle per hole ({len(self.holes)}), got {len(self.hole_yaws)}")
         if self.kind == "area" and self.size is None:
             raise ValueError("an area needs a size")
         return self
+
+    @property
+    def shape_name(self) -> str:
+        """The shape of a ``shape`` object."""
+        return str(_need(self.shape, "shape"))
+
+    @property
+    def colour_name(self) -> str:
+        """The colour of a coloured object (a shape, container or area)."""
+        return str(_need(self.colour, "colour"))
+
+    @property
+    def extent(self) -> tuple[float, float]:
+        """The (x, y) extent of an ``area`` (m)."""
+        size: tuple[float, float] = _need(self.size, "size")
+        return size
 
 
 class GoalSpec(BaseModel):
@@ -81,6 +112,24 @@ class GoalSpec(BaseModel):
     moved by more than 2 cm, a container must receive nothing, an area must not be touched by the sponge, nothing may
     be left on the shape sorter's lid (a shape goes straight through its own hole). Once one
     of them is disturbed the task can no longer succeed. Empty in the classic set (and then left out of files)."""
+
+    @property
+    def target_id(self) -> str:
+        """pick / sorter: the object to move; wipe: the sponge."""
+        return str(_need(self.target, "target"))
+
+    @property
+    def container_id(self) -> str:
+        return str(_need(self.container, "container"))
+
+    @property
+    def area_id(self) -> str:
+        return str(_need(self.area, "area"))
+
+    @property
+    def stroke(self) -> str:
+        """wipe: the direction of the stroke."""
+        return str(_need(self.direction, "direction"))
 
 
 class SceneSpec(BaseModel):
@@ -118,7 +167,7 @@ class SceneSpec(BaseModel):
                 raise ValueError(f"goal refers to unknown object {ref!r}")
         return self
 
-    def get(self, obj_id: str) -> ObjectSpec:
+    def get(self, obj_id: str | None) -> ObjectSpec:
         for o in self.objects:
             if o.id == obj_id:
                 return o

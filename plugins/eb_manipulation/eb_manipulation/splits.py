@@ -3,19 +3,21 @@
 Task ``i`` of a split is fixed by ``(split, i)``: its (subset, family) is ``COMBOS[i % 19]`` (the 19 pairs the
 shipped file has, in file order), ``k = i // 19`` picks the stacking mode / wiping direction as ``k`` does in
 :func:`eb_manipulation.generate.make_task`, and the layout is drawn by the same family builders from a scene seed
-hashed from ``eb-manipulation-split/<version>/<split>/<i>/<attempt>`` (the shipped file seeds from
-``SeedSequence([seed, subset, family, k, attempt])``, a different namespace). A draw is refused, and the next
+drawn, one per attempt, from the core's stream of the task (:func:`eb_core.taskfile.split_rng` of
+``("manipulation", split, i)``; ``manipulation/d<level>`` for the harder levels). The shipped file seeds from
+``SeedSequence([seed, subset, family, k, attempt])`` instead. A draw is refused, and the next
 attempt drawn, when its scene seed or object layout is one of a shipped task, its instruction is a shipped
 instruction word for word, or the scripted expert does not solve it closed loop (first action of each plan,
 then re-plan) within the 15-step budget, checked in the physics-only simulator (no rendering).
 
 ``val`` keeps the shipped file's filters (open-loop and closed-loop oracle both solve); ``train`` drops the
-open-loop check and only requires the closed-loop expert (about half the simulation per task).
+open-loop check and only requires the closed-loop expert (about half the simulation per task). Tasks are served
+by the core's :class:`~eb_core.taskfile.SplitSource` and written as core task files (:data:`eb_manipulation.tasks.FORMAT`);
+split files of the older envelope (``format: 2``) still load.
 """
 
 from __future__ import annotations
 
-import hashlib
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
@@ -23,11 +25,14 @@ from typing import Any
 import numpy as np
 
 from eb_core.env import Task
+from eb_core.taskfile import SplitSource, split_rng
 
 __all__ = ["COMBOS", "SPLITS", "layout_key", "split_tasks", "test_keys", "write_split"]
 
 SPLITS = ("train", "val")
-SPLIT_VERSION = "s1"
+SPLIT_VERSION = "s2"
+"""s1 hashed a seed per attempt from ``eb-manipulation-split/s1/<split>/<i>/<attempt>``; s2 draws them from the core's
+:func:`~eb_core.taskfile.split_rng` stream."""
 MAX_ATTEMPTS = 200
 
 
@@ -61,11 +66,10 @@ def test_keys(task_file: str | None = None) -> tuple[frozenset[int], frozenset[A
             frozenset(t.instruction for t in tasks))
 
 
-def _scene_seed(split: str, index: int, attempt: int, level: int = 0) -> int:
-    level_part = f"/d{level}" if level else ""  # harder levels draw from their own namespace; classic as before
-    digest = hashlib.sha256(f"eb-manipulation-split/{SPLIT_VERSION}{level_part}/{split}/{index}/{attempt}"
-                            .encode()).digest()
-    return int.from_bytes(digest[:4], "little")
+def _scene_seeds(split: str, index: int, level: int = 0) -> np.random.Generator:
+    """The stream task ``index`` of ``split`` draws its scene seeds from (one per attempt); harder levels draw from
+    their own stream."""
+    return split_rng("manipulation" if not level else f"manipulation/d{level}", split, index)
 
 
 def _one(split: str, index: int, keys: tuple[frozenset[int], frozenset[Any], frozenset[str]], level: int = 0) -> Task:
@@ -76,8 +80,9 @@ def _one(split: str, index: int, keys: tuple[frozenset[int], frozenset[Any], fro
     seeds, layouts, instructions = keys
     subset, family = COMBOS[index % len(COMBOS)]
     k = index // len(COMBOS)
+    stream = _scene_seeds(split, index, level)
     for attempt in range(MAX_ATTEMPTS):
-        scene_seed = _scene_seed(split, index, attempt, level)
+        scene_seed = int(stream.integers(2**32))
         if scene_seed in seeds:
             continue
         try:
@@ -88,7 +93,7 @@ def _one(split: str, index: int, keys: tuple[frozenset[int], frozenset[Any], fro
             continue
         scene = SceneSpec(family=family, variant=draft.variant, scene_seed=scene_seed, objects=tuple(draft.objects),
                           goal=draft.goal, target_ids=draft.target_ids, template=draft.template)
-        entry = {"id": f"{split}_{subset}_{family}_{index:06d}", "subset": subset, "instruction": draft.instruction,
+        entry: dict[str, Any] = {"id": f"{split}_{subset}_{family}_{index:06d}", "subset": subset, "instruction": draft.instruction,
                  "metadata": scene_metadata(scene)}
         if layout_key(entry["metadata"]) in layouts:
             continue
@@ -105,9 +110,10 @@ def _one(split: str, index: int, keys: tuple[frozenset[int], frozenset[Any], fro
     raise RuntimeError(f"manipulation {split} task {index}: no valid draw in {MAX_ATTEMPTS} tries (a generator bug)")
 
 
-_recent = lru_cache(maxsize=512)(_one)
-"""The last 512 tasks made in this process: drawing and checking a task again (a reset of the same seed, a group
-of rollouts from one task, ``options={"task_id": ...}``) is a dictionary look-up. Callers get deep copies."""
+SOURCE: SplitSource[Task] = SplitSource("manipulation", _one, splits=SPLITS)
+"""The core's split source around :func:`_one`: the last 512 tasks made in this process are kept, so drawing and
+checking a task again (a reset of the same seed, a group of rollouts from one task, ``options={"task_id": ...}``)
+is a look-up. Callers get deep copies."""
 
 
 def split_tasks(split: str, start: int, count: int, task_file: str | None = None, difficulty: str | int = "classic",
@@ -117,14 +123,9 @@ def split_tasks(split: str, start: int, count: int, task_file: str | None = None
     from eb_manipulation.draw import level_of
 
     level = level_of(difficulty)
-    if split not in SPLITS:
-        raise ValueError(f"manipulation: unknown split {split!r}; generated splits are {', '.join(SPLITS)} "
-                         f"('test' is the shipped task file). Use split=train or split=val.")
-    if start < 0 or count < 0:
-        raise ValueError(f"manipulation: split_tasks needs start >= 0 and count >= 0, got start={start}, "
-                         f"count={count}")
+    SOURCE.check(split, start, count)
     keys = test_keys(task_file) if level == 0 or task_file is not None else _union(test_keys(None), test_keys("hard"))
-    return [_recent(split, i, keys, level).model_copy(deep=True) for i in range(start, start + count)]
+    return SOURCE.tasks(split, start, count, keys=keys, level=level)
 
 
 def _union(a: tuple[frozenset, ...], b: tuple[frozenset, ...]) -> tuple[frozenset, ...]:
@@ -135,19 +136,15 @@ def write_split(out: str, split: str, n: int, start: int = 0, difficulty: str | 
     """Write tasks ``start .. start + n - 1`` of ``split`` as one task file ``out`` (a ``.json`` path, or a folder
     that gets ``manipulation_<split>.json``), so that ``eb run env=manipulation env.params.task_file=<file>``
     evaluates on them. Returns the paths written (one)."""
-    import json
-
-    from eb_manipulation.spec import TASK_FORMAT
+    from eb_manipulation.draw import LEVELS, level_of
+    from eb_manipulation.tasks import FORMAT
 
     path = Path(out)
     if path.suffix != ".json":
         path = path / f"manipulation_{split}.json"
-    tasks = split_tasks(split, start, n, difficulty=difficulty)
-    doc = {"format": TASK_FORMAT, "version": SPLIT_VERSION, "generator": "eb_manipulation.splits:write_split",
-           "split": split, "start": start, "n": n, "verified": True, "count": len(tasks),
-           "tasks": [t.model_dump() for t in tasks]}
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
-    tmp.replace(path)
-    return [path]
+    level = level_of(difficulty)
+    tasks = split_tasks(split, start, n, difficulty=level)
+    name = {v: k for k, v in LEVELS.items()}[level]
+    return [FORMAT.write(path, tasks, generator={"name": "eb_manipulation.splits:write_split", "version": SPLIT_VERSION,
+                                                 "split": split, "start": start, "n": n, "difficulty": name,
+                                                 "verified": True, "count": len(tasks)})]

@@ -20,9 +20,9 @@ from eb_scenekit.scene import compile_model
 from eb_manipulation.actions import bin_to_angle, bin_to_pos, euler_to_matrix
 from eb_manipulation.kinematics import Arm, Blocker
 from eb_manipulation.robot import FINGER_OPEN, HOME_QPOS, REST_QPOS
-from eb_manipulation.scene import CONTAINER, SORTER, SPONGE, TABLE_TOP, build_scene, hole_centres
-from eb_manipulation.shapes import CUBE_HALF, SHAPES
-from eb_manipulation.spec import ObjectSpec, SceneSpec
+from eb_manipulation.scene import CONTAINER, SHAPE_BITS, SORTER, SPONGE, TABLE_TOP, build_scene, hole_centres
+from eb_manipulation.shapes import CUBE_HALF, SHAPES, SYMMETRY
+from eb_manipulation.spec import FIT_TOLERANCE, ObjectSpec, SceneSpec
 
 mujoco = import_mujoco()  # the GL backend is chosen before MuJoCo is imported
 
@@ -92,6 +92,8 @@ class World:
         self._free_qadr = {o: m.joint(f"{o}:joint").qposadr[0] for o in self.free_objects}
         self._free_dadr = {o: m.joint(f"{o}:joint").dofadr[0] for o in self.free_objects}
         self._free_geoms = {o: {g for g, own in self.geom_owner.items() if own == o} for o in self.free_objects}
+        self._contype = {g: int(m.geom_contype[g]) for gs in self._free_geoms.values() for g in gs}
+        self._turned = [o for o in scene.objects if o.kind == "sorter" and o.hole_yaws]
         self.arm = Arm(m, self.data, self.geom_owner)
         self.arm.rest = np.array(REST_QPOS)
         self.held: str | None = None
@@ -110,6 +112,8 @@ class World:
     # --- set-up -----------------------------------------------------------------------------------------
     def reset_state(self) -> None:
         mujoco.mj_resetData(self.model, self.data)
+        for g, bits in self._contype.items():
+            self.model.geom_contype[g] = bits
         self.arm.set_q(np.array(HOME_QPOS))
         self.arm.set_fingers(FINGER_OPEN)
         self.held, self._held_rel, self.gripper_open = None, None, True
@@ -195,6 +199,8 @@ class World:
         missed = False
         if want_open and not self.gripper_open:
             released = self._open()
+            if released and self._turned:
+                self._fit_holes(released)
             if released:
                 parts.append("The gripper opened and let go of {obj}.")
                 refs["obj"] = released
@@ -322,6 +328,31 @@ class World:
         op, oR = self.body_pos(obj), self.body_mat(obj)
         self.held = obj
         self._held_rel = (R.T @ (op - p), R.T @ oR)
+
+    def turned_to_fit(self, obj: str) -> bool:
+        """``obj`` is turned to match the outline of its own hole on every hard sorter (``hole_yaws``) that has one
+        (within :data:`FIT_TOLERANCE` degrees, modulo the shape's symmetry)."""
+        spec = self.scene.get(obj)
+        if spec.kind != "shape" or spec.shape is None or spec.shape == "cylinder":
+            return True
+        for sorter in self._turned:
+            if spec.shape in sorter.holes:
+                want = sorter.yaw + sorter.hole_yaws[sorter.holes.index(spec.shape)]
+                sym = SYMMETRY[spec.shape]
+                if abs((self.yaw_of(obj) - want + sym / 2) % sym - sym / 2) > FIT_TOLERANCE:
+                    return False
+        return True
+
+    def _fit_holes(self, obj: str) -> None:
+        """On release: a shape turned away from its hole's outline is kept out of every hole (its geoms collide with
+        every hole's plate) until it is grasped again; one that fits passes its own hole as usual."""
+        spec = self.scene.get(obj)
+        fits = self.turned_to_fit(obj)
+        blocked = sum(SHAPE_BITS.values()) & ~SHAPE_BITS.get(spec.shape or "", 0)
+        for g in self._free_geoms[obj]:
+            base = self._contype[g]
+            self.model.geom_contype[g] = base if fits or not base & SHAPE_BITS.get(spec.shape or "", 0) \
+                else (base | blocked)
 
     def _open(self) -> str | None:
         self.gripper_open = True
@@ -482,10 +513,10 @@ class World:
         """The family's physical success check alone (without the leave-alone conditions)."""
         g = self.scene.goal
         if g.family == "pick":
-            ok = self.held != g.target and self.in_container(g.target, g.container)  # type: ignore[arg-type]
+            ok = self.held != g.target and self.in_container(g.target_id, g.container_id)
             return ok, 1.0 if ok else 0.0
         if g.family == "sorter":
-            ok = self.held != g.target and self.in_matching_hole(g.target)  # type: ignore[arg-type]
+            ok = self.held != g.target and self.in_matching_hole(g.target_id)
             return ok, 1.0 if ok else 0.0
         if g.family == "stack":
             done = self._stacked_in_order(g.order)
@@ -526,13 +557,14 @@ class World:
         g = self.scene.goal
         if g.family == "wipe":
             sid = self._sponge_id()
-            area = self.scene.get(g.area)  # type: ignore[arg-type]
-            axis, _sign, start, end, lo, hi = wipe_axes(area, g.direction)  # type: ignore[arg-type]
+            area = self.scene.get(g.area)
+            axis, _sign, start, end, lo, hi = wipe_axes(area, g.stroke)
             z = TABLE_TOP + SPONGE.size[2] / 2
             mid = (lo + hi) / 2
             S = np.array([start, mid, z]) if axis == 0 else np.array([mid, start, z])
             E = np.array([end, mid, z]) if axis == 0 else np.array([mid, end, z])
-            s = self.body_pos(sid)  # type: ignore[arg-type]
+            assert sid is not None, "a wiping scene has a sponge"
+            s = self.body_pos(sid)
             if self.held == sid and self._stroke_open:
                 return float(np.linalg.norm(s - E))
             rest = float(np.linalg.norm(s - S)) + abs(end - start)
@@ -546,14 +578,14 @@ class World:
         """(object, point it must reach) for pick, sorter and stack (see :meth:`distance_to_goal`)."""
         g = self.scene.goal
         if g.family == "pick":
-            return g.target, self.reference_point(g.container)  # type: ignore[return-value,arg-type]
+            return g.target_id, self.reference_point(g.container_id)
         if g.family == "sorter":
-            shape = self.scene.get(g.target).shape  # type: ignore[arg-type]
+            shape = self.scene.get(g.target).shape
             for wo in self.objects:
                 if wo.kind == "hole":
                     k = int(wo.key.rsplit("_hole", 1)[1])
                     if self.scene.get(wo.spec_id).holes[k] == shape:
-                        return g.target, self.reference_point(wo.key)  # type: ignore[return-value]
+                        return g.target_id, self.reference_point(wo.key)
             raise KeyError(f"no {shape} hole")
         base = g.order[0]
         if not self.resting_on_table(base) or self.held == base:
@@ -630,7 +662,7 @@ def wipe_axes(area: ObjectSpec, direction: str) -> tuple[int, float, float, floa
 
     Directions are as seen in the front image: right is +y, front (toward the camera) is +x.
     """
-    dx, dy = area.size  # type: ignore[misc]
+    dx, dy = area.extent
     if direction in ("left_to_right", "right_to_left"):
         axis, lo, hi, l_lo, l_hi = 1, area.y - dy / 2, area.y + dy / 2, area.x - dx / 2, area.x + dx / 2
         sign = 1.0 if direction == "left_to_right" else -1.0

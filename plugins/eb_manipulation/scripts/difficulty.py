@@ -36,6 +36,7 @@ from eb_manipulation.oracle import NoPlan, expert_plan, state_of_world  # noqa: 
 from eb_manipulation.shapes import colours_confusable  # noqa: E402
 from eb_manipulation.spec import SceneSpec  # noqa: E402
 from eb_manipulation.tasks import load_task_file, scene_of  # noqa: E402
+from eb_manipulation.templates import DIRECTION_COMMON, DIRECTION_TEXT  # noqa: E402
 
 MAX_STEPS = 15
 NOISE = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)
@@ -43,7 +44,7 @@ NOISE = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)
 
 def _main_target(scene: SceneSpec) -> str:
     g = scene.goal
-    return g.area if g.family == "wipe" else (g.order[-1] if g.family == "stack" else g.target)  # type: ignore
+    return g.area_id if g.family == "wipe" else (g.order[-1] if g.family == "stack" else g.target_id)
 
 
 def counts(scene: SceneSpec) -> tuple[int, int]:
@@ -55,8 +56,18 @@ def counts(scene: SceneSpec) -> tuple[int, int]:
     return len(peers), len(alike)
 
 
-def _guesses(scene: SceneSpec, rng: random.Random) -> list[SceneSpec]:
-    """Goals a blind player could guess (roles known from heights), in a random order."""
+def _toward(a, o) -> str:
+    """The wiping direction (nearest axis) from area ``a`` toward object ``o``."""
+    dx, dy = o.x - a.x, o.y - a.y
+    if abs(dy) >= abs(dx):
+        return "left_to_right" if dy > 0 else "right_to_left"
+    return "back_to_front" if dx > 0 else "front_to_back"
+
+
+def _guesses(scene: SceneSpec, rng: random.Random, instruction: str = "") -> list[SceneSpec]:
+    """Goals a blind player could guess (roles known from heights), in a random order. A hard sorter's hole turns
+    cannot be read from text: each guess also guesses the turns. A hard wipe that names the direction only by a shape
+    to move toward: each guess pairs an area with a shape and wipes toward it."""
     g = scene.goal
     shapes = [o.id for o in scene.objects if o.kind == "shape"]
     out = []
@@ -73,9 +84,21 @@ def _guesses(scene: SceneSpec, rng: random.Random) -> list[SceneSpec]:
         for _ in range(20):
             out.append(g.model_copy(update={"order": tuple(rng.sample(shapes, len(g.order))), "keep_still": ()}))
     else:
-        areas = [o.id for o in scene.objects if o.kind == "area"]
-        rng.shuffle(areas)
-        out = [g.model_copy(update={"area": a, "keep_still": ()}) for a in areas]
+        areas = [o for o in scene.objects if o.kind == "area"]
+        named = any(t in instruction for t in (*DIRECTION_TEXT.values(), *DIRECTION_COMMON.values()))
+        if named or not instruction:
+            pairs = [(a.id, g.direction) for a in areas]
+        else:
+            pairs = sorted({(a.id, _toward(a, scene.get(s))) for a in areas for s in shapes})
+        rng.shuffle(pairs)
+        out = [g.model_copy(update={"area": a, "direction": d, "keep_still": ()}) for a, d in pairs]
+    objects = scene.objects
+    if any(o.hole_yaws for o in objects):
+        def turned(o):
+            if not o.hole_yaws:
+                return o
+            return o.model_copy(update={"hole_yaws": tuple(rng.uniform(-180, 180) for _ in o.holes)})
+        return [scene.model_copy(update={"goal": goal, "objects": tuple(turned(o) for o in objects)}) for goal in out]
     return [scene.model_copy(update={"goal": goal}) for goal in out]
 
 
@@ -84,7 +107,7 @@ def guesser(env: ManipulationEnv, task, retry: bool, seed: int) -> bool:
     world = env._world
     rng = random.Random(zlib.crc32(f"{task.id}/{seed}".encode()))
     steps = 0
-    for fake in _guesses(scene_of(task), rng):
+    for fake in _guesses(scene_of(task), rng, task.instruction):
         for _ in range(MAX_STEPS):
             if steps >= MAX_STEPS:
                 return False
