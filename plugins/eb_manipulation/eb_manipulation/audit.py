@@ -107,7 +107,9 @@ class BlindRuleAgent:
         elif fam == "wipe":
             choice["sponge"] = self._pick(of("sponge") or list(listing))
             choice["area"] = self._pick(self._spatial(text, of("area") or list(listing), pos))
-            choice["direction"] = next((d for d, words in _DIRS if any(w in text for w in words)), "left_to_right")
+            # a direction the text does not name (the hard set's "the way its arrow points") is a guess
+            choice["direction"] = next((d for d, words in _DIRS if any(w in text for w in words)), None) \
+                or self._pick([d for d, _ in _DIRS])
         else:
             cubes = of("shape") + of("high")
             three = any(w in text for w in ("middle", "three", "bottom up", "first, then"))

@@ -40,14 +40,16 @@ def draft_task(rng: np.random.Generator, family: str, subset: str, k: int, level
 
 
 def scene_metadata(scene: SceneSpec) -> dict[str, Any]:
-    """A scene as task-file JSON; an empty ``keep_still`` or ``hole_yaws`` is left out, so classic entries keep
-    their old form."""
+    """A scene as task-file JSON; an empty ``keep_still`` or ``hole_yaws`` and a missing ``arrow`` are left out, so
+    classic entries keep their old form."""
     meta = scene.model_dump(mode="json")
     if not meta["goal"]["keep_still"]:
         del meta["goal"]["keep_still"]
     for obj in meta["objects"]:
         if not obj["hole_yaws"]:
             del obj["hole_yaws"]
+        if obj["arrow"] is None:
+            del obj["arrow"]
     return meta
 
 

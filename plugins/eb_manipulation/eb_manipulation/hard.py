@@ -70,6 +70,10 @@ _KEEP_WIPE = (
     "Keep the sponge off every other area.",
     "No other area may be touched by the sponge.",
 )
+_KEEP_ARROW = (
+    "Touch it only with strokes the way its arrow points, and keep the sponge off every other area.",
+    "The sponge may not move over it against or across its arrow, nor touch any other area.",
+)
 _KEEP_SORTER_MEDIUM = (
     "Drop it straight through its own hole: nothing may be left on the sorter's lid, and everything else stays "
     "where it is.",
@@ -316,13 +320,13 @@ def _stack(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
 
 def _hole_yaws(rng: np.random.Generator, holes: list[str], target: ObjectSpec, sorter_yaw: float) -> tuple[float, ...]:
     """Turns of the hole outlines on the lid (degrees, relative to the sorter): the target's own hole is turned at
-    least 30 degrees away from how the target lies (modulo its symmetry), so it must be turned to fit; the others at
-    random."""
+    least 35 degrees away from how the target lies (modulo its symmetry; it passes within 20), so it must be turned to
+    fit; the others at random."""
     out = []
     for shape in holes:
         sym = SYMMETRY[shape]
         if shape == target.shape:
-            off = float(rng.uniform(30.0, max(30.0, sym / 2))) * float(rng.choice([-1, 1]))
+            off = float(rng.uniform(35.0, max(35.0, sym / 2))) * float(rng.choice([-1, 1]))
             turn = target.yaw + off - sorter_yaw
         else:
             turn = float(rng.uniform(-sym / 2, sym / 2))
@@ -372,11 +376,6 @@ def _area_size(direction: str) -> tuple[float, float]:
     return (short, long) if direction in ("left_to_right", "right_to_left") else (long, short)
 
 
-#: Unit step (dx, dy) of each wiping direction on the table (front = larger x).
-_STEP = {"left_to_right": (0.0, 1.0), "right_to_left": (0.0, -1.0), "front_to_back": (-1.0, 0.0),
-         "back_to_front": (1.0, 0.0)}
-
-
 def _wipe_colours(rng: np.random.Generator, subset: str, n: int) -> list[str]:
     """Colours of the ``n`` areas, the target's first: a near shade beside it (spatial: the target's colour twice)."""
     if subset == "common_sense":
@@ -390,51 +389,29 @@ def _wipe_colours(rng: np.random.Generator, subset: str, n: int) -> list[str]:
     return [a, b, *_others(rng, n - 2, [a, b])]
 
 
-def _anchor_pose(rng: np.random.Generator, placer: _Placer, area: ObjectSpec, direction: str,
-                 ) -> tuple[float, float, float]:
-    """A place for the shape the stroke must move toward: straight beyond the area's end edge in ``direction``
-    (15-20 cm from its centre, at most 2.5 cm off its axis: within 10 degrees of the direction)."""
-    dx, dy = _STEP[direction]
-    for _ in range(40):
-        dist, side = float(rng.uniform(0.15, 0.20)), float(rng.uniform(-0.025, 0.025))
-        x, y = area.x + dx * dist + dy * side, area.y + dy * dist + dx * side
-        a = float(rng.uniform(-180, 180))
-        if -0.06 <= x <= 0.33 and -0.36 <= y <= 0.36 and placer.put("shape", x, y, a):
-            return round(x, 4), round(y, 4), round(a, 1)
-    raise _Retry("no room for the shape beyond the area")
-
-
 def _wipe(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
-    """Hard: 7 areas, and the stroke's direction is given only by a shape it must move toward (the text names no
-    direction), so a blind player guesses both the area and the direction."""
+    """Hard: 7 areas, each with an arrow printed on it (long side along it; the other areas' arrows point every way),
+    and the instruction names no direction: "in the direction its arrow points". A blind player guesses the area and
+    the direction; a stroke the wrong way over the area loses the task (stated in the instruction)."""
     placer = _Placer(rng)
     rec: list[int] = []  # indices of the sentences drawn (the template id)
     direction = DIRECTIONS[k % 4]
-    size = _area_size(direction)
     colours = _wipe_colours(rng, subset, 7 if level >= 2 else 4)
+    arrows = [direction, *(str(pick(rng, list(DIRECTIONS))) for _ in colours[1:])] if level >= 2 else \
+        [direction] * len(colours)
     areas: list[ObjectSpec] = []
-    anchor_pose = None
-    for j, c in enumerate(colours):
+    for j, (c, d) in enumerate(zip(colours, arrows)):
+        size = _area_size(d)
         x, y, _ = placer.add("area", region_x=(-0.05, 0.31), region_y=(-0.33, 0.33), yaw=0.0, size=size, tries=600)
-        areas.append(ObjectSpec(id=f"area{j}", kind="area", colour=c, x=x, y=y, size=size))
-        if j == 0 and level >= 2:
-            anchor_pose = _anchor_pose(rng, placer, areas[0], direction)
+        areas.append(ObjectSpec(id=f"area{j}", kind="area", colour=c, x=x, y=y, size=size,
+                                arrow=d if level >= 2 else None))
     sx, sy, syaw = placer.add("sponge", region_x=REGION_X, region_y=REGION_Y, tries=400)
     sponge = ObjectSpec(id="sponge", kind="sponge", x=sx, y=sy, yaw=syaw)
-    n_shapes = 3 if level >= 2 else int(rng.integers(1, 3))
+    n_shapes = int(rng.integers(1, 3))
     shapes = [str(s) for s in rng.choice(list(SHAPES), size=n_shapes)]
-    cols = _others(rng, n_shapes, [])
-    others = _place_shapes(rng, placer, shapes[1:], cols[1:], grid=False, prefix="obj") if anchor_pose else \
-        _place_shapes(rng, placer, shapes, cols, grid=False)
-    if anchor_pose is not None:
-        anchor = ObjectSpec(id="anchor", kind="shape", shape=shapes[0], colour=cols[0], x=anchor_pose[0],
-                            y=anchor_pose[1], yaw=anchor_pose[2])
-        others = [anchor, *others]
-        d = f"moving toward {_obj_text(subset, anchor, rng)}"
-    else:
-        d = DIRECTION_TEXT[direction]
-    core = _wipe_core(rng, subset, areas, direction, d, rec, anchored=anchor_pose is not None)
-    instr = _finish(rng, subset, core, keep=_KEEP_WIPE, rec=rec)
+    others = _place_shapes(rng, placer, shapes, _others(rng, n_shapes, []), grid=False)
+    core = _wipe_core(rng, subset, areas, direction, rec, arrows=level >= 2)
+    instr = _finish(rng, subset, core, keep=_KEEP_ARROW if level >= 2 else _KEEP_WIPE, rec=rec)
     keep = tuple(a.id for a in areas[1:]) + tuple(o.id for o in others)
     variant = "wipe_table_relative" if subset == "spatial" else VARIANTS["wipe"]
     return _Draft(areas + [sponge] + others,
@@ -442,30 +419,31 @@ def _wipe(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
                   instr, ("sponge", areas[0].id), variant, _tid("wipe", subset, rec))
 
 
-def _wipe_core(rng: np.random.Generator, subset: str, areas: list[ObjectSpec], direction: str, d: str,
-               rec: list[int], anchored: bool) -> str:
-    """The instruction's request: which area, and ``d`` (the direction, or the shape to move toward)."""
+_ARROW = "in the direction its arrow points"
+
+
+def _wipe_core(rng: np.random.Generator, subset: str, areas: list[ObjectSpec], direction: str, rec: list[int],
+               arrows: bool) -> str:
+    """The instruction's request: which area, and the direction (hard: only "the way its arrow points")."""
     target = areas[0]
     if subset == "common_sense":
-        spill = pick(rng, SPILLS[target.colour_name])
-        if anchored:
-            return _tpick(rng, ("Wipe up the patch of {s} with the sponge, {d}.",
-                                "Some {s} was spilled; clean just that patch with the sponge, {d}."), rec).format(
-                s=spill, d=d)
+        if arrows:
+            forms = ("Wipe up the patch of {s} with the sponge, {d}.",
+                     "Some {s} was spilled; clean just that patch with the sponge, {d}.")
+            return _tpick(rng, forms, rec).format(s=pick(rng, SPILLS[target.colour_name]), d=_ARROW)
         return _tpick(rng, ("Wipe up the patch of {s} with the sponge, moving {d}.",
                             "Some {s} was spilled; clean just that patch with the sponge, wiping {d}."), rec).format(
-            s=spill, d=DIRECTION_COMMON[direction])
+            s=pick(rng, SPILLS[target.colour_name]), d=DIRECTION_COMMON[direction])
+    d = _ARROW if arrows else DIRECTION_TEXT[direction]
     if subset == "spatial":
         sides = [side for side in _SIDE if _extreme_pair(target, areas[1], side)]
         if not sides:
             raise _Retry("the two areas are not clearly apart")
-        forms = ("Wipe {a}, {d}, using the sponge.", "With the sponge, wipe {a}, {d}.") if anchored else \
-            ("Wipe {a} {d} using the sponge.", "With the sponge, wipe {a} {d}.")
+        forms = ("Wipe {a} {d}, using the sponge.", "With the sponge, wipe {a} {d}.")
         core = _tpick(rng, forms, rec).format(a=_AREA_SIDE[pick(rng, sides)].format(c=target.colour), d=d)
         return core[0].upper() + core[1:]
-    forms = ("Wipe the {c} area with the sponge, {d}.", "Use the sponge to wipe only the {c} area, {d}.") \
-        if anchored else ("Wipe the {c} area {d} with the sponge.", "Use the sponge to wipe only the {c} area {d}.")
-    return _tpick(rng, forms, rec).format(c=target.colour, d=d)
+    return _tpick(rng, ("Wipe the {c} area {d} with the sponge.", "Use the sponge to wipe only the {c} area {d}."),
+                  rec).format(c=target.colour, d=d)
 
 
 def _extreme_pair(a: ObjectSpec, b: ObjectSpec, side: str, margin: float = 0.06) -> bool:

@@ -250,7 +250,7 @@ def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) ->
                 f'<body name="{obj.id}" pos="{_fmt((*pos_xy, TABLE_TOP))}">'
                 f'<geom name="{obj.id}#0" type="box" size="{dx / 2} {dy / 2} 0.0008" pos="0 0 0.0008" '
                 f'rgba="{_rgba(obj.colour or "gray", 0.92)}" contype="0" conaffinity="0" group="1"/>'
-                f"</body>")
+                + (_arrow_geoms(obj) if obj.arrow else "") + "</body>")
 
     tx0, tx1 = TABLE_X
     ty0, ty1 = TABLE_Y
@@ -300,6 +300,35 @@ def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) ->
   </worldbody>
 </mujoco>"""
     return BuiltScene(xml=xml, assets=assets, free_objects=free)
+
+
+#: Unit step (dx, dy) on the table of each wiping direction (front = +x, toward the camera; right = +y).
+DIRECTION_STEP = {"left_to_right": (0.0, 1.0), "right_to_left": (0.0, -1.0), "front_to_back": (-1.0, 0.0),
+                  "back_to_front": (1.0, 0.0)}
+
+
+def _arrow_geoms(obj: ObjectSpec) -> str:
+    """An arrow printed on a marked area (hard set), pointing in ``obj.arrow``: a shaft and two head strokes of thin
+    boxes (no mesh, so every scene keeps the same render assets), dark on a light area and white on a dark one."""
+    ux, uy = DIRECTION_STEP[str(obj.arrow)]
+    r, g, b = COLOURS[obj.colour_name]
+    ink = "0.97 0.97 0.95 1" if 0.2126 * r + 0.7152 * g + 0.0722 * b < 0.35 else "0.07 0.06 0.05 1"
+    long = max(obj.extent)
+    tip, tail, head, half_w = 0.36 * long, -0.36 * long, 0.022, 0.0035
+    parts = []
+
+    def bar(k: int, cx: float, cy: float, half_len: float, angle: float) -> None:
+        quat = (math.cos(angle / 2), 0.0, 0.0, math.sin(angle / 2))
+        parts.append(f'<geom name="{obj.id}#{k}" type="box" size="{half_len:.5g} {half_w} 0.0004" '
+                     f'pos="{cx:.5g} {cy:.5g} 0.0020" quat="{_fmt(quat)}" rgba="{ink}" contype="0" conaffinity="0" '
+                     f'group="1"/>')
+
+    along = math.atan2(uy, ux)
+    bar(1, ux * (tip + tail) / 2, uy * (tip + tail) / 2, (tip - tail) / 2, along)
+    for k, side in ((2, 1.0), (3, -1.0)):
+        back = along + math.pi - side * math.radians(38)
+        bar(k, ux * tip + math.cos(back) * head, uy * tip + math.sin(back) * head, head + half_w, back)
+    return "".join(parts)
 
 
 def _sorter_body(obj: ObjectSpec, quat, world: str, mesh_xml: list[str], shape_meshes: set[str]) -> str:

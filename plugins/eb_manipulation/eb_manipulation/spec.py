@@ -22,7 +22,7 @@ VARIANTS = {
     "wipe": "wipe_table_direction",
 }
 #: How far (degrees) a shape may be turned away from its hole's outline and still pass (sorters with ``hole_yaws``).
-FIT_TOLERANCE = 15.0
+FIT_TOLERANCE = 20.0
 #: Wiping directions, named as seen in the front image.
 DIRECTIONS = ("left_to_right", "right_to_left", "front_to_back", "back_to_front")
 
@@ -58,6 +58,9 @@ class ObjectSpec(BaseModel):
     """For ``area``: extent along world x and y (m)."""
     on: str | None = None
     """For a cube: the id of the cube it rests on at the start (a tower already begun, or a cube in the way)."""
+    arrow: str | None = None
+    """For an ``area`` of the hard set: the direction of the arrow printed on it (its long side lies along it).
+    None (and left out of files): no arrow."""
 
     @model_validator(mode="after")
     def _check(self) -> "ObjectSpec":
@@ -69,6 +72,8 @@ class ObjectSpec(BaseModel):
             raise ValueError("a sorter needs holes")
         if any(h not in SHAPES for h in self.holes):
             raise ValueError(f"unknown hole shape in {self.holes}")
+        if self.arrow is not None and (self.kind != "area" or self.arrow not in DIRECTIONS):
+            raise ValueError(f"only an area has an arrow, pointing one of {', '.join(DIRECTIONS)}")
         if self.hole_yaws and len(self.hole_yaws) != len(self.holes):
             raise ValueError(f"hole_yaws needs one angle per hole ({len(self.holes)}), got {len(self.hole_yaws)}")
         if self.kind == "area" and self.size is None:

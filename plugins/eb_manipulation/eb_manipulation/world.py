@@ -20,7 +20,8 @@ from eb_scenekit.scene import compile_model
 from eb_manipulation.actions import bin_to_angle, bin_to_pos, euler_to_matrix
 from eb_manipulation.kinematics import Arm, Blocker
 from eb_manipulation.robot import FINGER_OPEN, HOME_QPOS, REST_QPOS
-from eb_manipulation.scene import CONTAINER, SHAPE_BITS, SORTER, SPONGE, TABLE_TOP, build_scene, hole_centres
+from eb_manipulation.scene import (CONTAINER, DIRECTION_STEP, SHAPE_BITS, SORTER, SPONGE, TABLE_TOP, build_scene,
+                                   hole_centres)
 from eb_manipulation.shapes import CUBE_HALF, SHAPES, SYMMETRY
 from eb_manipulation.spec import FIT_TOLERANCE, ObjectSpec, SceneSpec
 
@@ -104,7 +105,8 @@ class World:
         self._stroke_open = False
         self.wiped_fraction = 0.0
         self.disturbed: str | None = None
-        """The first of the goal's ``keep_still`` objects that was disturbed (the task can then not succeed)."""
+        """The first of the goal's ``keep_still`` objects that was disturbed, or the area to wipe when the sponge
+        moved over it against its arrow (the task can then not succeed)."""
         self._start: dict[str, np.ndarray] = {}
         self.objects = self._list_objects()
         self.reset_state()
@@ -118,6 +120,7 @@ class World:
         self.arm.set_fingers(FINGER_OPEN)
         self.held, self._held_rel, self.gripper_open = None, None, True
         self.strokes, self._stroke_open, self.wiped_fraction = [], False, 0.0
+        self._way_ref: tuple[float, float] | None = None
         self._set_area_alpha()
         mujoco.mj_forward(self.model, self.data)
         self.settle()
@@ -409,9 +412,11 @@ class World:
             if not self._stroke_open:
                 self.strokes.append([])
                 self._stroke_open = True
+                self._way_ref = None
             point = (float(pos[0]), float(pos[1]))
             self.strokes[-1].append(point)
             self._check_keep_areas(point)
+            self._check_stroke_way(point)
         else:
             self._stroke_open = False
         self._update_wiped()
@@ -472,6 +477,32 @@ class World:
                 if abs(point[0] - spec.x) <= spec.size[0] / 2 and abs(point[1] - spec.y) <= spec.size[1] / 2:
                     self.disturbed = obj
                     return
+
+    def _check_stroke_way(self, point: tuple[float, float]) -> None:
+        """An area with an arrow (hard set): the sponge moving over it more than 45 degrees off the arrow (against
+        or across it) loses the task, as the instruction says; moves shorter than 1 cm are not judged."""
+        g = self.scene.goal
+        if self.disturbed is not None or g.area is None:
+            return
+        area = self.scene.get(g.area)
+        if area.arrow is None:
+            return
+        dx, dy = area.extent
+        if abs(point[0] - area.x) > dx / 2 or abs(point[1] - area.y) > dy / 2:
+            self._way_ref = None
+            return
+        ref = self._way_ref
+        if ref is None:
+            self._way_ref = point
+            return
+        vx, vy = point[0] - ref[0], point[1] - ref[1]
+        dist = math.hypot(vx, vy)
+        if dist < 0.01:
+            return
+        ux, uy = DIRECTION_STEP[area.arrow]
+        if vx * ux + vy * uy < math.cos(math.radians(45)) * dist:
+            self.disturbed = area.id
+        self._way_ref = point
 
     def _end_stroke_if_lifted(self) -> None:
         sid = self._sponge_id()

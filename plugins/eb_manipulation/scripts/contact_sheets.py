@@ -1,7 +1,8 @@
 """Contact sheets for the docs: front and wrist images of one task per family, before/during/after.
 
 Usage: python plugins/eb_manipulation/scripts/contact_sheets.py [out_dir] [resolution]
-Writes <out_dir>/manipulation_<family>.png (default out_dir: docs/img of the repository).
+Writes <out_dir>/manipulation_<family>.png (default out_dir: docs/img of the repository), and
+manipulation_hard.png: the first front image of one hard task per family (turned sorter holes, arrows on the areas).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from PIL import Image, ImageDraw, ImageFont
 from eb_manipulation.env import ManipulationEnv
 
 TASKS = {"pick": "base_pick_00", "stack": "base_stack_01", "sorter": "base_sorter_00", "wipe": "base_wipe_00"}
+HARD_TASKS = ("base_pick_00", "base_stack_01", "base_sorter_00", "base_wipe_00")
 
 
 def _caption(img: np.ndarray, text: str) -> np.ndarray:
@@ -51,6 +53,25 @@ def main(out_dir: Path, resolution: int) -> None:
             path = out_dir / f"manipulation_{family}.png"
             sheet.save(path, optimize=True)
             print(f"{path}  ({path.stat().st_size // 1024} KB)  {tasks[task_id].instruction}")
+    finally:
+        env.close()
+    hard_sheet(out_dir, resolution)
+
+
+def hard_sheet(out_dir: Path, resolution: int) -> None:
+    """The first front image of one hard task per family, 2 x 2, each captioned with its instruction's start."""
+    env = ManipulationEnv(resolution=resolution)
+    tasks = {t.id: t for t in env.load_tasks(taskset="hard")}
+    try:
+        tiles = []
+        for task_id in HARD_TASKS:
+            obs = env.reset(tasks[task_id], 0)
+            tiles.append(_caption(obs.images["front"], f"hard {task_id}"))
+            print(f"  {task_id}: {tasks[task_id].instruction}")
+        sheet = Image.fromarray(np.vstack([np.hstack(tiles[:2]), np.hstack(tiles[2:])]))
+        path = out_dir / "manipulation_hard.png"
+        sheet.save(path, optimize=True)
+        print(f"{path}  ({path.stat().st_size // 1024} KB)")
     finally:
         env.close()
 

@@ -34,7 +34,7 @@ from eb_manipulation.audit import run_blind_agent  # noqa: E402
 from eb_manipulation.env import ManipulationEnv  # noqa: E402
 from eb_manipulation.oracle import NoPlan, expert_plan, state_of_world  # noqa: E402
 from eb_manipulation.shapes import colours_confusable  # noqa: E402
-from eb_manipulation.spec import SceneSpec  # noqa: E402
+from eb_manipulation.spec import DIRECTIONS, SceneSpec  # noqa: E402
 from eb_manipulation.tasks import load_task_file, scene_of  # noqa: E402
 from eb_manipulation.templates import DIRECTION_COMMON, DIRECTION_TEXT  # noqa: E402
 
@@ -56,18 +56,10 @@ def counts(scene: SceneSpec) -> tuple[int, int]:
     return len(peers), len(alike)
 
 
-def _toward(a, o) -> str:
-    """The wiping direction (nearest axis) from area ``a`` toward object ``o``."""
-    dx, dy = o.x - a.x, o.y - a.y
-    if abs(dy) >= abs(dx):
-        return "left_to_right" if dy > 0 else "right_to_left"
-    return "back_to_front" if dx > 0 else "front_to_back"
-
-
 def _guesses(scene: SceneSpec, rng: random.Random, instruction: str = "") -> list[SceneSpec]:
     """Goals a blind player could guess (roles known from heights), in a random order. A hard sorter's hole turns
-    cannot be read from text: each guess also guesses the turns. A hard wipe that names the direction only by a shape
-    to move toward: each guess pairs an area with a shape and wipes toward it."""
+    cannot be read from text: each guess also guesses the turns. A hard wipe whose direction is the arrow
+    printed on the area: each guess is an area and one of the four directions."""
     g = scene.goal
     shapes = [o.id for o in scene.objects if o.kind == "shape"]
     out = []
@@ -88,8 +80,8 @@ def _guesses(scene: SceneSpec, rng: random.Random, instruction: str = "") -> lis
         named = any(t in instruction for t in (*DIRECTION_TEXT.values(), *DIRECTION_COMMON.values()))
         if named or not instruction:
             pairs = [(a.id, g.direction) for a in areas]
-        else:
-            pairs = sorted({(a.id, _toward(a, scene.get(s))) for a in areas for s in shapes})
+        else:  # hard: the direction is the area's arrow, which only the image shows
+            pairs = [(a.id, d) for a in areas for d in DIRECTIONS]
         rng.shuffle(pairs)
         out = [g.model_copy(update={"area": a, "direction": d, "keep_still": ()}) for a, d in pairs]
     objects = scene.objects

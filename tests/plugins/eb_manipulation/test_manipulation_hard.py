@@ -237,3 +237,125 @@ def test_a_hard_sorter_task_allows_one_hole_try(env, hard):
         if not plan:
             break
         assert not env.step(plan[0]).task_success
+
+
+def _turned_sorter_task(hard):
+    for t in hard:
+        if t.metadata["family"] == "sorter":
+            sorter = next(o for o in t.metadata["objects"] if o["kind"] == "sorter")
+            if sorter.get("hole_yaws"):
+                return t
+    raise AssertionError("no hard sorter task with turned holes")
+
+
+def test_hard_sorter_holes_are_turned_and_the_target_lies_turned_away(hard):
+    """Orientation that matters (issue 25): every hard sorter's outlines are turned, and its target (a cube, moon or
+    triangle, whose turn the image shows) lies at least 35 degrees away from its hole's outline (it passes within 20)."""
+    from eb_manipulation.shapes import SYMMETRY
+    from eb_manipulation.tasks import scene_of
+
+    for t in [t for t in hard if t.metadata["family"] == "sorter"]:
+        scene = scene_of(t)
+        sorter = next(o for o in scene.objects if o.kind == "sorter")
+        target = scene.get(scene.goal.target)
+        assert len(sorter.hole_yaws) == len(sorter.holes) and target.shape in ("cube", "moon", "triangle"), t.id
+        sym = SYMMETRY[target.shape_name]
+        want = sorter.yaw + sorter.hole_yaws[sorter.holes.index(target.shape_name)]
+        assert abs((target.yaw - want + sym / 2) % sym - sym / 2) >= 34.9, t.id
+        assert "outline" in t.instruction, t.id
+
+
+def test_a_hard_shape_passes_its_hole_only_turned_to_match(env, hard):
+    """Dropped over its own hole without turning it, the target stays on the lid (the task is lost); the expert,
+    which turns it to the outline, solves the same task."""
+    from eb_manipulation.actions import angle_to_bin, pos_to_bin
+    from eb_manipulation.oracle import _clear_yaw, state_of_world
+    from eb_manipulation.scene import hole_centres
+
+    task = _turned_sorter_task(hard)
+    env.reset(task, 0)
+    world, scene = env._world, env._scene
+    sorter = next(o for o in scene.objects if o.kind == "sorter")
+    target = scene.get(scene.goal.target)
+    own = sorter.holes.index(target.shape_name)
+    p = world.body_pos(target.id)
+    yaw = _clear_yaw(scene, state_of_world(world), target.id)
+    grab = [pos_to_bin(p[0], "x"), pos_to_bin(p[1], "y"), pos_to_bin(p[2], "z"), 120, 60, angle_to_bin(yaw)]
+    env.step(grab + [1])
+    env.step(grab + [0])
+    if world.held != target.id:
+        pytest.skip("the scripted grasp missed")
+    assert not world.turned_to_fit(target.id)
+    hx, hy = hole_centres(sorter)[own]
+    above = [pos_to_bin(hx, "x"), pos_to_bin(hy, "y"), pos_to_bin(TABLE_TOP + SORTER.height + 0.06, "z"), 120, 60,
+             angle_to_bin(yaw)]
+    assert env.step(above + [0]).action_success
+    env.step(above + [1])
+    assert world.on_sorter_lid(target.id, sorter) and not world.in_matching_hole(target.id)
+    assert world.disturbed == sorter.id
+    ok, _ = verify_task(task.model_dump(), closed_loop=True)
+    assert ok
+
+
+def test_the_turned_hole_rule_is_in_hard_sorter_prompts_only(env, hard, tasks):
+    from eb_manipulation.prompts import ACTION_RULES, TURNED_HOLES, action_rules
+
+    env.reset(_turned_sorter_task(hard), 0)
+    rules = env.prompt_parts().action_rules
+    assert "turned to match that outline, within 20 degrees" in rules and "turns with the gripper" in rules
+    classic_sorter = next(t for t in tasks.values() if t.metadata["family"] == "sorter")
+    env.reset(classic_sorter, 0)
+    assert env.prompt_parts().action_rules == ACTION_RULES == action_rules()
+    assert TURNED_HOLES.split(":")[0] not in ACTION_RULES
+
+
+def test_hard_wipes_name_the_direction_only_through_the_area_arrow(hard):
+    """A hard wiping instruction names no direction: every area has an arrow printed on it (the others point every
+    way), and the target's arrow is the stroke's direction, so the image settles it and the text does not."""
+    from eb_manipulation.tasks import scene_of
+    from eb_manipulation.templates import DIRECTION_COMMON, DIRECTION_TEXT
+
+    wipes = [t for t in hard if t.metadata["family"] == "wipe"]
+    assert len(wipes) == 48
+    pointing = set()
+    for t in wipes:
+        assert not any(d in t.instruction for d in (*DIRECTION_TEXT.values(), *DIRECTION_COMMON.values())), t.id
+        assert "its arrow points" in t.instruction, t.id
+        scene = scene_of(t)
+        areas = [o for o in scene.objects if o.kind == "area"]
+        assert all(a.arrow for a in areas) and scene.get(scene.goal.area).arrow == scene.goal.direction, t.id
+        pointing |= {a.arrow for a in areas[1:]}
+        for a in areas:  # the long side lies along the arrow
+            assert (a.extent[1] > a.extent[0]) == (a.arrow in ("left_to_right", "right_to_left")), t.id
+    assert len(pointing) == 4
+
+
+def test_a_stroke_against_the_arrow_loses_a_hard_wipe(env, hard):
+    """The sponge pressed on the target area moves half-way the arrow's way (allowed), then back against it: the
+    task is lost for good (the instruction says so). The expert's single stroke solves the same task."""
+    from eb_manipulation.actions import pos_to_bin
+
+    task = next(t for t in hard if t.metadata["family"] == "wipe")
+    env.reset(task, 0)
+    world, scene = env._world, env._scene
+    area = scene.get(scene.goal.area)
+    for _ in range(12):  # play the expert until only its stroke is left (the sponge pressed at the start edge)
+        plan = env.expert_plan()
+        if len(plan) == 1:
+            break
+        env.step(plan[0])
+    assert len(plan) == 1 and world.held == "sponge" and world.disturbed is None
+    stroke = list(plan[0])
+    p = world.arm.tcp()[0]
+    here = [pos_to_bin(p[0], "x"), pos_to_bin(p[1], "y")]
+    half = [(here[0] + stroke[0]) // 2, (here[1] + stroke[1]) // 2]
+    assert env.step(half + stroke[2:]).action_success and world.disturbed is None  # the arrow's way: allowed
+    assert env.step(here + stroke[2:]).action_success  # back against the arrow over the area
+    assert world.disturbed == area.id
+    for _ in range(10):
+        plan = env.expert_plan()
+        if not plan:
+            break
+        assert not env.step(plan[0]).task_success
+    ok, _ = verify_task(task.model_dump(), closed_loop=True)
+    assert ok
