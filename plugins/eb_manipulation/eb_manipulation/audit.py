@@ -91,46 +91,53 @@ class BlindRuleAgent:
         return cands
 
     def _decide(self, instruction: str, listing: dict[str, list[int]]) -> dict[str, Any]:
+        """The episode's guess: what the text and the heights leave open is drawn once from the agent's RNG."""
         pos = {k: np.array(v) for k, v in listing.items()}
         kinds = {k: _kind(int(v[2])) for k, v in listing.items()}
-        of = lambda kind: [k for k in listing if kinds[k] == kind]  # noqa: E731
+
+        def of(kind: str) -> list[str]:
+            return [k for k in listing if kinds[k] == kind]
+
         fam = _family(instruction)
         text = instruction.lower()
-        choice: dict[str, Any] = {"family": fam}
-        if fam == "pick":
-            obj_part, _, cont_part = text.partition(" into ") if " into " in text else text.partition(" in the ")
-            choice["target"] = self._pick(self._spatial(obj_part, of("shape") or list(listing), pos))
-            choice["container"] = self._pick(self._spatial(cont_part, of("container") or list(listing), pos))
-        elif fam == "sorter":
-            choice["target"] = self._pick(self._spatial(text, of("shape") or list(listing), pos))
-            choice["hole"] = self._pick(of("hole") or list(listing))
-        elif fam == "wipe":
-            choice["sponge"] = self._pick(of("sponge") or list(listing))
-            choice["area"] = self._pick(self._spatial(text, of("area") or list(listing), pos))
-            # a direction the text does not name (the hard set's "the way its arrow points") is a guess
-            choice["direction"] = next((d for d, words in _DIRS if any(w in text for w in words)), None) \
-                or self._pick([d for d, _ in _DIRS])
-        else:
-            cubes = of("shape") + of("high")
-            three = any(w in text for w in ("middle", "three", "bottom up", "first, then"))
-            height = 3 if three else 2
-            # a cube already on another one: a tower begun (three cubes asked) or a cube in the way (two)
-            tops = [c for c in of("high") if any(b != c and np.abs(pos[b][:2] - pos[c][:2]).max() <= 2 for b in cubes)]
-            loose = [c for c in of("shape") if not any(np.abs(pos[t][:2] - pos[c][:2]).max() <= 2 for t in tops)]
-            if tops and height == 3:
-                bottom = next(b for b in cubes if b != tops[0] and np.abs(pos[b][:2] - pos[tops[0]][:2]).max() <= 2)
-                choice["aside"] = []
-                choice["order"] = [bottom, tops[0], self._pick(loose or cubes)]
-                choice["skip"] = 1
-            elif tops:
-                bottom = next(b for b in cubes if b != tops[0] and np.abs(pos[b][:2] - pos[tops[0]][:2]).max() <= 2)
-                choice["aside"] = [tops[0]]
-                choice["order"] = [bottom, self._pick(loose or cubes)]
-                choice["skip"] = 0
-            else:
-                picked = [str(c) for c in self.rng.permutation(cubes)[:height]]
-                choice["aside"], choice["order"], choice["skip"] = [], picked, 0
-        return choice
+        decide = {"pick": self._decide_pick, "sorter": self._decide_sorter, "wipe": self._decide_wipe,
+                  "stack": self._decide_stack}[fam]
+        return {"family": fam, **decide(text, list(listing), of, pos)}
+
+    def _decide_pick(self, text: str, everything: list[str], of, pos) -> dict[str, Any]:
+        obj_part, _, cont_part = text.partition(" into ") if " into " in text else text.partition(" in the ")
+        target = self._pick(self._spatial(obj_part, of("shape") or everything, pos))
+        return {"target": target, "container": self._pick(self._spatial(cont_part, of("container") or everything, pos))}
+
+    def _decide_sorter(self, text: str, everything: list[str], of, pos) -> dict[str, Any]:
+        target = self._pick(self._spatial(text, of("shape") or everything, pos))
+        return {"target": target, "hole": self._pick(of("hole") or everything)}
+
+    def _decide_wipe(self, text: str, everything: list[str], of, pos) -> dict[str, Any]:
+        sponge = self._pick(of("sponge") or everything)
+        area = self._pick(self._spatial(text, of("area") or everything, pos))
+        # a direction the text does not name (the hard set's "the way its arrow points") is a guess
+        direction = next((d for d, words in _DIRS if any(w in text for w in words)), None) \
+            or self._pick([d for d, _ in _DIRS])
+        return {"sponge": sponge, "area": area, "direction": direction}
+
+    def _decide_stack(self, text: str, everything: list[str], of, pos) -> dict[str, Any]:
+        cubes = of("shape") + of("high")
+        three = any(w in text for w in ("middle", "three", "bottom up", "first, then"))
+        height = 3 if three else 2
+
+        def under(c: str) -> bool:  # some cube stands right below/above ``c``
+            return any(b != c and np.abs(pos[b][:2] - pos[c][:2]).max() <= 2 for b in cubes)
+
+        # a cube already on another one: a tower begun (three cubes asked) or a cube in the way (two)
+        tops = [c for c in of("high") if under(c)]
+        loose = [c for c in of("shape") if not any(np.abs(pos[t][:2] - pos[c][:2]).max() <= 2 for t in tops)]
+        if not tops:
+            return {"aside": [], "order": [str(c) for c in self.rng.permutation(cubes)[:height]], "skip": 0}
+        bottom = next(b for b in cubes if b != tops[0] and np.abs(pos[b][:2] - pos[tops[0]][:2]).max() <= 2)
+        if height == 3:
+            return {"aside": [], "order": [bottom, tops[0], self._pick(loose or cubes)], "skip": 1}
+        return {"aside": [tops[0]], "order": [bottom, self._pick(loose or cubes)], "skip": 0}
 
     # --- acting ---------------------------------------------------------------------------------------------
     @staticmethod

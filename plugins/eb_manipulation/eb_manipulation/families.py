@@ -367,54 +367,67 @@ def _cubes(rng: np.random.Generator, colours: list[str], stacked: dict[int, int]
     return cubes
 
 
+def _stack_extra(rng: np.random.Generator, mode: str, spatial: bool, height: int) -> int:
+    """Cubes that are not in the tower: enough that text alone cannot tell which cubes are meant."""
+    if mode in ("partial3", "blocked2"):
+        return int(rng.integers(2, 4))
+    if spatial:
+        return 4 - height
+    return int(rng.integers(1, 3)) if height == 2 else int(rng.integers(0, 2))
+
+
+def _stack_colours(rng: np.random.Generator, subset: str, n: int, height: int) -> tuple[list[str], list[int]]:
+    """Colours of the ``n`` cubes and the indices of the tower's cubes, bottom first (visual: a near pair in it)."""
+    if subset == "visual":
+        a, b = _contrast_pair(rng)
+        colours = [a, b] + _distinct_colours(rng, n - 2, avoid=(a, b))
+        order_idx = [0, 1] + [int(i) for i in rng.permutation(range(2, n))[: height - 2]]
+        return colours, [int(i) for i in rng.permutation(order_idx)]
+    colours = _distinct_colours(rng, n)
+    return colours, [int(i) for i in rng.permutation(n)[:height]]
+
+
+def _stacked_at_start(mode: str, n: int, order_idx: list[int]) -> dict[int, int]:
+    """Cubes resting on another one at the start (index -> the one below); they take no room of their own."""
+    if mode == "partial3":
+        return {order_idx[1]: order_idx[0]}
+    if mode == "blocked2":
+        return {next(i for i in range(n) if i not in order_idx): order_idx[0]}
+    return {}
+
+
+def _spatial_refs(rng: np.random.Generator, cubes: list[ObjectSpec], order: list[ObjectSpec]) -> list[str]:
+    """A unique spatial reference for each tower cube, or :class:`_Retry`."""
+    refs = []
+    for c in order:
+        r = _spatial_ref(rng, cubes, c, noun="cube")
+        if r is None:
+            raise _Retry("no unique spatial reference")
+        refs.append(r)
+    return refs
+
+
 def _family_stack(rng: np.random.Generator, subset: str, k: int) -> _Draft:
     placer = _Placer(rng)
     spatial = subset == "spatial"
     mode = STACK_MODES[k % 2] if spatial else STACK_MODES[k % 4]
     height = 2 if mode.endswith("2") else 3
-    # cubes that are not in the tower: enough that text alone cannot tell which cubes are meant
-    if mode in ("partial3", "blocked2"):
-        extra = int(rng.integers(2, 4))
-    elif spatial:
-        extra = 4 - height
-    else:
-        extra = int(rng.integers(1, 3)) if height == 2 else int(rng.integers(0, 2))
+    extra = _stack_extra(rng, mode, spatial, height)
     n = height + extra + (1 if mode == "blocked2" else 0)
-    if subset == "visual":
-        a, b = _contrast_pair(rng)
-        colours = [a, b] + _distinct_colours(rng, n - 2, avoid=(a, b))
-        order_idx = [0, 1] + [int(i) for i in rng.permutation(range(2, n))[: height - 2]]
-        order_idx = [int(i) for i in rng.permutation(order_idx)]
-    else:
-        colours = _distinct_colours(rng, n)
-        order_idx = [int(i) for i in rng.permutation(n)[:height]]
-    # cubes resting on another one at the start take no room of their own
-    stacked: dict[int, int] = {}
-    if mode == "partial3":
-        stacked[order_idx[1]] = order_idx[0]
-    elif mode == "blocked2":
-        other = next(i for i in range(n) if i not in order_idx)
-        stacked[other] = order_idx[0]
+    colours, order_idx = _stack_colours(rng, subset, n, height)
+    stacked = _stacked_at_start(mode, n, order_idx)
     loose = [i for i in range(n) if i not in stacked]
     poses = _row(rng, placer, len(loose)) if spatial else [placer.add("shape") for _ in loose]
-    where = dict(zip(loose, poses))
-    cubes = _cubes(rng, colours, stacked, where)
+    cubes = _cubes(rng, colours, stacked, dict(zip(loose, poses)))
     order = [cubes[i] for i in order_idx]
-    cols = [c.colour for c in order]
-    group = "two" if height == 2 else "three"
-    t, tid = _say(rng, "stack", subset, group)
+    cols = [c.colour_name for c in order]
+    t, tid = _say(rng, "stack", subset, "two" if height == 2 else "three")
     if subset in ("base", "complex"):
         instr = _finish(rng, subset, t.format(*cols))
     elif subset == "common_sense":
         instr = t.format(*[COLOUR_COMMON[c] for c in cols])
     elif subset == "spatial":
-        refs = []
-        for c in order:
-            r = _spatial_ref(rng, cubes, c, noun="cube")
-            if r is None:
-                raise _Retry("no unique spatial reference")
-            refs.append(r)
-        instr = t.format(*refs)
+        instr = t.format(*_spatial_refs(rng, cubes, order))
     else:
         instr = t.format(*[COLOUR_VISUAL[c] for c in cols])
     variant = "stack_cubes_relative" if spatial else VARIANTS["stack"]

@@ -32,7 +32,7 @@ from eb_manipulation.families import (
     _neighbour,
     _Placer,
     _Retry,
-    _spatial_ref,
+    _spatial_refs,
 )
 from eb_manipulation.shapes import COLOURS, SHAPES, SYMMETRY, colours_confusable
 from eb_manipulation.spec import DIRECTIONS, VARIANTS, GoalSpec, ObjectSpec
@@ -266,6 +266,26 @@ def _pick(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
                   (target.id, box.id), variant, _tid("pick", subset, rec))
 
 
+def _stack_colours(rng: np.random.Generator, n: int) -> list[str]:
+    """Two near pairs (neither confusable with the other) and ``n - 4`` distinct others."""
+    a, b = _near_pair(rng)
+    c2, d2 = _near_pair(rng)
+    if any(colours_confusable(x, y) and x != y for x in (a, b) for y in (c2, d2)) or {a, b} & {c2, d2}:
+        raise _Retry("pairs overlap")
+    return [a, b, c2, d2, *_others(rng, n - 4, [a, b, c2, d2])]
+
+
+def _cube_refs(rng: np.random.Generator, subset: str, cubes: list[ObjectSpec], order: list[ObjectSpec]) -> list[str]:
+    """How the instruction names each tower cube, per subset."""
+    if subset == "spatial":
+        return _spatial_refs(rng, cubes, order)
+    if subset == "common_sense":
+        return [f"the cube the colour of {COLOUR_COMMON[c.colour_name]}" for c in order]
+    if subset == "visual":
+        return [f"the {COLOUR_VISUAL[c.colour_name]} cube" for c in order]
+    return [f"the {c.colour} cube" for c in order]
+
+
 def _stack(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
     placer = _Placer(rng)
     rec: list[int] = []  # indices of the sentences drawn (the template id)
@@ -274,36 +294,15 @@ def _stack(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
     # cube), leaving a blind player one cube to guess
     mode = ("two", "three")[k % 2]
     height = 2 if mode == "two" else 3
-    a, b = _near_pair(rng)
-    c2, d2 = _near_pair(rng)
-    if any(colours_confusable(x, y) and x != y for x in (a, b) for y in (c2, d2)) or {a, b} & {c2, d2}:
-        raise _Retry("pairs overlap")
-    colours = [a, b, c2, d2, *_others(rng, n - 4, [a, b, c2, d2])]
+    colours = _stack_colours(rng, n)
     # the tower takes one of each near pair at least, so a look-alike of a tower cube stays on the table
     order_idx = [0, 2] + ([int(pick(rng, [i for i in range(4, n)]))] if height == 3 else [])
     order_idx = [int(i) for i in rng.permutation(order_idx)]
-    stacked: dict[int, int] = {}
-    if mode == "partial3":
-        stacked[order_idx[1]] = order_idx[0]
-    loose = [i for i in range(n) if i not in stacked]
-    poses = _grid(rng, placer, len(loose)) if subset == "spatial" else [
-        placer.add("shape", region_x=REGION_X, region_y=REGION_Y) for _ in loose]
-    where = dict(zip(loose, poses))
-    cubes = _cubes(rng, colours, stacked, where)
+    poses = _grid(rng, placer, n) if subset == "spatial" else [
+        placer.add("shape", region_x=REGION_X, region_y=REGION_Y) for _ in range(n)]
+    cubes = _cubes(rng, colours, {}, dict(zip(range(n), poses)))
     order = [cubes[i] for i in order_idx]
-    if subset == "spatial":
-        refs = []
-        for c in order:
-            r = _spatial_ref(rng, cubes, c, noun="cube")
-            if r is None:
-                raise _Retry("no unique spatial reference")
-            refs.append(r)
-    elif subset == "common_sense":
-        refs = [f"the cube the colour of {COLOUR_COMMON[c.colour_name]}" for c in order]
-    elif subset == "visual":
-        refs = [f"the {COLOUR_VISUAL[c.colour_name]} cube" for c in order]
-    else:
-        refs = [f"the {c.colour} cube" for c in order]
+    refs = _cube_refs(rng, subset, cubes, order)
     if height == 2:
         core = _tpick(rng, ("Stack {1} on top of {0}.", "Put {1} onto {0}."), rec).format(*refs)
     else:

@@ -81,3 +81,32 @@ def test_eb_tasks_generate_writes_a_train_file_that_eb_run_plays(tmp_path):
     doc = json.loads(out.read_text())
     assert [t["id"] for t in doc["tasks"]] == [t.id for t in split_tasks("train", 19, 3)]
     assert [t.id for t in load_task_file(out)] == [t["id"] for t in doc["tasks"]]
+
+
+def test_split_files_use_the_core_envelope_and_old_ones_still_load(tmp_path):
+    """Issue 27: ``write_split`` writes the core's envelope (format eb-manipulation-tasks, version 3); a split file
+    of the older envelope (format 2, version s1) still loads, task for task."""
+    from eb_manipulation.splits import write_split
+    from eb_manipulation.tasks import FORMAT
+
+    paths = write_split(str(tmp_path), "val", 2, start=5)
+    assert paths == [tmp_path / "manipulation_val.json"]
+    doc = json.loads(paths[0].read_text())
+    assert (doc["format"], doc["version"]) == (FORMAT.format, FORMAT.version)
+    assert doc["generator"]["split"] == "val" and doc["generator"]["start"] == 5
+    tasks = load_task_file(paths[0])
+    assert [t.id for t in tasks] == [t.id for t in split_tasks("val", 5, 2)]
+    old = tmp_path / "old_split.json"
+    old.write_text(json.dumps({"format": 2, "version": "s1", "generator": "eb_manipulation.splits:write_split",
+                               "split": "val", "start": 5, "n": 2, "verified": True, "count": 2,
+                               "tasks": [t.model_dump() for t in tasks]}, indent=1) + "\n")
+    assert [t.model_dump() for t in load_task_file(old)] == [t.model_dump() for t in tasks]
+
+
+def test_split_scene_seeds_come_from_the_cores_split_rng():
+    from eb_core.taskfile import split_rng
+
+    task = split_tasks("train", 3, 1)[0]
+    stream = split_rng("manipulation", "train", 3)
+    seeds = [int(stream.integers(2**32)) for _ in range(task.metadata["attempt"] + 1)]
+    assert task.metadata["scene_seed"] == seeds[-1]
