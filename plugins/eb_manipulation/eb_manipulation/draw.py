@@ -40,11 +40,14 @@ def draft_task(rng: np.random.Generator, family: str, subset: str, k: int, level
 
 
 def scene_metadata(scene: SceneSpec) -> dict[str, Any]:
-    """A scene as task-file JSON; an empty ``keep_still`` or ``hole_yaws`` and a missing ``arrow`` are left out, so
-    classic entries keep their old form."""
+    """A scene as task-file JSON; an empty ``keep_still`` or ``hole_yaws``, a false ``flush`` and a missing
+    ``arrow`` are left out, so classic entries keep their old form."""
     meta = scene.model_dump(mode="json")
     if not meta["goal"]["keep_still"]:
         del meta["goal"]["keep_still"]
+    for key in ("flush", "also"):
+        if not meta["goal"][key]:
+            del meta["goal"][key]
     for obj in meta["objects"]:
         if not obj["hole_yaws"]:
             del obj["hole_yaws"]

@@ -227,7 +227,7 @@ class ManipulationEnv(Env):
             return True
         if scene.family == "sorter" and "_hole" in key and scene.goal.target is not None:
             sorter_id, k = key.rsplit("_hole", 1)
-            return scene.get(sorter_id).holes[int(k)] == scene.get(scene.goal.target).shape
+            return scene.get(sorter_id).holes[int(k)] in {scene.get(t).shape for t in scene.goal.sorted_ids}
         return False
 
     def _observe(self) -> Observation:

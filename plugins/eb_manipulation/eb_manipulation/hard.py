@@ -70,6 +70,10 @@ _KEEP_WIPE = (
     "Keep the sponge off every other area.",
     "No other area may be touched by the sponge.",
 )
+_FLUSH = (
+    "Stack them flush: turn each cube so that its sides line up with the sides of the cube below it.",
+    "The tower must be flush, every cube turned so its faces line up with the faces of the one beneath.",
+)
 _KEEP_ARROW = (
     "Touch it only with strokes the way its arrow points, and keep the sponge off every other area.",
     "The sponge may not move over it against or across its arrow, nor touch any other area.",
@@ -80,15 +84,21 @@ _KEEP_SORTER_MEDIUM = (
     "Use its own hole at the first try, leave nothing on the lid, and move nothing else.",
 )
 _KEEP_SORTER = (
-    "Turn it to match its hole's outline and drop it straight through at the first try: nothing may be left on the "
-    "sorter's lid, and everything else stays where it is.",
-    "Line it up with the outline of its own hole, leave nothing on the lid, and move nothing else.",
+    "Turn each one to match its hole's outline and drop it straight through at the first try: nothing may be left on "
+    "the sorter's lid, and everything else stays where it is.",
+    "Line each one up with the outline of its own hole, leave nothing on the lid, and move nothing else.",
 )
 _CLOSE = (
     "Thanks, that will make the rest of my day easier.",
     "Once that is done, the table is ready for the next session.",
     "No need to rush, but please be careful.",
 )
+
+
+#: Shapes a person can still tell apart but that look alike from the front camera (a look-alike in the target's
+#: colour takes one of these).
+NEAR_SHAPES = {"cube": ("cylinder",), "cylinder": ("cube", "moon"), "moon": ("cylinder",), "star": ("triangle",),
+               "triangle": ("star", "cube")}
 
 
 def _near_pair(rng: np.random.Generator) -> tuple[str, str]:
@@ -150,7 +160,8 @@ def _lookalike_shapes(rng: np.random.Generator, target_shape: str, n: int, shape
     target's colour on another shape, and others (shapes may repeat)."""
     a, b = _near_pair(rng)
     pool = shape_pool or list(SHAPES)
-    other_shape = str(pick(rng, [s for s in pool if s != target_shape]))
+    near = [s for s in NEAR_SHAPES[target_shape] if s in pool]  # hard to tell apart from above at 20 px
+    other_shape = str(pick(rng, near or [s for s in pool if s != target_shape]))
     shapes = [target_shape, target_shape, other_shape]
     colours = [a, b, a]
     rest = _others(rng, n - 3, [a, b])
@@ -302,29 +313,37 @@ def _stack(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
         placer.add("shape", region_x=REGION_X, region_y=REGION_Y) for _ in range(n)]
     cubes = _cubes(rng, colours, {}, dict(zip(range(n), poses)))
     order = [cubes[i] for i in order_idx]
+    if level >= 2 and any(abs((a.yaw - b.yaw + 45.0) % 90.0 - 45.0) < 25.0 for a, b in zip(order[1:], order)):
+        raise _Retry("a tower cube already lies turned like the one it goes on")
     refs = _cube_refs(rng, subset, cubes, order)
     if height == 2:
         core = _tpick(rng, ("Stack {1} on top of {0}.", "Put {1} onto {0}."), rec).format(*refs)
     else:
         core = _tpick(rng, ("Build a tower with {0} at the bottom, {1} in the middle and {2} on top.",
                             "Stack these cubes from the bottom up: {0}, then {1}, then {2}."), rec).format(*refs)
+    flush = level >= 2
+    if flush:  # orientation that matters: each cube turned to line up with the one below
+        core += " " + _tpick(rng, _FLUSH, rec)
     instr = _finish(rng, subset, core[0].upper() + core[1:],
                     keep=("Use only these cubes and leave the other cubes where they are.",
                           "Do not move any other cube."), rec=rec)
     keep = tuple(c.id for c in cubes if c not in order)
     variant = "stack_cubes_relative" if subset == "spatial" else VARIANTS["stack"]
-    return _Draft(cubes, GoalSpec(family="stack", order=tuple(c.id for c in order), keep_still=keep), instr,
+    return _Draft(cubes, GoalSpec(family="stack", order=tuple(c.id for c in order), keep_still=keep, flush=flush),
+                  instr,
                   tuple(c.id for c in order), variant, _tid("stack", subset, rec, f"/{mode}"))
 
 
-def _hole_yaws(rng: np.random.Generator, holes: list[str], target: ObjectSpec, sorter_yaw: float) -> tuple[float, ...]:
-    """Turns of the hole outlines on the lid (degrees, relative to the sorter): the target's own hole is turned at
+def _hole_yaws(rng: np.random.Generator, holes: list[str], targets: list[ObjectSpec], sorter_yaw: float,
+               ) -> tuple[float, ...]:
+    """Turns of the hole outlines on the lid (degrees, relative to the sorter): each target's own hole is turned at
     least 35 degrees away from how the target lies (modulo its symmetry; it passes within 20), so it must be turned to
     fit; the others at random."""
     out = []
     for shape in holes:
         sym = SYMMETRY[shape]
-        if shape == target.shape:
+        target = next((t for t in targets if t.shape == shape), None)
+        if target is not None:
             off = float(rng.uniform(35.0, max(35.0, sym / 2))) * float(rng.choice([-1, 1]))
             turn = target.yaw + off - sorter_yaw
         else:
@@ -345,25 +364,51 @@ def _sorter(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft
     if not placer.put("sorter", sx, sy, yaw, holes=3):
         raise _Retry("sorter")
     n = 7 if level >= 2 else 5
-    # hard: the turn is part of the task, so the target is a shape whose turn a person reads off the image (not the
-    # cylinder, which fits any way, nor the five-pointed star, which looks the same every 72 degrees)
-    target_shape = str(pick(rng, [h for h in holes if h in ("cube", "moon", "triangle")] if level >= 2 else holes))
+    if level < 2:
+        return _sorter_medium(rng, placer, subset, holes, (sx, sy, yaw), n, rec)
+    # hard: two shapes, each turned to its hole, whose turn a person reads off the image (not the cylinder, which
+    # fits any way, nor the five-pointed star, which looks the same every 72 degrees)
+    turnable = [h for h in holes if h in ("cube", "moon", "triangle")]
+    if len(turnable) < 2:
+        raise _Retry("fewer than two holes whose turn the image shows")
+    target_shape = str(pick(rng, turnable))
+    second_shape = str(pick(rng, [h for h in turnable if h != target_shape]))
+    shapes, colours = _lookalike_shapes(rng, target_shape, n, shape_pool=holes)
+    shapes[3] = shapes[4] = second_shape  # the second shape and another of its shape in another colour
+    objs = _place_shapes(rng, placer, shapes, colours, grid=subset == "spatial")
+    first, second = objs[0], objs[3]
+    sorter = ObjectSpec(id="sorter", kind="sorter", x=round(sx, 4), y=round(sy, 4), yaw=round(yaw, 1),
+                        holes=tuple(holes), hole_yaws=_hole_yaws(rng, holes, [first, second], yaw))
+    refs = [_two_hop(objs, o, rng) if subset == "spatial" else _obj_text(subset, o, rng) for o in (first, second)]
+    if None in refs:
+        raise _Retry("no two-hop reference")
+    core = _tpick(rng, ("Put two objects into the shape sorter: first {o}; then {p}.",
+                        "Slot {o} into its hole in the shape sorter; after that, slot {p} into its own hole.",
+                        "Drop {o} through its hole in the shape sorter; then drop {p} through its hole. Only those "
+                        "two objects."), rec).format(o=refs[0], p=refs[1])
+    instr = _finish(rng, subset, core[0].upper() + core[1:], keep=_KEEP_SORTER, rec=rec)
+    keep = tuple(o.id for o in objs if o not in (first, second)) + (sorter.id,)
+    variant = "place_into_shape_sorter_relative" if subset == "spatial" else VARIANTS["sorter"]
+    return _Draft([sorter] + objs, GoalSpec(family="sorter", target=first.id, also=(second.id,), keep_still=keep),
+                  instr, (first.id, second.id), variant, _tid("sorter", subset, rec))
+
+
+def _sorter_medium(rng: np.random.Generator, placer: _Placer, subset: str, holes: list[str],
+                   pose: tuple[float, float, float], n: int, rec: list[int]) -> _Draft:
+    """medium: one shape, holes not turned."""
+    sx, sy, yaw = pose
+    target_shape = str(pick(rng, holes))
     shapes, colours = _lookalike_shapes(rng, target_shape, n, shape_pool=holes)
     objs = _place_shapes(rng, placer, shapes, colours, grid=subset == "spatial")
     target = objs[0]
-    turns = _hole_yaws(rng, holes, target, yaw) if level >= 2 else ()
     sorter = ObjectSpec(id="sorter", kind="sorter", x=round(sx, 4), y=round(sy, 4), yaw=round(yaw, 1),
-                        holes=tuple(holes), hole_yaws=turns)
-    if subset == "spatial":
-        ref = _two_hop(objs, target, rng)
-        if ref is None:
-            raise _Retry("no two-hop reference")
-    else:
-        ref = _obj_text(subset, target, rng)
+                        holes=tuple(holes))
+    ref = _two_hop(objs, target, rng) if subset == "spatial" else _obj_text(subset, target, rng)
+    if ref is None:
+        raise _Retry("no two-hop reference")
     core = _tpick(rng, ("Put {o} into the shape sorter.", "Slot {o} into its hole in the shape sorter.",
                         "Drop {o}, and only that object, through its hole in the shape sorter."), rec).format(o=ref)
-    instr = _finish(rng, subset, core[0].upper() + core[1:], keep=_KEEP_SORTER if turns else _KEEP_SORTER_MEDIUM,
-                    rec=rec)
+    instr = _finish(rng, subset, core[0].upper() + core[1:], keep=_KEEP_SORTER_MEDIUM, rec=rec)
     keep = tuple(o.id for o in objs[1:]) + (sorter.id,)
     variant = "place_into_shape_sorter_relative" if subset == "spatial" else VARIANTS["sorter"]
     return _Draft([sorter] + objs, GoalSpec(family="sorter", target=target.id, keep_still=keep), instr,

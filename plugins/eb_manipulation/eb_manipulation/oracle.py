@@ -27,7 +27,7 @@ import numpy as np
 from eb_manipulation.actions import angle_to_bin, bin_to_pos, pos_to_bin
 from eb_manipulation.scene import CONTAINER, SORTER, SPONGE, TABLE_TOP, hole_centres
 from eb_manipulation.shapes import CUBE_HALF, SHAPES, SYMMETRY
-from eb_manipulation.spec import ObjectSpec, SceneSpec
+from eb_manipulation.spec import FLUSH_TOLERANCE, ObjectSpec, SceneSpec
 from eb_manipulation.world import wipe_axes
 
 __all__ = ["NoPlan", "StateView", "expert_plan", "initial_state", "state_of_world"]
@@ -316,13 +316,29 @@ def _plan_pick(scene: SceneSpec, state: StateView) -> list[Action]:
     return _carry(scene, state, obj, acts, yaw, off, low, (cont.id,), steps)
 
 
+def _in_own_compartment(sorter: ObjectSpec, spec: ObjectSpec, p: np.ndarray) -> bool:
+    """``p`` (the centre of shape ``spec``) lies in the compartment under the hole of its own shape."""
+    if spec.shape not in sorter.holes or not _inside_sorter(sorter, p):
+        return False
+    c, s = math.cos(math.radians(sorter.yaw)), math.sin(math.radians(sorter.yaw))
+    ly = -s * (p[0] - sorter.x) + c * (p[1] - sorter.y)
+    n = len(sorter.holes)
+    return int(math.floor(ly / SORTER.pitch + n / 2)) == sorter.holes.index(spec.shape_name)
+
+
 def _plan_sorter(scene: SceneSpec, state: StateView) -> list[Action]:
-    obj = scene.goal.target_id
-    spec = scene.get(obj)
     sorter = next(o for o in scene.objects if o.kind == "sorter")
-    _check_reachable(scene, state, [obj])
-    if _inside_sorter(sorter, state.positions[obj]):
-        raise NoPlan("{obj} fell into a compartment of the shape sorter that is not its own", obj)
+    # the shapes still to sort (hard: two), the one in the gripper first
+    todo = [t for t in scene.goal.sorted_ids
+            if state.held == t or not _in_own_compartment(sorter, scene.get(t), state.positions[t])]
+    if not todo:
+        return []
+    obj = state.held if state.held in todo else todo[0]
+    spec = scene.get(obj)
+    _check_reachable(scene, state, todo)
+    for t in todo:
+        if state.held != t and _inside_sorter(sorter, state.positions[t]):
+            raise NoPlan("{obj} fell into a compartment of the shape sorter that is not its own", t)
     k = sorter.holes.index(spec.shape_name)
     hx, hy = hole_centres(sorter)[k]
     acts, yaw, off, low = _holding(scene, state, obj)
@@ -395,7 +411,8 @@ def _plan_stack(scene: SceneSpec, state: StateView) -> list[Action]:
         done = 1 if base_ok else 0
         if base_ok:
             for below, above in zip(order[:-1], order[1:]):
-                if sv.held not in (below, above) and _on_top(pos[above], pos[below]):
+                turned = scene.goal.flush and abs(_wrap(sv.yaws[above] - sv.yaws[below], 90.0)) > FLUSH_TOLERANCE
+                if sv.held not in (below, above) and _on_top(pos[above], pos[below]) and not turned:
                     done += 1
                 else:
                     break

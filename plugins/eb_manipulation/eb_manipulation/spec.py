@@ -8,7 +8,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from eb_manipulation.shapes import COLOURS, SHAPES
 
-__all__ = ["DIRECTIONS", "FAMILIES", "FIT_TOLERANCE", "GoalSpec", "ObjectSpec", "SceneSpec", "TASK_FORMAT"]
+__all__ = ["DIRECTIONS", "FAMILIES", "FIT_TOLERANCE", "FLUSH_TOLERANCE", "GoalSpec", "ObjectSpec", "SceneSpec", "TASK_FORMAT"]
 
 #: Version of the task-file format; bump when the meaning of a field changes.
 TASK_FORMAT = 2
@@ -23,6 +23,8 @@ VARIANTS = {
 }
 #: How far (degrees) a shape may be turned away from its hole's outline and still pass (sorters with ``hole_yaws``).
 FIT_TOLERANCE = 20.0
+#: How far (degrees, modulo 90) a cube of a flush tower may be turned against the cube below it.
+FLUSH_TOLERANCE = 15.0
 #: Wiping directions, named as seen in the front image.
 DIRECTIONS = ("left_to_right", "right_to_left", "front_to_back", "back_to_front")
 
@@ -118,6 +120,13 @@ class GoalSpec(BaseModel):
     be left on the shape sorter's lid (a shape goes straight through its own hole). Once one
     of them is disturbed the task can no longer succeed. Empty in the classic set (and then left out of files)."""
 
+    also: tuple[str, ...] = ()
+    """sorter (hard set): further shapes that must also end in the compartments under their own holes (the target
+    first, then these). Empty in the classic set (and left out of files)."""
+    flush: bool = False
+    """stack (hard set): each cube must also be turned to line up with the one below, its faces within
+    :data:`FLUSH_TOLERANCE` degrees of the lower cube's (modulo 90). False in the classic set (and left out of files)."""
+
     @property
     def target_id(self) -> str:
         """pick / sorter: the object to move; wipe: the sponge."""
@@ -130,6 +139,11 @@ class GoalSpec(BaseModel):
     @property
     def area_id(self) -> str:
         return str(_need(self.area, "area"))
+
+    @property
+    def sorted_ids(self) -> tuple[str, ...]:
+        """sorter: every shape that must end in its own compartment (the target, then ``also``)."""
+        return (self.target_id, *self.also)
 
     @property
     def stroke(self) -> str:
@@ -167,7 +181,7 @@ class SceneSpec(BaseModel):
         for o in self.objects:
             if o.on is not None and (o.on not in ids or self.get(o.on).shape != "cube" or o.shape != "cube"):
                 raise ValueError(f"{o.id} can only rest on another cube, not {o.on!r}")
-        for ref in [g.target, g.container, g.area, *g.order, *self.target_ids, *g.keep_still]:
+        for ref in [g.target, g.container, g.area, *g.order, *g.also, *self.target_ids, *g.keep_still]:
             if ref is not None and ref not in ids:
                 raise ValueError(f"goal refers to unknown object {ref!r}")
         return self

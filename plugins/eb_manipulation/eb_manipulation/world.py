@@ -23,7 +23,7 @@ from eb_manipulation.robot import FINGER_OPEN, HOME_QPOS, REST_QPOS
 from eb_manipulation.scene import (CONTAINER, DIRECTION_STEP, SHAPE_BITS, SORTER, SPONGE, TABLE_TOP, build_scene,
                                    hole_centres)
 from eb_manipulation.shapes import CUBE_HALF, SHAPES, SYMMETRY
-from eb_manipulation.spec import FIT_TOLERANCE, ObjectSpec, SceneSpec
+from eb_manipulation.spec import FIT_TOLERANCE, FLUSH_TOLERANCE, ObjectSpec, SceneSpec
 
 mujoco = import_mujoco()  # the GL backend is chosen before MuJoCo is imported
 
@@ -547,7 +547,7 @@ class World:
             ok = self.held != g.target and self.in_container(g.target_id, g.container_id)
             return ok, 1.0 if ok else 0.0
         if g.family == "sorter":
-            ok = self.held != g.target and self.in_matching_hole(g.target_id)
+            ok = all(self.held != t and self.in_matching_hole(t) for t in g.sorted_ids)
             return ok, 1.0 if ok else 0.0
         if g.family == "stack":
             done = self._stacked_in_order(g.order)
@@ -566,6 +566,9 @@ class World:
         for below, above in zip(order[:-1], order[1:]):
             if self.held in (below, above) or not self.on_top_of(above, below):
                 break
+            if self.scene.goal.flush and abs((self.yaw_of(above) - self.yaw_of(below) + 45.0) % 90.0 - 45.0) \
+                    > FLUSH_TOLERANCE:
+                break  # a flush tower (hard set): this cube is turned against the one below
             done += 1
         return done
 
@@ -610,13 +613,14 @@ class World:
         g = self.scene.goal
         if g.family == "pick":
             return g.target_id, self.reference_point(g.container_id)
-        if g.family == "sorter":
-            shape = self.scene.get(g.target).shape
+        if g.family == "sorter":  # the first shape not yet in its compartment (hard: two shapes)
+            obj = next((t for t in g.sorted_ids if self.held == t or not self.in_matching_hole(t)), g.target_id)
+            shape = self.scene.get(obj).shape
             for wo in self.objects:
                 if wo.kind == "hole":
                     k = int(wo.key.rsplit("_hole", 1)[1])
                     if self.scene.get(wo.spec_id).holes[k] == shape:
-                        return g.target_id, self.reference_point(wo.key)
+                        return obj, self.reference_point(wo.key)
             raise KeyError(f"no {shape} hole")
         base = g.order[0]
         if not self.resting_on_table(base) or self.held == base:
@@ -631,7 +635,7 @@ class World:
         the tower's cubes, the sponge) and, in stacking, did not stand on one of the tower's cubes (a cube
         that must be put aside). ``before``: object positions before the action."""
         g = self.scene.goal
-        wanted = set(self.scene.target_ids) | {g.target} | set(g.order)
+        wanted = set(self.scene.target_ids) | {g.target} | set(g.order) | set(g.also)
         sid = self._sponge_id()
         if g.family == "wipe" and sid is not None:
             wanted.add(sid)

@@ -68,6 +68,10 @@ def _guesses(scene: SceneSpec, rng: random.Random, instruction: str = "") -> lis
         pairs = [(s, c) for s in shapes for c in conts]
         rng.shuffle(pairs)
         out = [g.model_copy(update={"target": s, "container": c, "keep_still": ()}) for s, c in pairs]
+    elif g.family == "sorter" and g.also:  # hard: two shapes, in order
+        pairs = [(s, t) for s in shapes for t in shapes if s != t]
+        rng.shuffle(pairs)
+        out = [g.model_copy(update={"target": s, "also": (t,), "keep_still": ()}) for s, t in pairs]
     elif g.family == "sorter":
         cands = list(shapes)
         rng.shuffle(cands)

@@ -359,3 +359,47 @@ def test_a_stroke_against_the_arrow_loses_a_hard_wipe(env, hard):
         assert not env.step(plan[0]).task_success
     ok, _ = verify_task(task.model_dump(), closed_loop=True)
     assert ok
+
+
+def test_a_hard_tower_counts_only_flush(env, hard):
+    """Hard stacking asks for a flush tower: a cube on its place but turned 30 degrees against the one below does not
+    count (the expert turns each cube to line up)."""
+    import math
+
+    stacks = [t for t in hard if t.metadata["family"] == "stack"]
+    assert all(t.metadata["goal"].get("flush") and "flush" in t.instruction for t in stacks)
+    task = stacks[0]
+    env.reset(task, 0)
+    world, order = env._world, env._scene.goal.order
+    for _ in range(15):
+        if world._stacked_in_order(order) >= 1 and world.held is None:
+            break
+        env.step(env.expert_plan()[0])
+    assert world._stacked_in_order(order) >= 1
+    top = order[1]
+    a = world._free_qadr[top]
+    yaw = math.radians(world.yaw_of(top) + 30.0)
+    world.data.qpos[a + 3:a + 7] = [math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)]
+    from eb_manipulation.world import mujoco
+
+    mujoco.mj_forward(world.model, world.data)
+    assert world._stacked_in_order(order) == 0 and not world.evaluate()[0]
+
+
+def test_a_hard_sorter_task_needs_both_shapes(env, hard):
+    """Hard sorter tasks name two shapes (of two turned holes); the first one sorted is not yet a success."""
+    sorters = [t for t in hard if t.metadata["family"] == "sorter"]
+    for t in sorters:
+        goal = t.metadata["goal"]
+        shapes = {o["id"]: o.get("shape") for o in t.metadata["objects"]}
+        assert len(goal["also"]) == 1 and shapes[goal["also"][0]] != shapes[goal["target"]], t.id
+    task = sorters[0]
+    env.reset(task, 0)
+    world, goal = env._world, env._scene.goal
+    for _ in range(15):
+        if world.in_matching_hole(goal.target):
+            break
+        r = env.step(env.expert_plan()[0])
+        assert not r.task_success
+    assert world.in_matching_hole(goal.target) and not world.evaluate()[0]
+    assert not world.in_matching_hole(goal.also[0])
