@@ -98,8 +98,8 @@ def generate(out: str | Path | None = None, seed: int = 0, verify: bool = True, 
     _write(out_path, tasks, level, seed, verify)
     if not quiet:
         name = {v: k for k, v in LEVELS.items()}.get(level, str(level))
-        print(f"wrote {len(tasks)} tasks ({name}) to {out_path}" if level else f"wrote {len(tasks)} tasks to {out_path}",
-              file=sys.stderr if level else sys.stdout)
+        what = f"{len(tasks)} tasks ({name})" if level else f"{len(tasks)} tasks"
+        print(f"wrote {what} to {out_path}", file=sys.stderr if level else sys.stdout)
     return out_path
 
 

@@ -66,8 +66,9 @@ when the gripper opens, the object drops and comes to rest.
 - The shape sorter lets a shape through only the hole of its own shape; any other hole is closed for it, and a shape \
 dropped there stays on the lid.
 - A wipe counts when, in one continuous stroke, the held sponge stays pressed on the table (its bottom at most 1.2 \
-cm above the table top: hold it at the height where it lay) and moves in the asked direction from within 20 % of the \
-area's length of its start edge to within 20 % of its end edge, never more than 2 cm off the area's sides. A marked \
+cm above the table top: hold it at the height where it lay) and its centre moves in the asked direction from within \
+20 % of the area's length of its start edge to within 20 % of its end edge, never more than 2 cm off the area's \
+sides: all of this is measured at the sponge's centre (its listed coordinate), not at its edges. A marked \
 area's listed coordinates are its centre; {{area_size}}
 - Feedback names objects by their numbers in the list from before that action, and adds the new number when the \
 action changed it.

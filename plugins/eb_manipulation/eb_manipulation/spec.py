@@ -8,7 +8,8 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from eb_manipulation.shapes import COLOURS, SHAPES
 
-__all__ = ["DIRECTIONS", "FAMILIES", "FIT_TOLERANCE", "FLUSH_TOLERANCE", "GoalSpec", "ObjectSpec", "SceneSpec", "TASK_FORMAT"]
+__all__ = ["DIRECTIONS", "FAMILIES", "FIT_TOLERANCE", "FLUSH_TOLERANCE", "GoalSpec", "ObjectSpec", "SceneSpec",
+           "TASK_FORMAT"]
 
 #: Version of the task-file format; bump when the meaning of a field changes.
 TASK_FORMAT = 2
@@ -125,7 +126,8 @@ class GoalSpec(BaseModel):
     first, then these). Empty in the classic set (and left out of files)."""
     flush: bool = False
     """stack (hard set): each cube must also be turned to line up with the one below, its faces within
-    :data:`FLUSH_TOLERANCE` degrees of the lower cube's (modulo 90). False in the classic set (and left out of files)."""
+    :data:`FLUSH_TOLERANCE` degrees of the lower cube's (modulo 90). False in the classic set (and left out of
+    files)."""
 
     @property
     def target_id(self) -> str:

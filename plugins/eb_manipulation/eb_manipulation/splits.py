@@ -12,8 +12,8 @@ then re-plan) within the 15-step budget, checked in the physics-only simulator (
 
 ``val`` keeps the shipped file's filters (open-loop and closed-loop oracle both solve); ``train`` drops the
 open-loop check and only requires the closed-loop expert (about half the simulation per task). Tasks are served
-by the core's :class:`~eb_core.taskfile.SplitSource` and written as core task files (:data:`eb_manipulation.tasks.FORMAT`);
-split files of the older envelope (``format: 2``) still load.
+by the core's :class:`~eb_core.taskfile.SplitSource` and written as core task files
+(:data:`eb_manipulation.tasks.FORMAT`); split files of the older envelope (``format: 2``) still load.
 """
 
 from __future__ import annotations
@@ -93,8 +93,8 @@ def _one(split: str, index: int, keys: tuple[frozenset[int], frozenset[Any], fro
             continue
         scene = SceneSpec(family=family, variant=draft.variant, scene_seed=scene_seed, objects=tuple(draft.objects),
                           goal=draft.goal, target_ids=draft.target_ids, template=draft.template)
-        entry: dict[str, Any] = {"id": f"{split}_{subset}_{family}_{index:06d}", "subset": subset, "instruction": draft.instruction,
-                 "metadata": scene_metadata(scene)}
+        entry: dict[str, Any] = {"id": f"{split}_{subset}_{family}_{index:06d}", "subset": subset,
+                                 "instruction": draft.instruction, "metadata": scene_metadata(scene)}
         if layout_key(entry["metadata"]) in layouts:
             continue
         ok, steps = verify_task(entry, closed_loop=True)

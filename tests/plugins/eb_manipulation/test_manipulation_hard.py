@@ -250,7 +250,8 @@ def _turned_sorter_task(hard):
 
 def test_hard_sorter_holes_are_turned_and_the_target_lies_turned_away(hard):
     """Orientation that matters (issue 25): every hard sorter's outlines are turned, and its target (a cube, moon or
-    triangle, whose turn the image shows) lies at least 35 degrees away from its hole's outline (it passes within 20)."""
+    triangle, whose turn the image shows) lies at least 35 degrees away from its hole's outline (it passes within
+    20)."""
     from eb_manipulation.shapes import SYMMETRY
     from eb_manipulation.tasks import scene_of
 
