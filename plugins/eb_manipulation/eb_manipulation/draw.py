@@ -51,8 +51,9 @@ def scene_metadata(scene: SceneSpec) -> dict[str, Any]:
     for obj in meta["objects"]:
         if not obj["hole_yaws"]:
             del obj["hole_yaws"]
-        if obj["arrow"] is None:
-            del obj["arrow"]
+        for key in ("arrow", "height"):
+            if obj[key] is None:
+                del obj[key]
     return meta
 
 

@@ -450,8 +450,10 @@ def _wipe(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft:
         areas.append(ObjectSpec(id=f"area{j}", kind="area", colour=c, x=x, y=y, size=size,
                                 arrow=d if level >= 2 else None))
     sx, sy, syaw = placer.add("sponge", region_x=REGION_X, region_y=REGION_Y, tries=400)
-    sponge = ObjectSpec(id="sponge", kind="sponge", x=sx, y=sy, yaw=syaw)
-    n_shapes = int(rng.integers(1, 3))
+    # hard: as tall as a cube (its listed z is a shape's, 17) and 2-3 shapes beside it, so the list does not say which
+    # entry is the sponge
+    sponge = ObjectSpec(id="sponge", kind="sponge", x=sx, y=sy, yaw=syaw, height=0.045 if level >= 2 else None)
+    n_shapes = int(rng.integers(2, 4)) if level >= 2 else int(rng.integers(1, 3))
     shapes = [str(s) for s in rng.choice(list(SHAPES), size=n_shapes)]
     others = _place_shapes(rng, placer, shapes, _others(rng, n_shapes, []), grid=False)
     core = _wipe_core(rng, subset, areas, direction, rec, arrows=level >= 2)

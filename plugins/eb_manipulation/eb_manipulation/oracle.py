@@ -81,7 +81,7 @@ def initial_state(scene: SceneSpec) -> StateView:
                 below = scene.get(below).on
             pos[o.id] = np.array([o.x, o.y, z])
         elif o.kind == "sponge":
-            pos[o.id] = np.array([o.x, o.y, TABLE_TOP + SPONGE.size[2] / 2])
+            pos[o.id] = np.array([o.x, o.y, TABLE_TOP + SPONGE.dims(o)[2] / 2])
         else:
             continue
         yaw[o.id] = o.yaw
@@ -135,7 +135,7 @@ def _at(state: StateView, action: Action) -> bool:
 def _resting_z(scene: SceneSpec, obj: str) -> float:
     spec = scene.get(obj)
     if spec.kind == "sponge":
-        return TABLE_TOP + SPONGE.size[2] / 2
+        return TABLE_TOP + SPONGE.dims(spec)[2] / 2
     return TABLE_TOP + SHAPES[spec.shape_name].height / 2
 
 
@@ -473,7 +473,7 @@ def _plan_wipe(scene: SceneSpec, state: StateView) -> list[Action]:
     lateral = (l_lo + l_hi) / 2
     u0 = start - sign * 0.01
     u1 = end + sign * 0.015
-    z_contact = TABLE_TOP + SPONGE.size[2] / 2 + 0.002
+    z_contact = TABLE_TOP + SPONGE.dims(scene.get(sponge))[2] / 2 + 0.002
 
     def point(u: float) -> np.ndarray:
         return np.array([u, lateral, z_contact]) if axis == 0 else np.array([lateral, u, z_contact])

@@ -75,6 +75,10 @@ class _Sorter:
 class _Sponge:
     size: tuple[float, float, float] = (0.062, 0.046, 0.035)
 
+    def dims(self, obj: ObjectSpec) -> tuple[float, float, float]:
+        """(x, y, z) extent of a sponge: the classic size, or the hard set's taller one (``ObjectSpec.height``)."""
+        return (self.size[0], self.size[1], obj.height) if obj.height is not None else self.size
+
 
 #: A collision bit of its own per loose shape (beside the world's bit): the lid of the shape sorter closes each
 #: opening with an invisible plate that collides with every shape but the hole's own, so a shape passes only through
@@ -214,7 +218,7 @@ def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) ->
                           f'<freejoint name="{obj.id}:joint"/>{geom}</body>')
             free.append(obj.id)
         elif obj.kind == "sponge":
-            sx, sy, sz = (s / 2 for s in SPONGE.size)
+            sx, sy, sz = (s / 2 for s in SPONGE.dims(obj))
             z = TABLE_TOP + sz + 0.001
             top = 0.006
             bodies.append(

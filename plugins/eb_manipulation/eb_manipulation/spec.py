@@ -61,6 +61,9 @@ class ObjectSpec(BaseModel):
     """For ``area``: extent along world x and y (m)."""
     on: str | None = None
     """For a cube: the id of the cube it rests on at the start (a tower already begun, or a cube in the way)."""
+    height: float | None = None
+    """For a ``sponge`` of the hard set: its height (m; 0.045, a cube's, so the object list's z does not tell it from
+    the shapes). None (and left out of files): the classic 3.5 cm."""
     arrow: str | None = None
     """For an ``area`` of the hard set: the direction of the arrow printed on it (its long side lies along it).
     None (and left out of files): no arrow."""
@@ -75,6 +78,8 @@ class ObjectSpec(BaseModel):
             raise ValueError("a sorter needs holes")
         if any(h not in SHAPES for h in self.holes):
             raise ValueError(f"unknown hole shape in {self.holes}")
+        if self.height is not None and (self.kind != "sponge" or not 0.02 <= self.height <= 0.06):
+            raise ValueError("only a sponge has a height, 0.02-0.06 m")
         if self.arrow is not None and (self.kind != "area" or self.arrow not in DIRECTIONS):
             raise ValueError(f"only an area has an arrow, pointing one of {', '.join(DIRECTIONS)}")
         if self.hole_yaws and len(self.hole_yaws) != len(self.holes):

@@ -512,7 +512,7 @@ class World:
     def _lowest_point(self, obj: str) -> float:
         R = self.body_mat(obj)
         p = self.body_pos(obj)
-        hx, hy, hz = (s / 2 for s in SPONGE.size)
+        hx, hy, hz = (s / 2 for s in SPONGE.dims(self.scene.get(obj)))
         corners = np.array([[sx * hx, sy * hy, sz * hz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
         return float(np.min((corners @ R.T)[:, 2] + p[2]))
 
@@ -593,11 +593,11 @@ class World:
             sid = self._sponge_id()
             area = self.scene.get(g.area)
             axis, _sign, start, end, lo, hi = wipe_axes(area, g.stroke)
-            z = TABLE_TOP + SPONGE.size[2] / 2
+            assert sid is not None, "a wiping scene has a sponge"
+            z = TABLE_TOP + SPONGE.dims(self.scene.get(sid))[2] / 2
             mid = (lo + hi) / 2
             S = np.array([start, mid, z]) if axis == 0 else np.array([mid, start, z])
             E = np.array([end, mid, z]) if axis == 0 else np.array([mid, end, z])
-            assert sid is not None, "a wiping scene has a sponge"
             s = self.body_pos(sid)
             if self.held == sid and self._stroke_open:
                 return float(np.linalg.norm(s - E))

@@ -404,3 +404,14 @@ def test_a_hard_sorter_task_needs_both_shapes(env, hard):
         assert not r.task_success
     assert world.in_matching_hole(goal.target) and not world.evaluate()[0]
     assert not world.in_matching_hole(goal.also[0])
+
+
+def test_hard_wipe_heights_do_not_tell_the_sponge(env, hard):
+    """Issue 25: heights gave roles away (sponge z 16, shapes 17). A hard sponge is a cube's height: in the object
+    list it stands at the shapes' z, beside 2-3 shapes."""
+    import json
+
+    for task in [t for t in hard if t.metadata["family"] == "wipe"][::6]:
+        obs = env.reset(task, 0)
+        zs = sorted(v[2] for v in json.loads(obs.extra_prompt).values() if v[2] > 15)
+        assert len(zs) >= 3 and len(set(zs)) == 1, (task.id, zs)
