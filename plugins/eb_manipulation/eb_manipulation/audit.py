@@ -114,7 +114,7 @@ class BlindRuleAgent:
         return {"target": target, "hole": self._pick(of("hole") or everything)}
 
     def _decide_wipe(self, text: str, everything: list[str], of, pos) -> dict[str, Any]:
-        sponge = self._pick(of("sponge") or everything)
+        sponge = self._pick(of("sponge") or of("shape") or everything)  # hard: the sponge stands at a shape's z
         area = self._pick(self._spatial(text, of("area") or everything, pos))
         # a direction the text does not name (the hard set's "the way its arrow points") is a guess
         direction = next((d for d, words in _DIRS if any(w in text for w in words)), None) \
