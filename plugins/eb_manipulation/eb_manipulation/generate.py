@@ -31,7 +31,7 @@ from eb_manipulation.families import (  # noqa: F401 - re-exported for callers o
     SUBSETS,
     _Retry,
 )
-from eb_manipulation.spec import TASK_FORMAT, SceneSpec
+from eb_manipulation.spec import HARD_SLACK, TASK_FORMAT, SceneSpec
 
 __all__ = ["FAMILY_ORDER", "SUBSET_FAMILIES", "TASKS_VERSION", "audit_form", "generate", "make_task",
            "verify_task"]
@@ -149,8 +149,9 @@ def _solvable(seed: int, subset: str, family: str, k: int, level: int, max_attem
         if task["instruction"] in seen:
             continue
         if verify:
-            ok, steps = verify_task(task)
-            if not ok or not verify_task(task, closed_loop=True)[0]:
+            budget = MAX_ORACLE_STEPS - (HARD_SLACK if level >= 2 else 0)
+            ok, steps = verify_task(task, max_steps=budget)
+            if not ok or not verify_task(task, max_steps=budget, closed_loop=True)[0]:
                 continue
             task["metadata"]["oracle_steps"] = steps
         seen.add(task["instruction"])

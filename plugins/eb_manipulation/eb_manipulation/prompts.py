@@ -100,7 +100,7 @@ CLASSIC_AREA = (22, 12)
 #: Added to the sorter rule when the scene's hole outlines are turned (the hard set).
 TURNED_HOLES = (" Here each hole's outline is drawn turned on the lid: a shape passes its own hole only when it is "
                 "turned to match that outline, within {tol:g} degrees (a held object turns with the gripper); turned "
-                "any other way it stays on the lid.")
+                "any other way it stays on the lid, and a shape left on the lid loses the task for good.")
 _SORTER_RULE_END = "dropped there stays on the lid."
 
 

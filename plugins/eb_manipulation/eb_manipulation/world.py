@@ -221,6 +221,9 @@ class World:
                              + (f" ({note})." if note else "."))
         self._end_stroke_if_lifted()
         self.settle()
+        if refs.get("obj") is not None and grasped is None and self._turned \
+                and any(self.on_sorter_lid(refs["obj"], s) for s in self._turned):
+            parts.append("It stayed on the lid of the shape sorter, which loses the task for good.")
         self._check_keep(grasped)
         if missed:  # executed as asked (as in the original), but the grasp it was for did not happen
             return ActionOutcome(ok=True, feedback=" ".join(parts), refs=refs, failure=FAILURES["empty_grasp"])
