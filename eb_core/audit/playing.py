@@ -93,6 +93,14 @@ def _play_chunk(chunk: list[_Job]) -> list[EpisodeOutcome]:
     return [_play_job(_POOL_SETUP, _POOL_ENVS, job) for job in chunk]
 
 
+def _worker_init() -> None:
+    """A pool worker dies quietly when the pool ends it: the ``eb`` command's SIGTERM handler (which turns the
+    signal into an exception with a traceback, for the command itself) is not the worker's."""
+    import signal
+
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
 def play_jobs(setup: AuditSetup, jobs: list[_Job]) -> list[EpisodeOutcome]:
     """Play ``jobs`` in order, in ``setup.workers`` forked processes (each with its own env) when there are
     enough of them. Results do not depend on the number of workers: every episode seeds itself."""
@@ -110,7 +118,7 @@ def play_jobs(setup: AuditSetup, jobs: list[_Job]) -> list[EpisodeOutcome]:
     chunks = [jobs[i:i + size] for i in range(0, len(jobs), size)]
     _POOL_SETUP = setup
     try:
-        with multiprocessing.get_context("fork").Pool(setup.workers) as pool:
+        with multiprocessing.get_context("fork").Pool(setup.workers, initializer=_worker_init) as pool:
             return [o for part in pool.map(_play_chunk, chunks, chunksize=1) for o in part]
     finally:
         _POOL_SETUP = None

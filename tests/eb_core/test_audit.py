@@ -345,6 +345,24 @@ def test_two_workers_give_the_same_results_as_one(tmp_path):
     assert probe_closed_loop(two).failing_tasks == ["short-02"]
 
 
+def test_pool_workers_end_quietly_under_the_eb_command_sigterm_handler(tmp_path, capfd):
+    """eb installs a SIGTERM handler that raises (for the command itself); the audit's forked pool workers, ended by
+    the pool with SIGTERM, must not inherit it and print a traceback each."""
+    import signal
+
+    from eb_core.cli import _on_sigterm
+
+    two = setup_for(tmp_path, lock_tasks(per_subset=10), workers=2)
+    old = signal.signal(signal.SIGTERM, _on_sigterm)
+    try:
+        for _ in range(3):
+            probe_blind_policies(two)
+    finally:
+        signal.signal(signal.SIGTERM, old)
+    err = capfd.readouterr().err
+    assert "Terminated" not in err and "Traceback" not in err
+
+
 # -- cheaper full audits: a sample fresh form, work beside the episode probes ----------------------------
 
 
