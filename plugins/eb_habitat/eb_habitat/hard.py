@@ -256,7 +256,7 @@ def _target_and_landmark(rng: random.Random, scene: Scene, level: Level, x: str,
     lms = [o for o in landmarks if o is not lm]
     if not near_pair(rng, scene, target, others) and rng.random() < 0.7:
         raise _Reject("no near-hue pair")
-    near_landmark(rng, lm, lms)
+    near_landmark(rng, lm, lms, recolor=True)
     return target, others, lm, lms
 
 
@@ -282,7 +282,8 @@ def near_pair(rng: random.Random, scene: Scene, target: dict[str, Any], others: 
     """Put a near-hue look-alike of ``target`` (same type: the yellow mug beside the orange one) just right of it
     on its receptacle -- ``pick up`` takes the leftmost, so the target stays reachable -- and, where the type has
     a second near hue, make another look-alike elsewhere that hue (a red mug alone on another surface), with a
-    third look-alike to its right, so a pair is no sign of the target. Returns False (nothing changes) when the
+    third look-alike to its right in half of these, so a pair is no sign of the target (not always: a blind
+    player that finds the type at fewer receptacles guesses better). Returns False (nothing changes) when the
     type has no near hue for the target's colour or the target is in a container (shelves and drawers do not
     read left to right, so "the leftmost" would be unclear)."""
     hues = near_hues(target["type"], target["color"])
@@ -307,14 +308,20 @@ def near_pair(rng: random.Random, scene: Scene, target: dict[str, Any], others: 
             fixed.append(decoy)
             third = [o for o in others if not any(o is f for f in fixed) and o["at"] != decoy["at"]]
             room = [s for s in _free_slots(scene, decoy["at"]) if s > decoy["slot"]]
-            if third and room:
+            if third and room and rng.random() < 0.5:
                 third[0]["at"], third[0]["slot"] = decoy["at"], rng.choice(room)
     return True
 
 
 def near_landmark(rng: random.Random, lm: dict[str, Any], others: list[dict[str, Any]],
-                  keep: tuple[dict[str, Any], ...] = ()) -> None:
-    """Give one of the landmark's look-alikes (on another surface) a near hue of the landmark's colour."""
+                  keep: tuple[dict[str, Any], ...] = (), recolor: bool = False) -> None:
+    """Give one of the landmark's look-alikes (on another surface) a near hue of the landmark's colour
+    (``recolor``: first give the landmark a colour that has near hues, if its own has none)."""
+    if recolor and not near_hues(lm["type"], lm["color"]):
+        used = {o["color"] for o in others}
+        fits = [c for c in HARD_COLORS[lm["type"]] if c not in used and near_hues(lm["type"], c)]
+        if fits:
+            lm["color"] = rng.choice(fits)
     hues = near_hues(lm["type"], lm["color"])
     if hues:
         _recolor(others, [lm, *keep], rng.choice(hues))
@@ -327,7 +334,7 @@ def _places_of(objs: list[dict[str, Any]]) -> tuple[str, ...]:
 def _two_types(rng: random.Random) -> tuple[str, str]:
     """The target's and the landmark's type: mostly types with a near-hue pair (:data:`PAIRED`)."""
     x = rng.choice(PAIRED if rng.random() < 0.85 else VARIED)
-    y = rng.choice([k for k in (PAIRED if rng.random() < 0.7 else VARIED) if k != x])
+    y = rng.choice([k for k in (PAIRED if rng.random() < 0.85 else VARIED) if k != x])
     return x, y
 
 
@@ -519,12 +526,15 @@ def _spatial(rng: random.Random, level: Level) -> HardDraft:
     """Rows ``landmark, w, object`` (or mirrored) on ``level.m`` surfaces, one row per landmark colour; the
     object is named only by the two hops from the landmark of the instruction's colour."""
     scene = _new_scene(rng)
-    y = rng.choice(VARIED)
+    y = rng.choice(PAIRED if rng.random() < 0.85 else VARIED)
     w = rng.choice([t.key for t in OBJECT_TYPES if t.key != y])
     side = rng.choice(("left", "right"))
     rows = rng.sample(ROWS, level.m)
     lcolors = _colors(rng, y, level.m)
     chosen = rng.randrange(level.m)
+    fits = [c for c in HARD_COLORS[y] if c not in lcolors and near_hues(y, c)]
+    if fits and not near_hues(y, lcolors[chosen]):
+        lcolors[chosen] = rng.choice(fits)
     hues = [c for c in near_hues(y, lcolors[chosen]) if c not in lcolors]
     if hues and not any(c in near_hues(y, lcolors[chosen]) for c in lcolors):
         lcolors[(chosen + 1) % level.m] = rng.choice(hues)  # a near-hue landmark heads another row
