@@ -4,8 +4,10 @@ Same skills, prompt, feedback, 30-step budget, 10-failure cap and goal-condition
 changes is the scenes and the words:
 
 * **look-alikes**: the object to move is one of ``k`` instances of its type (5 at ``hard``, 3 at ``medium``), each
-  on its own receptacle and each in its own colour (:data:`~eb_habitat.catalog.HARD_COLORS`: colours a person
-  tells apart one object at a time), so the type in ``pick up the <object>`` does not say which one;
+  in its own colour (:data:`~eb_habitat.catalog.HARD_COLORS`), so the type in ``pick up the <object>`` does not
+  say which one; in most tasks one look-alike in a near hue (:data:`NEAR_HUES`: yellow for orange) stands right
+  of the object on its surface and another near hue sits alone elsewhere (:func:`near_pair`), and the
+  landmark has a near-hue look-alike on another surface (:func:`near_landmark`);
 * **a destination told by what lies there**: the object goes beside a landmark (one of ``m`` same-type instances
   in different colours; most draws also hold the swapped pair, a blue mug beside a red bowl for "the red mug
   beside the blue bowl") or, in spatial and long-horizon tasks, to a named receptacle while the object itself is
