@@ -4,8 +4,10 @@ Same skills, prompt, feedback, 30-step budget, 10-failure cap and goal-condition
 changes is the scenes and the words:
 
 * **look-alikes**: the object to move is one of ``k`` instances of its type (5 at ``hard``, 3 at ``medium``), each
-  on its own receptacle and each in its own colour (:data:`~eb_habitat.catalog.HARD_COLORS`: colours a person
-  tells apart one object at a time), so the type in ``pick up the <object>`` does not say which one;
+  in its own colour (:data:`~eb_habitat.catalog.HARD_COLORS`), so the type in ``pick up the <object>`` does not
+  say which one; in most tasks one look-alike in a near hue (:data:`NEAR_HUES`: yellow for orange) stands right
+  of the object on its surface and another near hue sits alone elsewhere (:func:`near_pair`), and the
+  landmark has a near-hue look-alike on another surface (:func:`near_landmark`);
 * **a destination told by what lies there**: the object goes beside a landmark (one of ``m`` same-type instances
   in different colours; most draws also hold the swapped pair, a blue mug beside a red bowl for "the red mug
   beside the blue bowl") or, in spatial and long-horizon tasks, to a named receptacle while the object itself is
@@ -50,7 +52,7 @@ __all__ = ["DIFFICULTIES", "LEVELS", "Level", "generate_subset", "HARD_BUILDERS"
 DIFFICULTIES = ("classic", "medium", "hard")
 """Generator levels: ``classic`` is :mod:`eb_habitat.generate`, the others are drawn here."""
 
-HARD_VERSION = "1"
+HARD_VERSION = "2"
 
 SURFACES = [r.key for r in RECEPTACLES if r.kind == "surface"]
 CONTAINERS = [r.key for r in RECEPTACLES if r.kind == "container"]
@@ -58,6 +60,22 @@ CONTAINERS = [r.key for r in RECEPTACLES if r.kind == "container"]
 ROWS = [k for k in SURFACES if receptacle(k).capacity >= 3]
 #: Types with at least four colours of their own in the hard set (targets and landmarks).
 VARIED = [k for k, colors in HARD_COLORS.items() if len(colors) >= 5]
+
+#: Near hues: colours a hasty glance can mix up but a careful look at a 500 px view tells apart (checked by eye
+#: side by side on every type below). Dark red / navy (shades of one hue) stay out.
+NEAR_HUES: dict[str, tuple[str, ...]] = {
+    "orange": ("yellow", "red"), "yellow": ("orange",), "red": ("orange", "pink"), "pink": ("red", "purple"),
+    "blue": ("purple",), "purple": ("blue", "pink"),
+}
+
+
+def near_hues(type_key: str, color: str) -> list[str]:
+    """The colours of ``type_key`` in the hard set that are near hues of ``color``."""
+    return [c for c in NEAR_HUES.get(color, ()) if c in HARD_COLORS.get(type_key, ())]
+
+
+#: Types with a near-hue pair among their hard colours: the targets (and landmarks) of most hard tasks.
+PAIRED = [k for k in VARIED if any(near_hues(k, c) for c in HARD_COLORS[k])]
 
 
 @dataclass(frozen=True)
@@ -227,12 +245,88 @@ def _target_and_landmark(rng: random.Random, scene: Scene, level: Level, x: str,
         places = [k for k in _visible_places(scene) if k not in (lm["at"], trap_lm["at"])]
         xs = [trap] + _spread(rng, scene, x, [ct] + xcolors[2:], places)
         target = xs[1]
-        return target, [o for o in xs if o is not target], lm, landmarks[1:]
+        others = [o for o in xs if o is not target]
+        if not near_pair(rng, scene, target, others, keep=(trap,)) and rng.random() < 0.7:
+            raise _Reject("no near-hue pair")
+        near_landmark(rng, lm, landmarks[1:], keep=(trap_lm,))
+        return target, others, lm, landmarks[1:]
     landmarks = _spread(rng, scene, y, _colors(rng, y, level.m), SURFACES, keep_room=True)
     xs = _spread(rng, scene, x, _colors(rng, x, level.k), _visible_places(scene))
     lm = rng.choice(landmarks)
     target = rng.choice([o for o in xs if o["at"] != lm["at"]])
-    return target, [o for o in xs if o is not target], lm, [o for o in landmarks if o is not lm]
+    others = [o for o in xs if o is not target]
+    lms = [o for o in landmarks if o is not lm]
+    if not near_pair(rng, scene, target, others) and rng.random() < 0.7:
+        raise _Reject("no near-hue pair")
+    near_landmark(rng, lm, lms, recolor=True)
+    return target, others, lm, lms
+
+
+def _recolor(objs: list[dict[str, Any]], keep: list[dict[str, Any]], color: str) -> dict[str, Any] | None:
+    """The instance among ``objs`` (not in ``keep``) that has ``color``, else one recoloured to it; None if
+    ``objs`` has no instance that may change."""
+    free = [o for o in objs if not any(o is k for k in keep)]
+    for o in free:
+        if o["color"] == color:
+            return o
+    if any(o["color"] == color for o in keep) or not free:
+        return None
+    free[-1]["color"] = color
+    return free[-1]
+
+
+def _free_slots(scene: Scene, key: str) -> list[int]:
+    return [s for s in range(receptacle(key).capacity) if s not in scene.used_slots(key)]
+
+
+def near_pair(rng: random.Random, scene: Scene, target: dict[str, Any], others: list[dict[str, Any]],
+              keep: tuple[dict[str, Any], ...] = ()) -> bool:
+    """Put a near-hue look-alike of ``target`` (same type: the yellow mug beside the orange one) just right of it
+    on its receptacle -- ``pick up`` takes the leftmost, so the target stays reachable -- and, where the type has
+    a second near hue, make another look-alike elsewhere that hue (a red mug alone on another surface), with a
+    third look-alike to its right in half of these, so a pair is no sign of the target (not always: a blind
+    player that finds the type at fewer receptacles guesses better). Returns False (nothing changes) when the
+    type has no near hue for the target's colour or the target is in a container (shelves and drawers do not
+    read left to right, so "the leftmost" would be unclear)."""
+    hues = near_hues(target["type"], target["color"])
+    if not hues or receptacle(target["at"]).kind != "surface":  # shelves do not read left to right
+        return False
+    rng.shuffle(hues)
+    fixed = [target, *keep]
+    partner = _recolor(others, fixed, hues[0])
+    if partner is None:
+        raise _Reject("no look-alike to recolour")
+    at = target["at"]
+    slots = sorted(_free_slots(scene, at) + [target["slot"]])
+    if len(slots) < 2:
+        raise _Reject("no room for the near-hue pair")
+    i = rng.randrange(len(slots) - 1)
+    target["slot"] = slots[i]
+    partner["at"], partner["slot"] = at, rng.choice(slots[i + 1:])
+    fixed.append(partner)
+    if len(hues) > 1:
+        decoy = _recolor([o for o in others if o["at"] != at], fixed, hues[1])
+        if decoy is not None:
+            fixed.append(decoy)
+            third = [o for o in others if not any(o is f for f in fixed) and o["at"] != decoy["at"]]
+            room = [s for s in _free_slots(scene, decoy["at"]) if s > decoy["slot"]]
+            if third and room and rng.random() < 0.5:
+                third[0]["at"], third[0]["slot"] = decoy["at"], rng.choice(room)
+    return True
+
+
+def near_landmark(rng: random.Random, lm: dict[str, Any], others: list[dict[str, Any]],
+                  keep: tuple[dict[str, Any], ...] = (), recolor: bool = False) -> None:
+    """Give one of the landmark's look-alikes (on another surface) a near hue of the landmark's colour
+    (``recolor``: first give the landmark a colour that has near hues, if its own has none)."""
+    if recolor and not near_hues(lm["type"], lm["color"]):
+        used = {o["color"] for o in others}
+        fits = [c for c in HARD_COLORS[lm["type"]] if c not in used and near_hues(lm["type"], c)]
+        if fits:
+            lm["color"] = rng.choice(fits)
+    hues = near_hues(lm["type"], lm["color"])
+    if hues:
+        _recolor(others, [lm, *keep], rng.choice(hues))
 
 
 def _places_of(objs: list[dict[str, Any]]) -> tuple[str, ...]:
@@ -240,7 +334,9 @@ def _places_of(objs: list[dict[str, Any]]) -> tuple[str, ...]:
 
 
 def _two_types(rng: random.Random) -> tuple[str, str]:
-    x, y = rng.sample(VARIED, 2)
+    """The target's and the landmark's type: mostly types with a near-hue pair (:data:`PAIRED`)."""
+    x = rng.choice(PAIRED if rng.random() < 0.85 else VARIED)
+    y = rng.choice([k for k in (PAIRED if rng.random() < 0.85 else VARIED) if k != x])
     return x, y
 
 
@@ -358,10 +454,13 @@ def _conditional(rng: random.Random, level: Level) -> HardDraft:
     witness = scene.add(rng, x, at=lm["at"], color=colors[0])
     xs = _spread(rng, scene, x, colors[1:], [k for k in _visible_places(scene) if k != lm["at"]])
     target, other = rng.sample(xs, 2)
+    if not near_pair(rng, scene, target, [o for o in xs if o is not target], keep=(other,)) and rng.random() < 0.7:
+        raise _Reject("no near-hue pair")
     if rng.random() < 0.5:  # the condition holds
         ca, cb, cc = witness["color"], target["color"], other["color"]
     else:
-        ca = rng.choice([c for c in HARD_COLORS[x] if c != witness["color"]])
+        near = near_hues(x, witness["color"]) if rng.random() < 0.8 else []  # asks about a near hue
+        ca = rng.choice(near or [c for c in HARD_COLORS[x] if c != witness["color"]])
         cb, cc = other["color"], target["color"]
     _clutter(rng, scene, level, {x, y}, keep_free=_places_of(landmarks))
     i = rng.randrange(len(_IF_BESIDE))
@@ -429,11 +528,18 @@ def _spatial(rng: random.Random, level: Level) -> HardDraft:
     """Rows ``landmark, w, object`` (or mirrored) on ``level.m`` surfaces, one row per landmark colour; the
     object is named only by the two hops from the landmark of the instruction's colour."""
     scene = _new_scene(rng)
-    y = rng.choice(VARIED)
+    y = rng.choice(PAIRED if rng.random() < 0.85 else VARIED)
     w = rng.choice([t.key for t in OBJECT_TYPES if t.key != y])
     side = rng.choice(("left", "right"))
     rows = rng.sample(ROWS, level.m)
     lcolors = _colors(rng, y, level.m)
+    chosen = rng.randrange(level.m)
+    fits = [c for c in HARD_COLORS[y] if c not in lcolors and near_hues(y, c)]
+    if fits and not near_hues(y, lcolors[chosen]):
+        lcolors[chosen] = rng.choice(fits)
+    hues = [c for c in near_hues(y, lcolors[chosen]) if c not in lcolors]
+    if hues and not any(c in near_hues(y, lcolors[chosen]) for c in lcolors):
+        lcolors[(chosen + 1) % level.m] = rng.choice(hues)  # a near-hue landmark heads another row
     ends: list[dict[str, Any]] = []
     for src, lc in zip(rows, lcolors):
         cap = receptacle(src).capacity
@@ -445,7 +551,6 @@ def _spatial(rng: random.Random, level: Level) -> HardDraft:
             colors = colors[::-1]
         row = _row(rng, scene, src, keys, colors, first)
         ends.append(row[2] if side == "right" else row[0])
-    chosen = rng.randrange(level.m)
     target, lc = ends[chosen], lcolors[chosen]
     dest = rng.choice([k for k in SURFACES if k not in rows and scene.has_room(k)])
     # the target's own look-alikes elsewhere: its type alone does not find it
@@ -514,12 +619,15 @@ def _join(parts: list[str]) -> str:
 
 def _long(rng: random.Random, level: Level) -> HardDraft:
     scene = _new_scene(rng)
-    keys = rng.sample(VARIED, 3)
+    keys = rng.sample(PAIRED, 3)
     one_place = rng.random() < 0.5
     targets: list[dict[str, Any]] = []
     for key in keys:
         xs = _spread(rng, scene, key, _colors(rng, key, level.long_k), _visible_places(scene))
-        targets.append(rng.choice(xs))
+        target = rng.choice([o for o in xs if near_hues(key, o["color"])] or xs)
+        if not near_pair(rng, scene, target, [o for o in xs if o is not target]):
+            raise _Reject(f"no near hue for the {target['color']} {key}")
+        targets.append(target)
     if one_place:
         dest = rng.choice([k for k in SURFACES if receptacle(k).capacity >= 3 and len(scene.used_slots(k)) == 0
                            and all(t["at"] != k for t in targets)] or [None])

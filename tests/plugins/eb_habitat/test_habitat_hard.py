@@ -11,6 +11,7 @@ from eb_habitat.blind import blind_guess, blind_sweep, text_rule_agent
 from eb_habitat.catalog import HARD_COLORS
 from eb_habitat.env import HabitatEnv
 from eb_habitat.goals import PredicateError, parse_predicate
+from eb_habitat.hard import near_hues
 from eb_habitat.make import generate
 from eb_habitat.skills import skill_id
 from eb_habitat.tasks import SUBSETS, TaskFileError, load_task_file, spec_of, taskset_dir
@@ -71,14 +72,35 @@ def test_every_hard_goal_protects_every_other_object_and_picks_the_mover_once() 
         assert all(not any(p.name in ("untouched", "once") for p in group) for group in spec.subgoal_predicates())
 
 
-def test_look_alikes_are_one_per_receptacle_in_colours_of_their_own() -> None:
-    for t in BY_SUBSET["base"] + BY_SUBSET["visual_appearance"]:
+def test_look_alikes_have_colours_of_their_own_and_a_near_hue_one_stands_right_of_the_object() -> None:
+    """Five instances in five colours; in most tasks one of them, in a near hue (yellow beside orange), stands on
+    the object's own surface to its right, so ``pick up`` (the leftmost) still takes the object."""
+    paired = 0
+    tasks = BY_SUBSET["base"] + BY_SUBSET["visual_appearance"]
+    for t in tasks:
         spec = spec_of(t)
         mover = next(o for o in spec.objects if o.name == spec.goal[0].split()[1])
         twins = [o for o in spec.objects if o.type == mover.type]
-        assert len(twins) == 5, t.id
-        assert len({o.at for o in twins}) == len({o.color for o in twins}) == 5, t.id
+        assert len(twins) == len({o.color for o in twins}) == 5, t.id
         assert all(o.color in HARD_COLORS[o.type] for o in twins), t.id
+        beside = [o for o in twins if o.at == mover.at and o is not mover]
+        assert all(o.slot > mover.slot for o in beside), t.id  # the object is the leftmost of its kind there
+        assert len(beside) <= 1, t.id
+        if beside:
+            assert beside[0].color in near_hues(mover.type, mover.color), t.id
+            paired += 1
+    assert paired >= 0.6 * len(tasks)
+
+
+def test_long_horizon_objects_each_have_a_near_hue_look_alike_beside_them() -> None:
+    for t in BY_SUBSET["long_horizon"]:
+        spec = spec_of(t)
+        for g in spec.goal:
+            if g.startswith(("(on ", "(inside ")):
+                mover = next(o for o in spec.objects if o.name == g.split()[1])
+                beside = [o for o in spec.objects if o.type == mover.type and o.at == mover.at and o is not mover]
+                assert [o.color in near_hues(mover.type, mover.color) and o.slot > mover.slot
+                        for o in beside] == [True], t.id
 
 
 def test_untouched_and_once_take_a_name_not_a_type() -> None:
