@@ -51,6 +51,10 @@ class _Move:
     env_step: int | None
     dist: float | None
     path: float | None
+    located: bool = False
+    """The world recorded the agent's own ``position`` or its free path to the goal: the agent walks toward its goal
+    (navigation). Elsewhere a rising distance is an arm or an object on its way (manipulation lifts a shape off the
+    lid before it moves it closer), which is no drift."""
 
 
 @dataclass
@@ -81,7 +85,8 @@ class ActionRules:
                                      "name", env_step, action=name))
         expert = expert_name(a)
         agrees = expert is not None and expert == name
-        move = _Move(name, ok, env_step, _number(a, DISTANCE_KEYS), _number(a, PATH_KEYS))
+        move = _Move(name, ok, env_step, _number(a, DISTANCE_KEYS), _number(a, PATH_KEYS),
+                     located=a.get("position") is not None or _number(a, PATH_KEYS) is not None)
         if ok and not agrees:
             labels += self._loop(move, progress, before)
         if expert is not None and not agrees:
@@ -139,9 +144,9 @@ class ActionRules:
         """Rising distance over DRIFT_WINDOW actions that no detour explains: where the world reports the free
         path's length, it rose too; where it does not, no move failed (met an obstacle) in or just before the
         window. Once per rising stretch."""
-        if agrees or self.moves[-1].dist is None:
+        if agrees or self.moves[-1].dist is None or not self.moves[-1].located:
             return []
-        measured = [(m, m.dist) for m in self.moves if m.dist is not None]
+        measured = [(m, m.dist) for m in self.moves if m.dist is not None and m.located]
         if len(measured) < DRIFT_WINDOW + 1:
             return []
         window = [m for m, _ in measured[-(DRIFT_WINDOW + 1):]]

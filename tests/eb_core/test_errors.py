@@ -137,10 +137,15 @@ def test_missing_step_wrong_order_and_extra_step_against_the_expert():
 
 
 def test_navigation_drift_from_the_distance_to_the_goal():
-    far = [act(i + 1, "move forward", distance_to_goal=d) for i, d in enumerate([2.0, 2.5, 3.0, 3.5])]
+    far = [act(i + 1, "move forward", distance_to_goal=d, position=[0.0, -d]) for i, d in enumerate([2.0, 2.5, 3.0, 3.5])]
     lab = label_episode([step(1, far, prompt="")])
     assert cats(lab) == ["navigation_drift"] and lab["steps"][0]["labels"][0]["env_step"] == DRIFT_WINDOW + 1
-    near = [act(i + 1, "move forward", distance_to_goal=d) for i, d in enumerate([2.0, 2.5, 2.2, 3.0])]
+    # the same rising distance where the world records no agent position (an arm lifting a shape before it moves
+    # it to its hole): no navigation, no drift
+    arm = [{k: v for k, v in a.items() if k != "position"} for a in far]
+    assert cats(label_episode([step(1, arm, prompt="")])) == []
+    near = [act(i + 1, "move forward", distance_to_goal=d, position=[0.0, -d])
+            for i, d in enumerate([2.0, 2.5, 2.2, 3.0])]
     assert cats(label_episode([step(1, near, prompt="")])) == []
 
 

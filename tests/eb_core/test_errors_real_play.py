@@ -139,7 +139,8 @@ def plant(kind, steps, vocab, env_steps):
         d0 = acts[0]["distance_to_goal"]
         away = [{"env_step": env_steps + k, "action": 1, "action_name": "Move backward by 0.25 meters",
                  "success": True, "feedback": "The last action succeeded.", "progress": 0.0, "failure": None,
-                 "distance_to_goal": round(d0 + 0.25 * k, 3), "path_distance": 2.0 + 0.25 * k} for k in range(4)]
+                 "distance_to_goal": round(d0 + 0.25 * k, 3), "path_distance": 2.0 + 0.25 * k,
+                 "position": acts[0].get("position")} for k in range(4)]
         first["actions"] = away + acts
         return steps, "Move backward by 0.25 meters"
     raise ValueError(kind)

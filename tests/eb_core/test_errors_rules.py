@@ -52,7 +52,7 @@ def test_drift_needs_a_rise_no_detour_explains():
     def walk(dists, paths=None, fail_first=False):
         acts = [act(1, "Move forward", ok=False, failure="collision")] if fail_first else []
         for i, d in enumerate(dists):
-            extra = {"distance_to_goal": d} | ({"path_distance": paths[i]} if paths else {})
+            extra = {"distance_to_goal": d, "position": [0.0, d]} | ({"path_distance": paths[i]} if paths else {})
             acts.append(act(len(acts) + 1, "Move left", **extra))
         return cats(label_episode([step(1, acts)]))
 
