@@ -171,14 +171,15 @@ def _prepare(world: World, goal: dict[str, Any]) -> None:
 _SHUT = ("Drawer", "Cabinet", "Safe", "Fridge", "Box")
 
 
-def _shut_away(rng: random.Random, world: World, goal: dict[str, Any]) -> bool:
+def _shut_away(rng: random.Random, world: World, goal: dict[str, Any], skip_object: bool = False) -> bool:
     """Long-horizon scenes: put every instance of the things the task needs (the object, the dish it goes in,
     the knife) into closed drawers, cabinets, boxes or the fridge, so the agent has to search and open first.
-    False if some cannot be shut away."""
+    ``skip_object`` leaves the object's instances where they are (the hard set, whose look-alikes must each be
+    cheap to inspect). False if some cannot be shut away."""
     def t_of(ref: dict[str, str]) -> str:
         return ref["type"] if "type" in ref else world.objects[ref["instance"]].type
 
-    need = [t_of(goal["object"])] + ([t_of(goal["movable"])] if "movable" in goal else [])
+    need = ([] if skip_object else [t_of(goal["object"])]) + ([t_of(goal["movable"])] if "movable" in goal else [])
     if goal.get("sliced"):
         need += [k for k in KNIVES if world.of_type(k)]
     dest = goal.get("receptacle", {})

@@ -65,6 +65,27 @@ def test_hard_set_has_the_classic_subsets_and_protects_look_alikes() -> None:
         assert len(set(places)) == len(places), t.id  # one look-alike per place: a find shows which is which
 
 
+def test_search_bound_pays_find_open_close_per_shut_away_candidate_and_the_whole_plan() -> None:
+    """A frontier model ran out of steps on a hard task whose look-alikes sat in closed cabinets (issue 25):
+    the bound now counts find + open + close for a candidate inside something closed, a find per destination,
+    and the expert's whole plan on top, so even an exhaustive search fits (the test above, on all 300)."""
+    from eb_alfred.catalog import TYPES, fits
+
+    task = next(t for t in _hard() if t.subset == "base" and "instance" in t.metadata["goal"]["object"]
+                and "movable" not in t.metadata["goal"])
+    w, goal = World.from_scene(task.metadata["scene"]), task.metadata["goal"]
+    xt = w.objects[goal["object"]["instance"]].type
+    rt = w.objects[goal["receptacle"]["instance"]].type
+    expected = sum(3 if w.closed_container(n) else 1 for n in w.of_type(xt))
+    expected += sum(1 for n in w.of_type(rt) if w.objects[n].parent is None)
+    assert search_bound(w, goal, 12) == expected + 12
+    wrong = next(n for n in w.of_type(xt) if n != goal["object"]["instance"] and not w.closed_container(n))
+    box = next(n for n, o in w.objects.items() if TYPES[o.type].openable and not o.is_open and o.parent is None
+               and o.type != rt and fits(xt, o.type))
+    w.objects[wrong].parent = box
+    assert search_bound(w, goal, 12) == expected + 12 + 2
+
+
 def test_every_hard_instruction_singles_out_what_its_goal_singles_out() -> None:
     """The audit's referring_phrase probe on the whole set (common_sense names a look and a use: "the red
     handled cup for hot coffee")."""
