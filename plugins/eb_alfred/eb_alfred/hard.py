@@ -46,12 +46,13 @@ MAX_STEPS = 30
 LEVELS: dict[str, dict[str, Any]] = {
     "medium": {"n_obj": 3, "n_rec": 2, "n_rec_max": 3, "n_host": 3, "untouched": ("object",), "two_looks": False},
     "hard": {"n_obj": 6, "n_rec": 4, "n_rec_max": 6, "n_host": 5, "untouched": ("object", "receptacle"),
-             "two_looks": True},
+             "two_looks": True, "short": {"n_obj": 7, "n_rec": 5}},
 }
 """Per level: instances of the object's type, of the destination's type (at least ``n_rec``, at most
 ``n_rec_max``), of the furniture type holding the spatial look-alikes (one each), the roles whose look-alikes the
-goal protects, and whether a target of a type with colours and shapes is singled out by both ("the round white
-plate" among white square plates and blue round ones)."""
+goal protects, whether a target of a type with colours and shapes is singled out by both ("the round white
+plate" among white square plates and blue round ones), and what changes for the subsets of short plans (all
+but spatial_awareness and long_horizon), which have steps to spare for more candidates."""
 
 #: Task types of the hard set: every type with a destination (examine-in-light has one lamp per room, so only
 #: the object could be ambiguous, and one guess in six is too easy).
@@ -64,7 +65,7 @@ STEP_RANGE = {"base": (4, 18), "common_sense": (4, 18), "complex_instruction": (
 _HOSTS = ("Cabinet", "Drawer", "Shelf", "SideTable", "CounterTop", "Dresser", "TowelHolder")
 _LEAVE = ("Leave the other {xs} and {rs} alone.", "Do not touch any of the other {xs} or {rs}.",
           "The other {xs} and {rs} must stay exactly as they are.",
-          "Only that one: keep your hands off the other {xs} and {rs}.")
+          "Keep your hands off the other {xs} and {rs}.")
 _LEAVE_OBJ = ("Leave the other {xs} alone.", "Do not touch any of the other {xs}.",
               "The other {xs} must stay exactly as they are.")
 
@@ -240,7 +241,9 @@ def _single_out_by_looks(rng: random.Random, mine: list[dict[str, Any]], xt: str
 def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: Any = None,
               level: str = "hard") -> dict[str, Any] | None:
     """One hard candidate task (or None); ``views_for(world)`` renders it for the image checks (all subsets)."""
-    cfg = LEVELS[level]
+    cfg = dict(LEVELS[level])
+    if subset not in ("spatial_awareness", "long_horizon"):
+        cfg.update(cfg.get("short", {}))
     if kind not in KINDS:
         return None
     long = subset == "long_horizon"

@@ -30,6 +30,8 @@ CLASSIC_SHA256 = {
     "visual_appearance": "cc4f663c564a45a8d0dc89f7e78b531d08d37c7d0dc77ecc71ffc150112ef29e",
     "long_horizon": "e7e0bc01df42affbb39b3753b4d4700b94c5fafedfe54fd235c53b970e95358a",
 }
+MIN_BOTH_LOOKS = 20
+MIN_BY_NEIGHBOUR = 60
 CLASSIC_DIGEST = "5e2c7c66fe0204a0c42c99888ed7900add1b5e991d8d7117c4ae705b1c16eaf5"
 
 
@@ -84,6 +86,32 @@ def test_search_bound_pays_find_open_close_per_shut_away_candidate_and_the_whole
                and o.type != rt and fits(xt, o.type))
     w.objects[wrong].parent = box
     assert search_bound(w, goal, 12) == expected + 12 + 2
+
+
+def test_hard_targets_need_both_words_and_twin_destinations_need_the_neighbour() -> None:
+    """Up close, one colour word was easy to check (issue 25's play). A target whose type has colours and shapes
+    is named by both ("the round white plate"): a look-alike shares its colour and another its shape, so either
+    word alone picks wrong; a destination named by colour and neighbour ("the white drawer just to the left of
+    the sink") has a same-coloured twin elsewhere along the walls."""
+    from eb_alfred.instructions import noun
+
+    both = by_neighbour = 0
+    for t in _hard():
+        w, goal, text = World.from_scene(t.metadata["scene"]), t.metadata["goal"], t.instruction.lower()
+        x = goal["object"].get("instance")
+        if x and w.objects[x].shape and w.objects[x].color and \
+                f"the {w.objects[x].shape} {w.objects[x].color} {noun(w.objects[x].type)}" in text:
+            o = w.objects[x]
+            others = [w.objects[y] for y in w.of_type(o.type) if y != x]
+            assert any(y.color == o.color for y in others) and any(y.shape == o.shape for y in others), t.id
+            assert all((y.color, y.shape) != (o.color, o.shape) for y in others), t.id
+            both += 1
+        d = w.objects[goal["receptacle"]["instance"]]
+        if d.color and f"the {d.color} {noun(d.type)} just to the " in text:
+            assert [y for y in w.of_type(d.type) if y != d.name and w.objects[y].parent is None
+                    and w.objects[y].color == d.color], t.id
+            by_neighbour += 1
+    assert both >= MIN_BOTH_LOOKS and by_neighbour >= MIN_BY_NEIGHBOUR, (both, by_neighbour)
 
 
 def test_every_hard_instruction_singles_out_what_its_goal_singles_out() -> None:
@@ -267,3 +295,13 @@ def test_prompt_states_the_budgets_and_that_a_failure_drops_the_rest_of_the_plan
     notes = env.prompt_parts().output_notes
     assert f"after {conf['max_steps']} actions" in notes and f"{conf['max_invalid_actions']} actions have failed" in notes
     assert "rest of the plan is dropped" in notes
+
+
+def test_a_shape_word_before_a_colour_word_is_checked_as_drawn() -> None:
+    """The render check (attribute_rendered) reads both words of "the round white plate", not only "white"."""
+    from eb_alfred.audit import _named_attributes
+
+    assert _named_attributes("Heat the round white plate, then set it down.", "Plate") == {"color": "white",
+                                                                                           "shape": "round"}
+    assert _named_attributes("Heat the white plate.", "Plate") == {"color": "white"}
+    assert _named_attributes("Put the tall mug away.", "Mug") == {"shape": "tall"}
