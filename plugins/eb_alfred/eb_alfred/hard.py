@@ -3,17 +3,19 @@
 Same world, actions, feedback, limits and success checks as classic; what changes is the scene and the words:
 
 * crowds of look-alikes: the object is one of ``n_obj`` instances of its type (two of them for pick-two), told
-  apart only by colour or shape (shape where the type has shapes, in visual_appearance) or, in
+  apart only by colour or shape (shape where the type has shapes, in visual_appearance), by colour and shape
+  together where the type has both ("the round white plate" among white square and blue round plates) or, in
   spatial_awareness, only by which piece of furniture it stands on or in ("the mug that is in the cabinet just
-  to the left of the fridge"), every other instance a clone of it;
-* the destination is one of ``n_rec`` same-type pieces of furniture (cabinets, drawers, shelves, counters...),
-  singled out by colour or by its place along the walls;
+  to the left of the fridge");
+* the destination is one of ``n_rec``..``n_rec_max`` same-type pieces of furniture (cabinets, drawers,
+  shelves, counters...), singled out by colour, by colour and a neighbour when a second piece has its colour
+  ("the white drawer just to the left of the sink"), or by its place along the walls;
 * instance numbers are shuffled, so ``Mug_3`` or ``Cabinet`` says nothing about where a thing stands;
 * the instruction asks to leave the look-alikes alone, and the goal checks it (``goal.untouched``: no other mug,
   no other cabinet may be picked up, opened, closed, switched or filled at any time). A wrong guess cannot be
-  taken back, so a player who cannot see has one guess among ``n_obj x n_rec`` (about 1 in 24);
-* bigger, fuller rooms and longer plans (up to 26 steps); even an exhaustive search -- one ``find`` for every
-  candidate object and destination, then the plan -- fits the 30-step budget (:func:`search_bound`).
+  taken back, so a player who cannot see has one guess among ``n_obj x n_rec`` (about 1 in 30);
+* bigger, fuller rooms; even an exhaustive search fits the 30-step budget (:func:`search_bound`: find, open and
+  close per shut-away candidate, a find per destination and per spare knife or dish, then the whole plan).
 
 Relations that the text feedback would give away are not used: "the cabinet that holds the book" (``find a
 Book`` says which cabinet), and the object's own place when look-alikes share it. Feedback rules are classic:
@@ -24,16 +26,40 @@ mug at some cabinet.
 from __future__ import annotations
 
 import random
+import statistics
 from typing import Any
 
 from eb_alfred.actions import scene_actions
 from eb_alfred.audit import candidate_phrases, phrase_problems, use_phrase
 from eb_alfred.catalog import KNIVES, TYPES, fits
-from eb_alfred.draw import (KIND_ROOMS, LONG_ROOMS, MAX_ACTIONS, MIN_ACTIONS, _PLACE_TARGETS, _add_preparation,
-                            _prepare, _shut_away, image_problems, make_one, propose_goal)
+from eb_alfred.draw import (
+    _PLACE_TARGETS,
+    KIND_ROOMS,
+    LONG_ROOMS,
+    MAX_ACTIONS,
+    MIN_ACTIONS,
+    _add_preparation,
+    _prepare,
+    _shut_away,
+    image_problems,
+    make_one,
+    propose_goal,
+)
 from eb_alfred.goals import PROPERTY_OF_KIND, evaluate
-from eb_alfred.instructions import (_CONTEXT, _ASIDE, _CLOSE, _NEED, _fill, _pick, _ref_words, base_instruction,
-                                    noun, plural, prep, receptacle_relations)
+from eb_alfred.instructions import (
+    _ASIDE,
+    _CLOSE,
+    _CONTEXT,
+    _NEED,
+    _fill,
+    _pick,
+    _ref_words,
+    base_instruction,
+    noun,
+    plural,
+    prep,
+    receptacle_relations,
+)
 from eb_alfred.oracle import expert_plan
 from eb_alfred.scenes import _renumber, make_scene
 from eb_alfred.world import World
@@ -46,13 +72,15 @@ MAX_STEPS = 30
 LEVELS: dict[str, dict[str, Any]] = {
     "medium": {"n_obj": 3, "n_rec": 2, "n_rec_max": 3, "n_host": 3, "untouched": ("object",), "two_looks": False},
     "hard": {"n_obj": 6, "n_rec": 4, "n_rec_max": 6, "n_host": 5, "untouched": ("object", "receptacle"),
-             "two_looks": True, "short": {"n_obj": 7, "n_rec": 5}},
+             "two_looks": True, "short": {"n_obj": 7, "n_rec": 5}, "check_hidden": False},
 }
 """Per level: instances of the object's type, of the destination's type (at least ``n_rec``, at most
 ``n_rec_max``), of the furniture type holding the spatial look-alikes (one each), the roles whose look-alikes the
 goal protects, whether a target of a type with colours and shapes is singled out by both ("the round white
 plate" among white square plates and blue round ones), and what changes for the subsets of short plans (all
-but spatial_awareness and long_horizon), which have steps to spare for more candidates."""
+but spatial_awareness and long_horizon), which have steps to spare for more candidates. ``check_hidden``
+refuses a candidate with a look-alike that its view shows much less of than the others
+(:func:`hidden_candidates`); off for the shipped set, whose generation it slows several times (issue 25)."""
 
 #: Task types of the hard set: every type with a destination (examine-in-light has one lamp per room, so only
 #: the object could be ambiguous, and one guess in six is too easy).
@@ -88,7 +116,7 @@ def _shuffle_names(objects: list[dict[str, Any]], rng: random.Random) -> None:
     for o in objects:
         by_type.setdefault(o["type"], []).append(o)
     rename: dict[str, str] = {}
-    for t, group in by_type.items():
+    for group in by_type.values():
         names = [o["name"] for o in group]
         shuffled = list(names)
         rng.shuffle(shuffled)
@@ -291,9 +319,19 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     if views_for is not None:
         # common_sense names the look by itself ("the red handled cup..."): check it as "the red mug"
         seen = dict(rec, instruction=f"{text} ({value} {noun(xt)})") if subset == "common_sense" and value else rec
-        if image_problems(seen, views_for(world)):
+        views = views_for(world)
+        if image_problems(seen, views) or (cfg.get("check_hidden") and hidden_candidates(world, xt, views)):
             return None
     return rec
+
+
+def hidden_candidates(world: World, xt: str, views: Any) -> list[str]:
+    """Instances of the object's type that the view after their ``find`` (and ``open``) shows much less of than
+    the others: under half the median share of the image (a vase behind a pillow shows only its flowers). Every
+    candidate must be seen to be told apart, so a task with one is refused."""
+    areas = {n: views.area(n) for n in world.of_type(xt)}
+    floor = 0.5 * statistics.median(areas.values())
+    return [n for n, a in areas.items() if a < floor]
 
 
 def _hard_goal(subset: str, kind: str, seed: int, rng: random.Random,

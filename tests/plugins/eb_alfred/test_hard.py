@@ -10,9 +10,6 @@ from collections import Counter
 from pathlib import Path
 
 import pytest
-
-from eb_core.taskfile import task_set_digest
-
 from eb_alfred.blind import guess_episode, random_episode, sweep_episode
 from eb_alfred.env import AlfredEnv
 from eb_alfred.goals import evaluate, look_alikes
@@ -21,6 +18,8 @@ from eb_alfred.oracle import expert_plan, why_unreachable
 from eb_alfred.prompts import LEAVE_ALONE
 from eb_alfred.tasks import SUBSETS, TASK_DIR, TaskFileError, load_all, load_task_file
 from eb_alfred.world import World
+
+from eb_core.taskfile import task_set_digest
 
 CLASSIC_SHA256 = {
     "base": "b189a3b11eef7214bcf1de198fb3dcb30c02a2bd2ef57b2c8485775c05804e01",
@@ -293,7 +292,8 @@ def test_prompt_states_the_budgets_and_that_a_failure_drops_the_rest_of_the_plan
     env = AlfredEnv(render=False)
     env.reset(AlfredEnv.load_tasks(render=False)[0], 0)
     notes = env.prompt_parts().output_notes
-    assert f"after {conf['max_steps']} actions" in notes and f"{conf['max_invalid_actions']} actions have failed" in notes
+    assert f"after {conf['max_steps']} actions" in notes
+    assert f"{conf['max_invalid_actions']} actions have failed" in notes
     assert "rest of the plan is dropped" in notes
 
 
@@ -305,3 +305,23 @@ def test_a_shape_word_before_a_colour_word_is_checked_as_drawn() -> None:
                                                                                            "shape": "round"}
     assert _named_attributes("Heat the white plate.", "Plate") == {"color": "white"}
     assert _named_attributes("Put the tall mug away.", "Mug") == {"shape": "tall"}
+
+
+def test_a_candidate_that_hides_behind_another_thing_is_refused() -> None:
+    """A vase behind a pillow shows only its flowers after its find: it cannot be told from its look-alikes, so
+    ``hard.hidden_candidates`` (rendered for real) names it; a candidate with one is refused when the level has
+    ``check_hidden``."""
+    from eb_alfred.audit import Views
+    from eb_alfred.hard import hidden_candidates
+    from eb_alfred.render import AlfredRenderer
+
+    case = json.loads((Path(__file__).parent / "data" / "hidden_vase.json").read_text())
+    renderer = AlfredRenderer(250)
+    try:
+        w = World.from_scene(case["scene"])
+        assert hidden_candidates(w, "Vase", Views(w, renderer)) == ["Vase_5"]
+        assert case["goal"]["object"] == {"instance": "Vase_5"}
+        w.objects["Vase_5"].parent = "Dresser"  # on the dresser beside the white vase, in plain view
+        assert hidden_candidates(w, "Vase", Views(w, renderer)) == []
+    finally:
+        renderer.close()
