@@ -13,8 +13,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from eb_alfred.draw import (DIFFICULTIES, LONG_ROOMS, STEP_RANGE, image_problems, make_one,  # noqa: F401
-                            propose_goal)
+from eb_alfred.draw import DIFFICULTIES, LONG_ROOMS, STEP_RANGE, image_problems, make_one, propose_goal  # noqa: F401
 from eb_alfred.goals import GOAL_KINDS
 from eb_alfred.tasks import FILE_FORMAT, SUBSETS, TASK_DIR
 
