@@ -65,7 +65,17 @@ def candidate_phrases(world: World, goal: dict[str, Any], role: str) -> list[tup
         if v and all(getattr(world.objects[y], attr) != v for y in world.of_type(xt) if y != x):
             out.append((f"the {v} {noun(xt)}", [x]))
             out += [(use_phrase(use, v), [x]) for use in TYPES[xt].uses]  # common_sense: "the red handled cup..."
-    out += object_relations(world, x) if TYPES[xt].pickupable else receptacle_relations(world, x)
+    if o.color and o.shape and all((world.objects[y].color, world.objects[y].shape) != (o.color, o.shape)
+                                   for y in world.of_type(xt) if y != x):
+        out.append((f"the {o.shape} {o.color} {noun(xt)}", [x]))  # the hard set: "the round white plate"
+    if TYPES[xt].pickupable:
+        out += object_relations(world, x)
+    else:
+        rels = receptacle_relations(world, x)
+        out += rels
+        if o.color:  # the hard set: "the white drawer just to the left of the sink" (another drawer is white)
+            out += [(f"the {o.color} {p[len('the '):]}", refs) for p, refs in rels
+                    if p.startswith(f"the {noun(xt)} just ")]
     parent = o.parent
     if TYPES[xt].pickupable and parent is not None:
         # nested: "the mug that is in the drawer just to the left of the side table"
@@ -116,9 +126,11 @@ def _named_attributes(instruction: str, xt: str) -> dict[str, str]:
     """The colour/shape words the instruction puts right before the target's noun (or plural)."""
     low = instruction.lower()
     out = {}
+    colors = "|".join(re.escape(c) for c in TYPES[xt].colors) or "(?!)"
     for attr, values in (("color", TYPES[xt].colors), ("shape", TYPES[xt].shapes)):
+        between = f"(?:(?:{colors}) )?" if attr == "shape" else ""  # "the round white plate"
         for v in values:
-            if re.search(rf"\b{re.escape(v)} ({re.escape(noun(xt))}|{re.escape(plural(xt))})\b", low):
+            if re.search(rf"\b{re.escape(v)} {between}({re.escape(noun(xt))}|{re.escape(plural(xt))})\b", low):
                 out[attr] = v
     return out
 

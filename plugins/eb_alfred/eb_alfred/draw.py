@@ -19,9 +19,9 @@ import random
 from typing import Any
 
 from eb_alfred.actions import scene_actions
+from eb_alfred.audit import attribute_problems, phrase_problems, relation_problems, visibility_problems
 from eb_alfred.catalog import KNIVES, LAMPS, TYPES, fits, is_movable_receptacle
 from eb_alfred.goals import PROPERTY_OF_KIND, evaluate, properties
-from eb_alfred.audit import attribute_problems, phrase_problems, relation_problems, visibility_problems
 from eb_alfred.instructions import instruction_with_template, noun, object_relations, plural, receptacle_relations
 from eb_alfred.oracle import expert_plan
 from eb_alfred.scenes import _renumber, make_scene
@@ -111,7 +111,7 @@ def propose_goal(rng: random.Random, kind: str, world: World, sliced: bool = Fal
 
 def _object_types(kind: str, world: World, present: set[str], sliced: bool) -> list[str]:
     """The types a goal of ``kind`` can be about in ``world`` (``present``: its types), in a stable order."""
-    pick = lambda o: TYPES[o].pickupable  # noqa: E731
+    pick = lambda o: TYPES[o].pickupable
     pool = {
         "heat_and_place": [t for t in HEATABLE if t in present],
         "cool_and_place": [t for t in COOLABLE if t in present],
@@ -171,14 +171,15 @@ def _prepare(world: World, goal: dict[str, Any]) -> None:
 _SHUT = ("Drawer", "Cabinet", "Safe", "Fridge", "Box")
 
 
-def _shut_away(rng: random.Random, world: World, goal: dict[str, Any]) -> bool:
+def _shut_away(rng: random.Random, world: World, goal: dict[str, Any], skip_object: bool = False) -> bool:
     """Long-horizon scenes: put every instance of the things the task needs (the object, the dish it goes in,
     the knife) into closed drawers, cabinets, boxes or the fridge, so the agent has to search and open first.
-    False if some cannot be shut away."""
+    ``skip_object`` leaves the object's instances where they are (the hard set, whose look-alikes must each be
+    cheap to inspect). False if some cannot be shut away."""
     def t_of(ref: dict[str, str]) -> str:
         return ref["type"] if "type" in ref else world.objects[ref["instance"]].type
 
-    need = [t_of(goal["object"])] + ([t_of(goal["movable"])] if "movable" in goal else [])
+    need = ([] if skip_object else [t_of(goal["object"])]) + ([t_of(goal["movable"])] if "movable" in goal else [])
     if goal.get("sliced"):
         need += [k for k in KNIVES if world.of_type(k)]
     dest = goal.get("receptacle", {})

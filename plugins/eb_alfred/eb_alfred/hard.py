@@ -3,17 +3,19 @@
 Same world, actions, feedback, limits and success checks as classic; what changes is the scene and the words:
 
 * crowds of look-alikes: the object is one of ``n_obj`` instances of its type (two of them for pick-two), told
-  apart only by colour or shape (shape where the type has shapes, in visual_appearance) or, in
+  apart only by colour or shape (shape where the type has shapes, in visual_appearance), by colour and shape
+  together where the type has both ("the round white plate" among white square and blue round plates) or, in
   spatial_awareness, only by which piece of furniture it stands on or in ("the mug that is in the cabinet just
-  to the left of the fridge"), every other instance a clone of it;
-* the destination is one of ``n_rec`` same-type pieces of furniture (cabinets, drawers, shelves, counters...),
-  singled out by colour or by its place along the walls;
+  to the left of the fridge");
+* the destination is one of ``n_rec``..``n_rec_max`` same-type pieces of furniture (cabinets, drawers,
+  shelves, counters...), singled out by colour, by colour and a neighbour when a second piece has its colour
+  ("the white drawer just to the left of the sink"), or by its place along the walls;
 * instance numbers are shuffled, so ``Mug_3`` or ``Cabinet`` says nothing about where a thing stands;
 * the instruction asks to leave the look-alikes alone, and the goal checks it (``goal.untouched``: no other mug,
   no other cabinet may be picked up, opened, closed, switched or filled at any time). A wrong guess cannot be
-  taken back, so a player who cannot see has one guess among ``n_obj x n_rec`` (about 1 in 24);
-* bigger, fuller rooms and longer plans (up to 26 steps); even an exhaustive search -- one ``find`` for every
-  candidate object and destination, then the plan -- fits the 30-step budget (:func:`search_bound`).
+  taken back, so a player who cannot see has one guess among ``n_obj x n_rec`` (about 1 in 30);
+* bigger, fuller rooms; even an exhaustive search fits the 30-step budget (:func:`search_bound`: find, open and
+  close per shut-away candidate, a find per destination and per spare knife or dish, then the whole plan).
 
 Relations that the text feedback would give away are not used: "the cabinet that holds the book" (``find a
 Book`` says which cabinet), and the object's own place when look-alikes share it. Feedback rules are classic:
@@ -24,16 +26,40 @@ mug at some cabinet.
 from __future__ import annotations
 
 import random
+import statistics
 from typing import Any
 
 from eb_alfred.actions import scene_actions
 from eb_alfred.audit import candidate_phrases, phrase_problems, use_phrase
-from eb_alfred.catalog import TYPES, fits
-from eb_alfred.draw import (KIND_ROOMS, LONG_ROOMS, MAX_ACTIONS, MIN_ACTIONS, _PLACE_TARGETS, _add_preparation,
-                            _prepare, _shut_away, image_problems, make_one, propose_goal)
+from eb_alfred.catalog import KNIVES, TYPES, fits
+from eb_alfred.draw import (
+    _PLACE_TARGETS,
+    KIND_ROOMS,
+    LONG_ROOMS,
+    MAX_ACTIONS,
+    MIN_ACTIONS,
+    _add_preparation,
+    _prepare,
+    _shut_away,
+    image_problems,
+    make_one,
+    propose_goal,
+)
 from eb_alfred.goals import PROPERTY_OF_KIND, evaluate
-from eb_alfred.instructions import (_CONTEXT, _ASIDE, _CLOSE, _NEED, _fill, _pick, _ref_words, base_instruction,
-                                    noun, plural, prep, receptacle_relations)
+from eb_alfred.instructions import (
+    _ASIDE,
+    _CLOSE,
+    _CONTEXT,
+    _NEED,
+    _fill,
+    _pick,
+    _ref_words,
+    base_instruction,
+    noun,
+    plural,
+    prep,
+    receptacle_relations,
+)
 from eb_alfred.oracle import expert_plan
 from eb_alfred.scenes import _renumber, make_scene
 from eb_alfred.world import World
@@ -44,11 +70,17 @@ MAX_STEPS = 30
 """The benchmark's step budget (``conf/env/alfred.yaml``)."""
 
 LEVELS: dict[str, dict[str, Any]] = {
-    "medium": {"n_obj": 3, "n_rec": 2, "n_host": 3, "untouched": ("object",)},
-    "hard": {"n_obj": 6, "n_rec": 4, "n_host": 5, "untouched": ("object", "receptacle")},
+    "medium": {"n_obj": 3, "n_rec": 2, "n_rec_max": 3, "n_host": 3, "untouched": ("object",), "two_looks": False},
+    "hard": {"n_obj": 6, "n_rec": 4, "n_rec_max": 6, "n_host": 5, "untouched": ("object", "receptacle"),
+             "two_looks": True, "short": {"n_obj": 7, "n_rec": 5}, "check_hidden": False},
 }
-"""Per level: instances of the object's type, of the destination's type, of the furniture type holding the
-spatial look-alikes (one each), and the roles whose look-alikes the goal protects."""
+"""Per level: instances of the object's type, of the destination's type (at least ``n_rec``, at most
+``n_rec_max``), of the furniture type holding the spatial look-alikes (one each), the roles whose look-alikes the
+goal protects, whether a target of a type with colours and shapes is singled out by both ("the round white
+plate" among white square plates and blue round ones), and what changes for the subsets of short plans (all
+but spatial_awareness and long_horizon), which have steps to spare for more candidates. ``check_hidden``
+refuses a candidate with a look-alike that its view shows much less of than the others
+(:func:`hidden_candidates`); off for the shipped set, whose generation it slows several times (issue 25)."""
 
 #: Task types of the hard set: every type with a destination (examine-in-light has one lamp per room, so only
 #: the object could be ambiguous, and one guess in six is too easy).
@@ -56,12 +88,12 @@ KINDS = ("pick_and_place", "stack_and_place", "pick_two_and_place", "clean_and_p
          "cool_and_place")
 #: Oracle-step range per subset (inclusive); the budget is 30.
 STEP_RANGE = {"base": (4, 18), "common_sense": (4, 18), "complex_instruction": (4, 18),
-              "spatial_awareness": (4, 22), "visual_appearance": (4, 22), "long_horizon": (16, 26)}
+              "spatial_awareness": (4, 20), "visual_appearance": (4, 20), "long_horizon": (16, 22)}
 #: Furniture that can be a destination or hold the object in spatial tasks.
 _HOSTS = ("Cabinet", "Drawer", "Shelf", "SideTable", "CounterTop", "Dresser", "TowelHolder")
 _LEAVE = ("Leave the other {xs} and {rs} alone.", "Do not touch any of the other {xs} or {rs}.",
           "The other {xs} and {rs} must stay exactly as they are.",
-          "Only that one: keep your hands off the other {xs} and {rs}.")
+          "Keep your hands off the other {xs} and {rs}.")
 _LEAVE_OBJ = ("Leave the other {xs} alone.", "Do not touch any of the other {xs}.",
               "The other {xs} must stay exactly as they are.")
 
@@ -84,7 +116,7 @@ def _shuffle_names(objects: list[dict[str, Any]], rng: random.Random) -> None:
     for o in objects:
         by_type.setdefault(o["type"], []).append(o)
     rename: dict[str, str] = {}
-    for t, group in by_type.items():
+    for group in by_type.values():
         names = [o["name"] for o in group]
         shuffled = list(names)
         rng.shuffle(shuffled)
@@ -100,19 +132,21 @@ def _standing(scene: dict[str, Any], t: str) -> list[dict[str, Any]]:
 
 
 def _choose_destination(rng: random.Random, scene: dict[str, Any], goal: dict[str, Any], n_rec: int,
-                        by_colour: bool) -> str | None:
+                        by_colour: bool, n_rec_max: int = 99) -> str | None:
     carried = goal["movable"]["type"] if "movable" in goal else goal["object"]["type"]
     kind = goal["kind"]
-    options = [t for t in _HOSTS if t in _PLACE_TARGETS and fits(carried, t) and len(_standing(scene, t)) >= n_rec
+    options = [t for t in _HOSTS if t in _PLACE_TARGETS and fits(carried, t)
+               and n_rec <= len(_standing(scene, t)) <= n_rec_max
                and not (by_colour and len(TYPES[t].colors) < 2)
                and not (kind == "cool_and_place" and t == "Fridge")]
     return rng.choice(options) if options else None
 
 
 def _add_look_alikes(rng: random.Random, scene: dict[str, Any], xt: str, n_obj: int, avoid: set[str],
-                     hosts: list[str] | None) -> list[dict[str, Any]] | None:
+                     hosts: list[str] | None, open_only: bool = False) -> list[dict[str, Any]] | None:
     """Make ``n_obj`` instances of ``xt`` (clones of one of them), each on/in a fitting receptacle outside
-    ``avoid`` (the destination's type); with ``hosts``, one per host instance (spatial). Returns the instances."""
+    ``avoid`` (the destination's type); with ``hosts``, one per host instance (spatial); with ``open_only``, on
+    or in nothing that closes (each costs one ``find`` to inspect). Returns the instances."""
     objs = scene["objects"]
     mine = [o for o in objs if o["type"] == xt]
     if not mine:
@@ -123,38 +157,25 @@ def _add_look_alikes(rng: random.Random, scene: dict[str, Any], xt: str, n_obj: 
         if parent is None or parent["type"] in avoid or (hosts is not None and parent["name"] not in hosts):
             o["parent"] = "?"
     if hosts is not None:
-        return _one_per_host(rng, objs, mine, model, xt, n_obj, hosts)
-    return _one_per_place(rng, objs, mine, model, xt, n_obj, avoid)
-
-
-def _one_per_host(rng: random.Random, objs: list[dict[str, Any]], mine: list[dict[str, Any]],
-                  model: dict[str, Any], xt: str, n_obj: int, hosts: list[str]) -> list[dict[str, Any]] | None:
-    """Spatial tasks: the instances ``mine`` (plus clones of ``model``) on distinct ``hosts``, those without a
-    place (parent ``"?"``) first; None when there are too few hosts."""
-    free = list(hosts)
-    rng.shuffle(free)
-    placed = [o for o in mine if o["parent"] != "?"]
-    used = {o["parent"] for o in placed}
-    free = [h for h in free if h not in used]
-    for o in mine:
-        if o["parent"] == "?":
-            if not free:
-                return None
-            o["parent"] = free.pop()
-    while len(mine) < n_obj and free:
-        twin = dict(model, name=f"{xt}_{90 + len(mine)}", parent=free.pop())
-        objs.append(twin)
-        mine.append(twin)
-    if len(mine) < n_obj or len({o["parent"] for o in mine}) < len(mine):
-        return None
-    return mine
-
-
-def _one_per_place(rng: random.Random, objs: list[dict[str, Any]], mine: list[dict[str, Any]],
-                   model: dict[str, Any], xt: str, n_obj: int, avoid: set[str]) -> list[dict[str, Any]] | None:
-    """``n_obj`` instances (``mine``, clones of ``model`` added or extra ones removed), one per place (piece of
-    furniture) outside ``avoid``: after "find a Mug_3" the view shows that mug alone, so which name goes with
-    which look is never in doubt. None when there are too few places."""
+        free = list(hosts)
+        rng.shuffle(free)
+        placed = [o for o in mine if o["parent"] != "?"]
+        used = {o["parent"] for o in placed}
+        free = [h for h in free if h not in used]
+        for o in mine:
+            if o["parent"] == "?":
+                if not free:
+                    return None
+                o["parent"] = free.pop()
+        while len(mine) < n_obj and free:
+            twin = dict(model, name=f"{xt}_{90 + len(mine)}", parent=free.pop())
+            objs.append(twin)
+            mine.append(twin)
+        if len(mine) < n_obj or len({o["parent"] for o in mine}) < len(mine):
+            return None
+        return mine
+    # one instance per place (piece of furniture): after "find a Mug_3" the view shows that mug alone, so which
+    # name goes with which look is never in doubt
     def top(o: dict[str, Any]) -> str:
         while "parent" in o and o["parent"] != "?":
             o = next(p for p in objs if p["name"] == o["parent"])
@@ -163,7 +184,8 @@ def _one_per_place(rng: random.Random, objs: list[dict[str, Any]], mine: list[di
     receps = [o for o in objs if TYPES[o["type"]].receptacle and fits(xt, o["type"]) and o["type"] not in avoid
               and o["type"] not in ("Sink", "Bathtub", "Microwave", "Fridge", "Toaster", "CoffeeMachine",
                                     "GarbageCan", "Safe", "Box")
-              and not TYPES[o["type"]].pickupable and top(o) not in avoid_places(objs, avoid)]
+              and not TYPES[o["type"]].pickupable and top(o) not in avoid_places(objs, avoid)
+              and not (open_only and TYPES[o["type"]].openable)]
     by_place: dict[str, list[dict[str, Any]]] = {}
     for r in receps:
         by_place.setdefault(top(r), []).append(r)
@@ -191,6 +213,31 @@ def _one_per_place(rng: random.Random, objs: list[dict[str, Any]], mine: list[di
 def avoid_places(objs: list[dict[str, Any]], avoid: set[str]) -> set[str]:
     """Names of the standing furniture of the types in ``avoid`` (the destination's look-alikes)."""
     return {o["name"] for o in objs if "parent" not in o and o["type"] in avoid}
+
+
+def _single_out_by_both_looks(rng: random.Random, mine: list[dict[str, Any]], xt: str
+                              ) -> tuple[str, str, list[dict[str, Any]]] | None:
+    """Give one of ``mine`` a colour and a shape that together no other has, while each alone is shared: at
+    least two look-alikes have its colour and another shape, at least two its shape and another colour (the
+    rest differ in both). Returns ("color+shape", "<shape> <colour>", [target])."""
+    info = TYPES[xt]
+    if len(info.colors) < 2 or len(info.shapes) < 2 or len(mine) < 5:
+        return None
+    color, shape = rng.choice(info.colors), rng.choice(info.shapes)
+    other_c = [c for c in info.colors if c != color]
+    other_s = [v for v in info.shapes if v != shape]
+    order = list(mine)
+    rng.shuffle(order)
+    target, rest = order[0], order[1:]
+    target.update(color=color, shape=shape)
+    for i, o in enumerate(rest):
+        if i < 2:
+            o.update(color=color, shape=rng.choice(other_s))
+        elif i < 4:
+            o.update(color=rng.choice(other_c), shape=shape)
+        else:
+            o.update(color=rng.choice(other_c), shape=rng.choice(other_s))
+    return "color+shape", f"{shape} {color}", [target]
 
 
 def _single_out_by_looks(rng: random.Random, mine: list[dict[str, Any]], xt: str, n_targets: int,
@@ -222,7 +269,9 @@ def _single_out_by_looks(rng: random.Random, mine: list[dict[str, Any]], xt: str
 def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: Any = None,
               level: str = "hard") -> dict[str, Any] | None:
     """One hard candidate task (or None); ``views_for(world)`` renders it for the image checks (all subsets)."""
-    cfg = LEVELS[level]
+    cfg = dict(LEVELS[level])
+    if subset not in ("spatial_awareness", "long_horizon"):
+        cfg.update(cfg.get("short", {}))
     if kind not in KINDS:
         return None
     long = subset == "long_horizon"
@@ -235,7 +284,9 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     if picked is None:
         return None
     targets, attr, value, host_type = picked
-    world, target_names, dest_name = _name_and_build(rng, scene, rt, targets, subset == "spatial_awareness")
+    world, target_names, dest_name, dest_rel = _name_and_build(
+        rng, scene, rt, targets, subset == "spatial_awareness",
+        two_looks=cfg["two_looks"] and subset != "common_sense")
     if not MIN_ACTIONS <= len(scene_actions(world)) <= MAX_ACTIONS:
         return None
     if pick_two:
@@ -250,12 +301,14 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     if evaluate(goal, world)[1] > 0:
         return None
     lo, hi = STEP_RANGE[subset]
+    if search_bound(world, goal, lo) > MAX_STEPS:  # cheap early check with the shortest plan allowed
+        return None
     plan = expert_plan(world, goal, limit=hi)
     if plan is None or not lo <= len(plan) <= hi:
         return None
     if search_bound(world, goal, len(plan)) > MAX_STEPS:
         return None
-    words = _words(rng, subset, goal, world, xt, rt, attr, value, host_type)
+    words = _words(rng, subset, goal, world, xt, rt, attr, value, host_type, dest_rel)
     if words is None:
         return None
     template, text = _instruction(rng, subset, goal, world, words, xt, rt, level)
@@ -266,9 +319,19 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     if views_for is not None:
         # common_sense names the look by itself ("the red handled cup..."): check it as "the red mug"
         seen = dict(rec, instruction=f"{text} ({value} {noun(xt)})") if subset == "common_sense" and value else rec
-        if image_problems(seen, views_for(world)):
+        views = views_for(world)
+        if image_problems(seen, views) or (cfg.get("check_hidden") and hidden_candidates(world, xt, views)):
             return None
     return rec
+
+
+def hidden_candidates(world: World, xt: str, views: Any) -> list[str]:
+    """Instances of the object's type that the view after their ``find`` (and ``open``) shows much less of than
+    the others: under half the median share of the image (a vase behind a pillow shows only its flowers). Every
+    candidate must be seen to be told apart, so a task with one is refused."""
+    areas = {n: views.area(n) for n in world.of_type(xt)}
+    floor = 0.5 * statistics.median(areas.values())
+    return [n for n, a in areas.items() if a < floor]
 
 
 def _hard_goal(subset: str, kind: str, seed: int, rng: random.Random,
@@ -287,7 +350,8 @@ def _hard_goal(subset: str, kind: str, seed: int, rng: random.Random,
     if goal is None:
         return None
     xt = goal["object"]["type"]
-    rt = _choose_destination(rng, scene, goal, cfg["n_rec"], by_colour=subset != "spatial_awareness")
+    rt = _choose_destination(rng, scene, goal, cfg["n_rec"], by_colour=subset != "spatial_awareness",
+                             n_rec_max=cfg["n_rec_max"])
     if rt is None:
         return None
     goal["receptacle"] = {"type": rt}
@@ -314,7 +378,7 @@ def _hard_targets(rng: random.Random, subset: str, scene: dict[str, Any], goal: 
         hosts = [o["name"] for o in _standing(scene, host_type)]
     n_obj = cfg["n_obj"] if hosts is None else min(cfg["n_obj"], len(hosts))
     mine = _add_look_alikes(rng, scene, xt, n_obj, {rt, *( [goal["movable"]["type"]] if "movable" in goal else [])},
-                            hosts)
+                            hosts, open_only=subset == "long_horizon")
     if mine is None:
         return None
     if spatial and not pick_two:
@@ -325,7 +389,12 @@ def _hard_targets(rng: random.Random, subset: str, scene: dict[str, Any], goal: 
         for o in mine:
             o.update(look)
         return [rng.choice(mine)], None, None, host_type
-    got = _single_out_by_looks(rng, mine, xt, 2 if pick_two else 1, prefer_shape=subset == "visual_appearance")
+    got = None
+    if cfg["two_looks"] and not pick_two and subset in ("base", "complex_instruction", "visual_appearance",
+                                                        "long_horizon"):
+        got = _single_out_by_both_looks(rng, mine, xt)
+    if got is None:
+        got = _single_out_by_looks(rng, mine, xt, 2 if pick_two else 1, prefer_shape=subset == "visual_appearance")
     if got is None:
         return None
     attr, value, targets = got
@@ -333,50 +402,81 @@ def _hard_targets(rng: random.Random, subset: str, scene: dict[str, Any], goal: 
 
 
 def _name_and_build(rng: random.Random, scene: dict[str, Any], rt: str, targets: list[dict[str, Any]],
-                    spatial: bool) -> tuple[World, list[str], str]:
+                    spatial: bool, two_looks: bool = False) -> tuple[World, list[str], str, str | None]:
     """Pick the destination among its look-alikes (one colour for it, the other for the rest; not in spatial
-    tasks), number and shuffle the instance names: ``(world, the targets' names, the destination's name)``."""
+    tasks), number and shuffle the instance names: ``(world, the targets' names, the destination's name, its
+    relation or None)``. With ``two_looks`` a second piece shares the destination's colour and a relation to a
+    neighbour tells them apart ("the white drawer just to the left of the sink"): the relation ("drawer just to
+    the left of the sink") is returned."""
+    def clean() -> dict[str, Any]:
+        return {"room": scene["room"], "objects": [{k: v for k, v in o.items() if not k.startswith("_")}
+                                                   for o in scene["objects"]]}
+
     dests = _standing(scene, rt)
     dest = rng.choice(dests)
+    dest_rel = None
     if not spatial:
         cols = list(TYPES[rt].colors)
         rng.shuffle(cols)
+        twin = None
+        if two_looks:
+            rels = [p for p, _ in receptacle_relations(World.from_scene(clean()), dest["name"])
+                    if p.startswith(f"the {noun(rt)} just ")]
+            if rels:
+                dest_rel = rng.choice(rels)[len("the "):]
+                twin = rng.choice([d for d in dests if d is not dest])
         for d in dests:
-            d["color"] = cols[0] if d is dest else cols[1]
+            d["color"] = cols[0] if d is dest or d is twin else cols[1]
     for t in targets:
         t["_target"] = True
     dest["_dest"] = True
     _renumber(scene["objects"])
     _shuffle_names(scene["objects"], rng)
-    world = World.from_scene({"room": scene["room"], "objects": [{k: v for k, v in o.items() if not k.startswith("_")}
-                                                                 for o in scene["objects"]]})
+    world = World.from_scene(clean())
     target_names = [o["name"] for o in scene["objects"] if o.get("_target")]
     dest_name = next(o["name"] for o in scene["objects"] if o.get("_dest"))
-    return world, target_names, dest_name
+    return world, target_names, dest_name, dest_rel
 
 
 def _shut_all_away(rng: random.Random, world: World, goal: dict[str, Any], xt: str, rt: str) -> bool:
-    """Long-horizon: shut every instance of the object's and the destination's types away (:func:`_shut_away`),
-    still one per place (see :func:`_add_look_alikes`); False when that fails."""
+    """Long-horizon: shut the dish and the knives away (:func:`_shut_away`; the object's look-alikes stay in
+    plain view, each cheap to inspect), still one per place (see :func:`_add_look_alikes`); False when that fails."""
     shut_goal = dict(goal, object={"type": xt}, receptacle={"type": rt})
-    if not _shut_away(rng, world, shut_goal):
+    if not _shut_away(rng, world, shut_goal, skip_object=True):
         return False
     places = [world.place_of(n) for n in world.of_type(xt)]
     return len(set(places)) == len(places)
 
 
 def search_bound(world: World, goal: dict[str, Any], plan_length: int) -> int:
-    """Actions a sighted player needs at worst: one ``find`` for every instance of the object's type and for
-    every piece of furniture of the destination's type (to see each one), then the expert's plan without its two
-    finds of the object and the destination. Kept within the step budget, so even an exhaustive search fits."""
-    xt = world.objects[goal["object"]["instance"]].type if "instance" in goal["object"] else goal["object"]["type"]
-    rt = world.objects[goal["receptacle"]["instance"]].type
-    n_r = sum(1 for n in world.of_type(rt) if world.objects[n].parent is None)
-    return len(world.of_type(xt)) + n_r + plan_length - 2
+    """Actions a sighted player needs at worst: inspect every candidate -- for each instance of the object's
+    type a ``find``, plus ``open`` and ``close`` when it is inside something closed; for each piece of furniture
+    of the destination's type a ``find`` (plus ``open`` and ``close`` if it is closed inside something) -- then
+    one ``find`` for every other instance of a tool or dish the plan uses (a knife, the movable receptacle)
+    that may turn out to be out of reach, then the expert's whole plan. Kept within the step budget, so even an
+    exhaustive search fits."""
+    def t_of(ref: dict[str, str]) -> str:
+        return world.objects[ref["instance"]].type if "instance" in ref else ref["type"]
+
+    xt = t_of(goal["object"])
+    rt = t_of(goal["receptacle"])
+
+    def look(n: str) -> int:
+        return 1 + (2 if world.closed_container(n) is not None else 0)
+
+    cost = sum(look(n) for n in world.of_type(xt))
+    cost += sum(look(n) for n in world.of_type(rt) if world.objects[n].parent is None)
+    groups = [[t_of(goal["movable"])]] if "movable" in goal else []
+    if goal.get("sliced"):
+        groups.append(list(KNIVES))  # any knife slices
+    for types in groups:
+        cost += max(0, sum(len(world.of_type(t)) for t in types if t not in (xt, rt)) - 1)
+    return cost + plan_length
 
 
 def _words(rng: random.Random, subset: str, goal: dict[str, Any], world: World, xt: str, rt: str,
-           attr: str | None, value: str | None, host_type: str | None) -> dict[str, str] | None:
+           attr: str | None, value: str | None, host_type: str | None,
+           dest_rel: str | None = None) -> dict[str, str] | None:
     """Referring phrases for the object (``obj`` or ``objs``) and the destination (``recep``), and notes."""
     dest = goal["receptacle"]["instance"]
     out: dict[str, str] = {}
@@ -404,7 +504,7 @@ def _words(rng: random.Random, subset: str, goal: dict[str, Any], world: World, 
     else:
         out["obj" if "instance" in goal["object"] else "objs"] = (
             f"the {value} {noun(xt)}" if "instance" in goal["object"] else f"{value} {plural(xt)}")
-        out["recep"] = f"the {world.objects[dest].color} {noun(rt)}"
+        out["recep"] = f"the {world.objects[dest].color} {dest_rel or noun(rt)}"
     if "instance" in goal["object"] and subset not in ("spatial_awareness", "common_sense"):
         if not any(p.lower() == out["obj"].lower() for p, _ in candidate_phrases(world, goal, "object")):
             return None

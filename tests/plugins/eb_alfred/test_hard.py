@@ -10,9 +10,6 @@ from collections import Counter
 from pathlib import Path
 
 import pytest
-
-from eb_core.taskfile import task_set_digest
-
 from eb_alfred.blind import guess_episode, random_episode, sweep_episode
 from eb_alfred.env import AlfredEnv
 from eb_alfred.goals import evaluate, look_alikes
@@ -22,6 +19,8 @@ from eb_alfred.prompts import LEAVE_ALONE
 from eb_alfred.tasks import SUBSETS, TASK_DIR, TaskFileError, load_all, load_task_file
 from eb_alfred.world import World
 
+from eb_core.taskfile import task_set_digest
+
 CLASSIC_SHA256 = {
     "base": "b189a3b11eef7214bcf1de198fb3dcb30c02a2bd2ef57b2c8485775c05804e01",
     "common_sense": "f7158d1088ebb00a38aec6841e260a57f0b2aba475411f2e6d65cbd7060f143a",
@@ -30,6 +29,8 @@ CLASSIC_SHA256 = {
     "visual_appearance": "cc4f663c564a45a8d0dc89f7e78b531d08d37c7d0dc77ecc71ffc150112ef29e",
     "long_horizon": "e7e0bc01df42affbb39b3753b4d4700b94c5fafedfe54fd235c53b970e95358a",
 }
+MIN_BOTH_LOOKS = 40
+MIN_BY_NEIGHBOUR = 80
 CLASSIC_DIGEST = "5e2c7c66fe0204a0c42c99888ed7900add1b5e991d8d7117c4ae705b1c16eaf5"
 
 
@@ -63,6 +64,53 @@ def test_hard_set_has_the_classic_subsets_and_protects_look_alikes() -> None:
         kind = w.objects[goal["object"]["instance"]].type if "instance" in goal["object"] else goal["object"]["type"]
         places = [w.place_of(n) for n in w.of_type(kind)]
         assert len(set(places)) == len(places), t.id  # one look-alike per place: a find shows which is which
+
+
+def test_search_bound_pays_find_open_close_per_shut_away_candidate_and_the_whole_plan() -> None:
+    """A frontier model ran out of steps on a hard task whose look-alikes sat in closed cabinets (issue 25):
+    the bound now counts find + open + close for a candidate inside something closed, a find per destination,
+    and the expert's whole plan on top, so even an exhaustive search fits (the test above, on all 300)."""
+    from eb_alfred.catalog import TYPES, fits
+
+    task = next(t for t in _hard() if t.subset == "base" and "instance" in t.metadata["goal"]["object"]
+                and "movable" not in t.metadata["goal"])
+    w, goal = World.from_scene(task.metadata["scene"]), task.metadata["goal"]
+    xt = w.objects[goal["object"]["instance"]].type
+    rt = w.objects[goal["receptacle"]["instance"]].type
+    expected = sum(3 if w.closed_container(n) else 1 for n in w.of_type(xt))
+    expected += sum(1 for n in w.of_type(rt) if w.objects[n].parent is None)
+    assert search_bound(w, goal, 12) == expected + 12
+    wrong = next(n for n in w.of_type(xt) if n != goal["object"]["instance"] and not w.closed_container(n))
+    box = next(n for n, o in w.objects.items() if TYPES[o.type].openable and not o.is_open and o.parent is None
+               and o.type != rt and fits(xt, o.type))
+    w.objects[wrong].parent = box
+    assert search_bound(w, goal, 12) == expected + 12 + 2
+
+
+def test_hard_targets_need_both_words_and_twin_destinations_need_the_neighbour() -> None:
+    """Up close, one colour word was easy to check (issue 25's play). A target whose type has colours and shapes
+    is named by both ("the round white plate"): a look-alike shares its colour and another its shape, so either
+    word alone picks wrong; a destination named by colour and neighbour ("the white drawer just to the left of
+    the sink") has a same-coloured twin elsewhere along the walls."""
+    from eb_alfred.instructions import noun
+
+    both = by_neighbour = 0
+    for t in _hard():
+        w, goal, text = World.from_scene(t.metadata["scene"]), t.metadata["goal"], t.instruction.lower()
+        x = goal["object"].get("instance")
+        if x and w.objects[x].shape and w.objects[x].color and \
+                f"the {w.objects[x].shape} {w.objects[x].color} {noun(w.objects[x].type)}" in text:
+            o = w.objects[x]
+            others = [w.objects[y] for y in w.of_type(o.type) if y != x]
+            assert any(y.color == o.color for y in others) and any(y.shape == o.shape for y in others), t.id
+            assert all((y.color, y.shape) != (o.color, o.shape) for y in others), t.id
+            both += 1
+        d = w.objects[goal["receptacle"]["instance"]]
+        if d.color and f"the {d.color} {noun(d.type)} just to the " in text:
+            assert [y for y in w.of_type(d.type) if y != d.name and w.objects[y].parent is None
+                    and w.objects[y].color == d.color], t.id
+            by_neighbour += 1
+    assert both >= MIN_BOTH_LOOKS and by_neighbour >= MIN_BY_NEIGHBOUR, (both, by_neighbour)
 
 
 def test_every_hard_instruction_singles_out_what_its_goal_singles_out() -> None:
@@ -244,5 +292,36 @@ def test_prompt_states_the_budgets_and_that_a_failure_drops_the_rest_of_the_plan
     env = AlfredEnv(render=False)
     env.reset(AlfredEnv.load_tasks(render=False)[0], 0)
     notes = env.prompt_parts().output_notes
-    assert f"after {conf['max_steps']} actions" in notes and f"{conf['max_invalid_actions']} actions have failed" in notes
+    assert f"after {conf['max_steps']} actions" in notes
+    assert f"{conf['max_invalid_actions']} actions have failed" in notes
     assert "rest of the plan is dropped" in notes
+
+
+def test_a_shape_word_before_a_colour_word_is_checked_as_drawn() -> None:
+    """The render check (attribute_rendered) reads both words of "the round white plate", not only "white"."""
+    from eb_alfred.audit import _named_attributes
+
+    assert _named_attributes("Heat the round white plate, then set it down.", "Plate") == {"color": "white",
+                                                                                           "shape": "round"}
+    assert _named_attributes("Heat the white plate.", "Plate") == {"color": "white"}
+    assert _named_attributes("Put the tall mug away.", "Mug") == {"shape": "tall"}
+
+
+def test_a_candidate_that_hides_behind_another_thing_is_refused() -> None:
+    """A vase behind a pillow shows only its flowers after its find: it cannot be told from its look-alikes, so
+    ``hard.hidden_candidates`` (rendered for real) names it; a candidate with one is refused when the level has
+    ``check_hidden``."""
+    from eb_alfred.audit import Views
+    from eb_alfred.hard import hidden_candidates
+    from eb_alfred.render import AlfredRenderer
+
+    case = json.loads((Path(__file__).parent / "data" / "hidden_vase.json").read_text())
+    renderer = AlfredRenderer(250)
+    try:
+        w = World.from_scene(case["scene"])
+        assert hidden_candidates(w, "Vase", Views(w, renderer)) == ["Vase_5"]
+        assert case["goal"]["object"] == {"instance": "Vase_5"}
+        w.objects["Vase_5"].parent = "Dresser"  # on the dresser beside the white vase, in plain view
+        assert hidden_candidates(w, "Vase", Views(w, renderer)) == []
+    finally:
+        renderer.close()
