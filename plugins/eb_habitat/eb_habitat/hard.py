@@ -609,8 +609,10 @@ def _visual(rng: random.Random, level: Level) -> HardDraft:
 
 _LONG_ONE = ("Put the {p} {pt}.", "Gather the {p} {pt}.", "Bring the {p} to the {t}, one after another.",
              "Collect the {p} and leave them {pt}.", "All of these go {pt}: the {p}.", "Move the {p} over to the {t}.")
-_LONG_EACH = ("Rearrange as follows: {p}.", "Please place {p}.", "Here is what I want: {p}.", "Tidy up: {p}.",
-              "Put things in order: {p}.", "I want {p}.")
+# every frame has a verb of placing before the list, so "the red ball on the right counter" reads as where it goes,
+# never as where it lies now (a frontier model read "Tidy up: the red ball on the right counter" both ways)
+_LONG_EACH = ("Rearrange as follows: put {p}.", "Please place {p}.", "Here is what I want: put {p}.",
+              "Tidy up: place {p}.", "Put things in order: place {p}.", "I want you to put {p}.")
 
 
 def _join(parts: list[str]) -> str:
