@@ -162,6 +162,23 @@ class LiteLLMSettings(BackendSettings):
         return value
 
 
+_FORK_HOOKED = False
+
+
+def _forget_inherited_clients() -> None:
+    """In a forked worker: drop the HTTP clients litellm cached in the parent (the preflight's among them).
+
+    Their pooled keep-alive connections are sockets the parent and every sibling worker also hold; two processes
+    writing requests on one connection get each other's answers or a closed connection ("Server disconnected
+    without sending a response"), which cost an episode now and then with ``runner.workers`` > 1. The child
+    builds its own clients on its first call. The parent keeps its connections (nothing is closed here)."""
+    import litellm
+
+    cache = getattr(litellm, "in_memory_llm_clients_cache", None)
+    if cache is not None:
+        cache.flush_cache()
+
+
 def _import_litellm() -> Any:
     # Must be set before the first import: otherwise litellm downloads its price map at import time.
     os.environ["LITELLM_LOCAL_MODEL_COST_MAP"] = "True"
@@ -176,6 +193,10 @@ def _import_litellm() -> Any:
     litellm.suppress_debug_info = True
     litellm.set_verbose = False
     litellm.telemetry = False
+    global _FORK_HOOKED
+    if not _FORK_HOOKED:
+        _FORK_HOOKED = True
+        os.register_at_fork(after_in_child=_forget_inherited_clients)
     # litellm and httpx log every call at INFO (and Hydra's root logger shows INFO): keep runs readable.
     for name in ("LiteLLM", "LiteLLM Router", "LiteLLM Proxy", "httpx", "httpcore", "openai"):
         logger = logging.getLogger(name)

@@ -405,6 +405,42 @@ def test_max_concurrency_holds_across_processes(server, tmp_path):
     assert time.monotonic() - t0 >= 4 * 0.25 - 0.05
 
 
+def _inherited_worker(backend, n: int, q) -> None:
+    from eb_models.litellm_backend import _import_litellm
+
+    litellm = _import_litellm()
+    cached = len(litellm.in_memory_llm_clients_cache.cache_dict)
+    texts = [backend.complete(request()).text for _ in range(n)]
+    q.put((cached, texts))
+
+
+def test_forked_workers_do_not_share_the_parents_connections(make_backend, server):
+    """A worker forked after the parent's preflight must not write on the parent's pooled keep-alive connection:
+    with two workers on one socket, calls came back with "Server disconnected" now and then (and an episode
+    ended in error). Each child starts with litellm's client cache empty and every call is answered."""
+    from eb_models.litellm_backend import _import_litellm
+
+    litellm = _import_litellm()
+    server.latency_s = 0.05
+    server.default = StubReply(content=PLAN)
+    backend = make_backend()
+    backend.complete(request())  # the parent now holds a pooled connection
+    assert len(litellm.in_memory_llm_clients_cache.cache_dict) > 0
+    ctx = mp.get_context("fork")
+    q = ctx.Queue()
+    procs = [ctx.Process(target=_inherited_worker, args=(backend, 4, q)) for _ in range(4)]
+    for p in procs:
+        p.start()
+    results = [q.get(timeout=60) for _ in procs]
+    for p in procs:
+        p.join(30)
+    assert all(p.exitcode == 0 for p in procs)
+    assert [cached for cached, _ in results] == [0, 0, 0, 0]
+    assert all(t == PLAN for _, texts in results for t in texts)
+    assert len(chat_requests(server)) == 1 + 16
+    assert backend.complete(request()).text == PLAN  # and the parent's own connection still works
+
+
 def _rpm_worker(limits_dir: str, n: int, out: str) -> None:
     from eb_models.limits import RequestLimiter
 
