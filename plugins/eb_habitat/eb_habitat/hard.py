@@ -438,7 +438,7 @@ def _counted_destination(rng: random.Random, level: Level, x: str
     nothing hides what is counted. Returns (scene, target, destination, y, n)."""
     scene = _new_scene(rng)
     y = _counted_type(rng, x)
-    n = 3 if rng.random() < 0.3 else 2
+    n = 3 if rng.random() < 0.15 else 2
     places = _groups(rng, scene, y, [(n, 0), *count_decoys(rng, y, n)], SURFACES)
     xs = _spread(rng, scene, x, _colors(rng, x, level.k), [k for k in _visible_places(scene) if k not in places])
     target = rng.choice(xs)
@@ -567,8 +567,16 @@ def _conditional(rng: random.Random, level: Level) -> HardDraft:
         places.append(at)
     landmarks = [o for o in scene.objects if o["type"] == l]
     lm = landmarks[0]
-    # the look-alike holding the other count gets the near hue, when the colour has one
-    near_landmark(rng, lm, landmarks[1:], keep=tuple(landmarks[2:]), recolor=True)
+    # the look-alike holding the other count gets a near hue of the landmark's colour, when it has one
+    if not near_hues(l, lm["color"]):
+        fits = [c for c in HARD_COLORS[l] if near_hues(l, c) and c not in lcolors]
+        lm["color"] = rng.choice(fits) if fits else lm["color"]
+    hues = near_hues(l, lm["color"])
+    if hues:
+        hue = rng.choice(hues)
+        if landmarks[2]["color"] == hue:
+            landmarks[2]["color"] = landmarks[1]["color"]
+        landmarks[1]["color"] = hue
     xs = _spread(rng, scene, x, _colors(rng, x, level.k), [k for k in _visible_places(scene) if k not in places])
     target = rng.choice(xs)
     if not near_pair(rng, scene, target, [o for o in xs if o is not target]) and rng.random() < 0.7:

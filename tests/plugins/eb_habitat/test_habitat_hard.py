@@ -235,17 +235,165 @@ def test_generating_a_form_reports_progress_on_stderr(tmp_path: Path, capsys: py
     assert len(load_task_file(tmp_path / "long_horizon.json")) == 10
 
 
-def test_first_branch_probe_reads_the_colour_of_a_hard_conditional() -> None:
-    from eb_habitat.audit import _first_branch, conditional_first_branch
+def _landmark_place(t: Task) -> str:
+    """Where the landmark of a counting conditional lies ("the green plate" in "the furniture holding the green
+    plate")."""
+    spec = spec_of(t)
+    for o in spec.objects:
+        name = o.type.replace("_", " ")
+        if re.search(rf"(?:Find|holding|with) the {o.color} {name}\b", t.instruction):
+            return o.at
+    raise AssertionError(f"{t.id}: no landmark named")
+
+
+def _counted(t: Task) -> tuple[str, int]:
+    """The counted type of a counting task and the number the instruction asks for."""
+    text = t.instruction
+    m = (re.search(r"hold (?P<name>[a-z ]+?)s\. .* exactly (?P<n>two|three) of them", text)  # "Several surfaces ..."
+         or re.search(r"exactly (?P<n>two|three) (?P<name>[a-z ]+?)s\b", text)
+         or re.search(r"Count the (?P<name>[a-z ]+?)s ", text))
+    assert m is not None, t.id
+    number, name = m.groupdict().get("n") or "two", m.group("name")
+    kind = next(o.type for o in spec_of(t).objects if o.type.replace("_", " ") == name)
+    return kind, {"two": 2, "three": 3}[number]
+
+
+def test_first_branch_probe_reads_the_destination_of_a_counting_conditional() -> None:
+    """Both branches move the same object; the first sends it "there" (the landmark's place), the second to the
+    receptacle the instruction names. Always answering "there" must fail the probe."""
+    from eb_habitat.audit import conditional_first_branch
 
     tasks = BY_SUBSET["complex_instruction"]
-    cond = [t for t in tasks if ".if_" in t.metadata["template"]]
-    assert cond and conditional_first_branch(tasks, {}).passed
+    cond = [t for t in tasks if ".if_count." in t.metadata["template"]]
+    assert len(cond) >= 6 and conditional_first_branch(tasks, {}).passed
     broken = []
-    for t in cond:  # make the first-named branch the answer every time
-        kind, color = _first_branch(t.instruction)
-        first = next(o["name"] for o in t.metadata["objects"] if o["type"] == kind and o["color"] == color)
+    for t in cond:
         meta = json.loads(json.dumps(t.metadata))
-        meta["goal"][0] = f"(on {first} {meta['goal'][0].split()[2]}"
+        meta["goal"][0] = f"(on {meta['goal'][0].split()[1]} {_landmark_place(t)})"
         broken.append(t.model_copy(update={"metadata": meta}))
     assert not conditional_first_branch(broken, {}).passed
+
+
+def test_counting_conditionals_the_count_beside_the_landmark_decides() -> None:
+    """Exactly two of the counted type beside the landmark sends the object there, one sends it to the named
+    receptacle; a look-alike landmark holds the other count, so a misread colour flips the branch."""
+    from eb_habitat.catalog import receptacle
+
+    cond = [t for t in BY_SUBSET["complex_instruction"] if ".if_count." in t.metadata["template"]]
+    answers = set()
+    for t in cond:
+        spec = spec_of(t)
+        kind, _ = _counted(t)
+        there = _landmark_place(t)
+        dest = spec.goal[0].split()[2].rstrip(")")
+        count = sum(o.type == kind and o.at == there for o in spec.objects)
+        assert count in (1, 2), t.id
+        if count == 2:
+            assert dest == there, t.id
+        else:
+            assert dest != there and receptacle(dest).name.lower() in t.instruction.lower(), t.id
+        answers.add(count)
+        lm_kind = next(o.type for o in spec.objects if o.at == there and o.type != kind)
+        others = {o.at for o in spec.objects if o.type == lm_kind} - {there}
+        flip = [o for o in spec.objects if o.type == lm_kind and o.at in others
+                and sum(p.type == kind and p.at == o.at for p in spec.objects) == 3 - count]
+        assert len(flip) == 1, t.id
+        lm_color = next(o.color for o in spec.objects if o.type == lm_kind and o.at == there)
+        assert flip[0].color in near_hues(lm_kind, lm_color) or not near_hues(lm_kind, lm_color), t.id
+    assert answers == {1, 2}
+
+
+def test_counting_destinations_hold_exactly_the_number_and_decoys_do_not() -> None:
+    """"The furniture that holds exactly two cups": the destination holds exactly that many of the type and
+    nothing else (nothing hides what is counted), two decoy surfaces hold one more or one fewer (or one fewer
+    beside an object of the look-alike type: a mug among cups), and no other receptacle holds the type."""
+    from eb_habitat.hard import CONFUSERS
+
+    count_tasks = [t for t in BY_SUBSET["base"] if ".base.count." in t.metadata["template"]]
+    assert len(count_tasks) >= 15
+    for t in count_tasks:
+        spec = spec_of(t)
+        kind, n = _counted(t)
+        dest = spec.goal[0].split()[2].rstrip(")")
+        assert [o.type for o in spec.objects if o.at == dest] == [kind] * n, t.id
+        decoys = {o.at for o in spec.objects if o.type == kind} - {dest}
+        assert len(decoys) == 2, t.id
+        for at in decoys:
+            here = [o.type for o in spec.objects if o.at == at]
+            twins = [k for k in here if k in CONFUSERS[kind]]
+            assert here.count(kind) in (n - 1, n + 1) and len(here) == here.count(kind) + len(twins), t.id
+            assert len(twins) <= 1 and (not twins or here.count(kind) == n - 1), t.id
+
+
+def test_every_hard_task_is_within_the_stateless_bound() -> None:
+    """A seeing agent without memory (the benchmark's planner with ``chat_history=False``) solves every shipped
+    hard task within 28 of the 30 steps."""
+    from eb_habitat.hard import MAX_STATELESS_STEPS
+    from eb_habitat.search import stateless_search_steps
+
+    for t in HARD:
+        m = t.metadata
+        steps = stateless_search_steps(m["objects"], m["open"], m["goal"], t.instruction, m["template"])
+        assert steps is not None and m["oracle_steps"] <= steps <= MAX_STATELESS_STEPS, t.id
+
+
+def _scene(mug_at: str, bowl_at: str) -> tuple[list[dict[str, object]], list[str]]:
+    objects = [{"name": "mug_1", "type": "mug", "color": "red", "at": mug_at, "slot": 0},
+               {"name": "bowl_1", "type": "bowl", "color": "blue", "at": bowl_at, "slot": 0}]
+    return objects, [f"(on mug_1 {bowl_at})", "(once mug_1)", "(untouched bowl_1)"]
+
+
+def test_stateless_agent_starts_its_walk_again_after_a_pick() -> None:
+    """Mug on the desk (last in catalogue order), bowl on the right counter (second): with memory the agent walks
+    to 15 receptacles and opens 4 containers (19), then picks, walks back and places (22); without memory it
+    picks at the desk and walks again from the left counter (20 + 2 + place = 23). The other way round it picks
+    on the left counter at once and finds the bowl on its second walk."""
+    from eb_habitat.search import search_steps, stateless_search_steps
+
+    text = "Put the red mug beside the blue bowl."
+    objects, goal = _scene("desk", "right_counter")
+    assert search_steps(objects, [], goal, text) == 22
+    assert stateless_search_steps(objects, [], goal, text) == 23
+    objects, goal = _scene("left_counter", "desk")
+    assert stateless_search_steps(objects, [], goal, text) == 1 + 1 + 14 + 4 + 1  # nav, pick, walk on, opens, place
+    assert stateless_search_steps(objects, ["fridge", "cabinet"], goal, text) == 1 + 1 + 14 + 2 + 1
+
+
+def test_stateless_agent_walks_straight_to_a_named_receptacle() -> None:
+    from eb_habitat.search import stateless_search_steps
+
+    objects, _ = _scene("sofa", "desk")
+    goal = ["(on mug_1 left_chair)", "(once mug_1)", "(untouched bowl_1)"]
+    # 8 navigations and 4 opens to reach the sofa, then pick, navigate, place
+    assert stateless_search_steps(objects, [], goal, "Put the red mug on the left chair.") == 8 + 4 + 3
+
+
+def test_a_witness_on_another_receptacle_cannot_be_acted_on_without_memory() -> None:
+    """Version 2's conditionals ("if the mug beside the red bowl is yellow, bring the orange mug there"): the view
+    that decides is not the view where the object is picked up."""
+    from eb_habitat.search import stateless_search_steps
+
+    objects, goal = _scene("sofa", "desk")
+    text = "If the mug beside the blue bowl is red, bring the red mug there."
+    assert stateless_search_steps(objects, [], goal, text, "hard.complex.if_beside.0") is None
+    assert stateless_search_steps(objects, [], goal, text, "hard.complex.if_count.0") is not None
+
+
+def test_generator_refuses_a_task_above_the_stateless_bound(monkeypatch: pytest.MonkeyPatch) -> None:
+    import random
+
+    from eb_habitat import hard
+
+    def kept(bound: int | None) -> int:
+        monkeypatch.setattr(hard, "stateless_search_steps", lambda *a, **k: bound)
+        rng, n = random.Random(5), 0
+        for i in range(40):
+            try:
+                n += hard.draw("base", rng, "hard", i) is not None
+            except hard._Reject:
+                pass
+        return n
+
+    assert kept(hard.MAX_STATELESS_STEPS) > 0
+    assert kept(hard.MAX_STATELESS_STEPS + 1) == 0
+    assert kept(None) == 0
