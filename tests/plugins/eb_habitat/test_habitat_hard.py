@@ -297,9 +297,9 @@ def test_counting_conditionals_the_count_beside_the_landmark_decides() -> None:
         others = {o.at for o in spec.objects if o.type == lm_kind} - {there}
         flip = [o for o in spec.objects if o.type == lm_kind and o.at in others
                 and sum(p.type == kind and p.at == o.at for p in spec.objects) == 3 - count]
-        assert len(flip) == 1, t.id
         lm_color = next(o.color for o in spec.objects if o.type == lm_kind and o.at == there)
-        assert flip[0].color in near_hues(lm_kind, lm_color) or not near_hues(lm_kind, lm_color), t.id
+        near = near_hues(lm_kind, lm_color)
+        assert flip and (not near or any(o.color in near for o in flip)), t.id
     assert answers == {1, 2}
 
 
