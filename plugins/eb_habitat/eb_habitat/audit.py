@@ -20,7 +20,7 @@ from typing import Any
 
 from eb_core.audit.contract import AuditProbe, ProbeResult
 from eb_core.env import Task
-from eb_habitat.catalog import COLORS, OBJECT_TYPES, RECEPTACLES, receptacle
+from eb_habitat.catalog import COLORS, OBJECT_TYPES, receptacle
 from eb_habitat.goals import Predicate
 from eb_habitat.oracle import OracleError, expert_plan
 from eb_habitat.tasks import spec_of

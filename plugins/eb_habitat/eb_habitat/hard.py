@@ -21,10 +21,16 @@ changes is the scenes and the words:
   three or four with the landmark's look-alikes in rows of the same shape (spatial_relationship), looks only,
   with a same-colour look-alike type (visual_appearance), three objects among look-alikes (long_horizon).
 
+* **counting in one view** (version 3): a destination told by a count ("the one place that has exactly two
+  bowls", beside decoys with one more or one fewer; base) or a conditional on the count beside a landmark
+  (complex_instruction), every judgement made in the view where the agent acts.
+
 A blind player can neither tell the look-alikes apart nor find the landmark without picking it up, so guessing
 is about one chance in (look-alikes x receptacles). The expert solves every task within the classic step bounds
 (12 steps, 20 for long_horizon), and a seeing agent that first visits every receptacle in catalogue order until it
-has seen what it needs, then acts, within 26 (:func:`search_steps`).
+has seen what it needs, then acts, within 26 (:func:`search_steps`); one without memory, as the benchmark's
+planner (it acts on each view alone and walks again from the start after every pick), within 28
+(:func:`stateless_search_steps`).
 """
 
 from __future__ import annotations
@@ -547,12 +553,12 @@ def _conditional(rng: random.Random, level: Level) -> HardDraft:
     destinations are reached from the landmark's view, so an agent without memory can act on it; the landmark's
     near-hue look-alike holds the other count, so a misread colour gives the wrong branch."""
     scene = _new_scene(rng)
-    x, l = _two_types(rng)
+    x, lt = _two_types(rng)
     y = _counted_type(rng, x)
-    if y == l or l in CONFUSERS.get(y, ()) or y in CONFUSERS.get(l, ()):
+    if y == lt or lt in CONFUSERS.get(y, ()) or y in CONFUSERS.get(lt, ()):
         raise _Reject("counted type too close to the landmark")
     here = rng.choice((1, 2))
-    lcolors = _colors(rng, l, level.m)
+    lcolors = _colors(rng, lt, level.m)
     places: list[str] = []
     for color, count in zip(lcolors, (here, 3 - here, rng.choice((0, 1)))):
         fits = [k for k in SURFACES if k not in places and not scene.used_slots(k)
@@ -560,18 +566,18 @@ def _conditional(rng: random.Random, level: Level) -> HardDraft:
         if not fits:
             raise _Reject("no surface for a landmark and its count")
         at = rng.choice(fits)
-        _put(scene, l, at, color)
+        _put(scene, lt, at, color)
         for c in _colors(rng, y, count):
             _put(scene, y, at, c)
         _shuffle_slots(rng, scene, at)
         places.append(at)
-    landmarks = [o for o in scene.objects if o["type"] == l]
+    landmarks = [o for o in scene.objects if o["type"] == lt]
     lm = landmarks[0]
     # the look-alike holding the other count gets a near hue of the landmark's colour, when it has one
-    if not near_hues(l, lm["color"]):
-        fits = [c for c in HARD_COLORS[l] if near_hues(l, c) and c not in lcolors]
+    if not near_hues(lt, lm["color"]):
+        fits = [c for c in HARD_COLORS[lt] if near_hues(lt, c) and c not in lcolors]
         lm["color"] = rng.choice(fits) if fits else lm["color"]
-    hues = near_hues(l, lm["color"])
+    hues = near_hues(lt, lm["color"])
     if hues:
         hue = rng.choice(hues)
         if landmarks[2]["color"] == hue:
@@ -583,11 +589,11 @@ def _conditional(rng: random.Random, level: Level) -> HardDraft:
         raise _Reject("no near-hue pair")
     named = rng.choice([k for k in SURFACES if k not in places and k != target["at"]
                         and len(scene.used_slots(k)) + 2 <= receptacle(k).capacity])
-    _clutter(rng, scene, level, {x, l, y, *CONFUSERS.get(y, ())}, avoid=(*places, named))
+    _clutter(rng, scene, level, {x, lt, y, *CONFUSERS.get(y, ())}, avoid=(*places, named))
     t = receptacle(named)
     dest = lm["at"] if here == 2 else named
     i = rng.randrange(len(_IF_COUNT))
-    text = _IF_COUNT[i].format(lc=lm["color"], l=object_type(l).name, ys=_plural(y), c=target["color"],
+    text = _IF_COUNT[i].format(lc=lm["color"], l=object_type(lt).name, ys=_plural(y), c=target["color"],
                                o=object_type(x).name, t=t.name, pt=f"{t.preposition} the {t.name}")
     return HardDraft(f"{text} {_rule(rng)}", scene, [(target, dest)], f"hard.complex.if_count.{i}")
 
