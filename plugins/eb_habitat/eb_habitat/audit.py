@@ -213,10 +213,12 @@ def conditional_first_branch(tasks: list[Task], env_params: dict[str, Any] | Non
     for t in cond:
         spec = spec_of(t)
         placed = [p for p in spec.goal_predicates() if p.name in ("on", "inside")]
-        if ".if_count." in str(t.metadata.get("template", "")):
-            # both branches move the same object; the first goes "there" (the landmark's place), the second to
-            # the receptacle the instruction names
-            if placed and not any(receptacle(p.args[1]).name.lower() in t.instruction.lower() for p in placed):
+        template = str(t.metadata.get("template", ""))
+        if ".if_count." in template:
+            # both branches move the same object, one "there" (the landmark's place), the other to the receptacle
+            # the instruction names; the named one comes first in the ``.named_first.`` templates
+            named = any(receptacle(p.args[1]).name.lower() in t.instruction.lower() for p in placed)
+            if placed and named == (".named_first." in template):
                 wins += 1
                 solved.append(t.id)
             continue

@@ -30,7 +30,8 @@ is about one chance in (look-alikes x receptacles). The expert solves every task
 (12 steps, 20 for long_horizon), and a seeing agent that first visits every receptacle in catalogue order until it
 has seen what it needs, then acts, within 26 (:func:`search_steps`); one without memory, as the benchmark's
 planner (it acts on each view alone and walks again from the start after every pick), within 28
-(:func:`stateless_search_steps`).
+(:func:`stateless_search_steps`). Both bounds hold walking the catalogue forward and backward, so no task is kept
+for lying early in the list (long_horizon: one order per task, taking turns; :func:`walk_directions`).
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ from eb_habitat.catalog import (
     receptacle,
 )
 from eb_habitat.generate import Draft, Scene, _finish, _Reject
-from eb_habitat.search import search_steps, stateless_search_steps
+from eb_habitat.search import first_met, search_steps, stateless_search_steps
 
 __all__ = ["DIFFICULTIES", "HARD_BUILDERS", "LEVELS", "Level", "generate_subset", "search_steps",
            "stateless_search_steps"]
@@ -548,6 +549,24 @@ _IF_COUNT = (
 )
 
 
+#: The same conditionals with the named receptacle's branch first (the condition turned round), so the order of the
+#: branches says nothing about the answer while the landmark's place is the answer in most tasks.
+_IF_COUNT_NAMED_FIRST = (
+    "Find the {lc} {l} and count the {ys} on the same piece of furniture. Unless there are exactly two {ys}, put "
+    "the {c} {o} {pt}; if there are, put the {c} {o} there.",
+    "If the furniture holding the {lc} {l} does not hold exactly two {ys}, bring the {c} {o} to the {t}; if it "
+    "does, bring the {c} {o} to that furniture instead.",
+    "Count the {ys} on the piece of furniture with the {lc} {l}. Any number but two: the {c} {o} goes {pt}. "
+    "Exactly two: the {c} {o} goes there.",
+)
+
+NAMED_ANSWER_SHARE = 0.25
+"""Share of counting conditionals whose answer is the named receptacle: a blind player reaches a named receptacle
+without looking (it only has to guess the object), so that branch pays in few tasks; the landmark's place, which
+only a seeing player finds, is the answer in the rest. The branch named first is the answer in half the tasks
+either way (the templates put either branch first)."""
+
+
 def _conditional(rng: random.Random, level: Level) -> HardDraft:
     """A count beside the landmark decides the destination: there, or a named receptacle. The decision and both
     destinations are reached from the landmark's view, so an agent without memory can act on it; the landmark's
@@ -557,7 +576,7 @@ def _conditional(rng: random.Random, level: Level) -> HardDraft:
     y = _counted_type(rng, x)
     if y == lt or lt in CONFUSERS.get(y, ()) or y in CONFUSERS.get(lt, ()):
         raise _Reject("counted type too close to the landmark")
-    here = rng.choice((1, 2))
+    here = 1 if rng.random() < NAMED_ANSWER_SHARE else 2
     lcolors = _colors(rng, lt, level.m)
     places: list[str] = []
     for color, count in zip(lcolors, (here, 3 - here, rng.choice((0, 1)))):
@@ -592,10 +611,13 @@ def _conditional(rng: random.Random, level: Level) -> HardDraft:
     _clutter(rng, scene, level, {x, lt, y, *CONFUSERS.get(y, ())}, avoid=(*places, named))
     t = receptacle(named)
     dest = lm["at"] if here == 2 else named
-    i = rng.randrange(len(_IF_COUNT))
-    text = _IF_COUNT[i].format(lc=lm["color"], l=object_type(lt).name, ys=_plural(y), c=target["color"],
-                               o=object_type(x).name, t=t.name, pt=f"{t.preposition} the {t.name}")
-    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, dest)], f"hard.complex.if_count.{i}")
+    named_first = rng.random() < 0.5
+    frames = _IF_COUNT_NAMED_FIRST if named_first else _IF_COUNT
+    i = rng.randrange(len(frames))
+    text = frames[i].format(lc=lm["color"], l=object_type(lt).name, ys=_plural(y), c=target["color"],
+                            o=object_type(x).name, t=t.name, pt=f"{t.preposition} the {t.name}")
+    template = f"hard.complex.if_count.{'named_first.' if named_first else ''}{i}"
+    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, dest)], template)
 
 
 def _complex(rng: random.Random, level: Level) -> HardDraft:
@@ -820,31 +842,56 @@ MAX_STATELESS_STEPS = 28
 planner sees only the current image and the action history) still has 2 of the 30 steps to spare."""
 
 
-def draw(subset: str, rng: random.Random, difficulty: str, index: int) -> dict[str, Any] | None:
+def draw(subset: str, rng: random.Random, difficulty: str, index: int, backward: bool | None = None
+         ) -> dict[str, Any] | None:
     """One validated task entry of ``subset`` at ``difficulty`` (``medium`` or ``hard``), or None if the draw
-    fails validation (the caller draws again). Raises :class:`~eb_habitat.generate._Reject` for a bad scene."""
+    fails validation (the caller draws again). Raises :class:`~eb_habitat.generate._Reject` for a bad scene.
+    ``backward``: the walk order of a long_horizon task's bounds (:func:`walk_directions`; None: drawn)."""
     hd = HARD_BUILDERS[subset](rng, LEVELS[difficulty])
     entry = _finish(to_draft(rng, hd), subset, index)
     if entry is None:
         return None
     meta = entry["metadata"]
-    if search_steps(meta["objects"], meta["open"], meta["goal"], entry["instruction"]) > MAX_SEARCH_STEPS:
-        return None
-    stateless = stateless_search_steps(meta["objects"], meta["open"], meta["goal"], entry["instruction"],
-                                       meta["template"])
-    if stateless is None or stateless > MAX_STATELESS_STEPS:
-        return None
+    args = (meta["objects"], meta["open"], meta["goal"], entry["instruction"], meta["template"])
+    for reverse in walk_directions(subset, rng, backward):
+        if search_steps(*args, reverse=reverse) > MAX_SEARCH_STEPS:
+            return None
+        stateless = stateless_search_steps(*args, reverse=reverse)
+        if stateless is None or stateless > MAX_STATELESS_STEPS:
+            return None
+    if subset == "long_horizon" and any(first_met(meta["objects"], meta["goal"], r) for r in (False, True)):
+        return None  # a blind walker that knows the list order takes all three, each the first of its type met
     return entry
 
 
-def _answers_first_branch(entry: dict[str, Any]) -> bool | None:
-    """For a conditional (``hard.complex.if_count``): whether the branch named first (the landmark's place, not
-    the named receptacle) is the answer; else None."""
+def walk_directions(subset: str, rng: random.Random, backward: bool | None = None) -> tuple[bool, ...]:
+    """The catalogue orders (``reverse`` flags) in which the bounds must hold, so that no task is kept for lying
+    early in one order (a blind player that walks the list in that order would gain): both, forward and backward;
+    in long_horizon, where a memoryless agent walks again from the start after each of three picks and no task
+    fits 28 steps both ways, one order per task (``backward``, or drawn), the generator taking each for half the
+    tasks."""
+    if subset == "long_horizon":
+        return (rng.random() < 0.5 if backward is None else backward,)
+    return (False, True)
+
+
+def _answers_named(entry: dict[str, Any]) -> bool | None:
+    """For a counting conditional (``hard.complex.if_count``): whether the answer is the receptacle the
+    instruction names (not the landmark's place); else None."""
     meta = entry["metadata"]
     if ".if_count." not in meta["template"]:
         return None
     dest = meta["goal"][0].split()[2].rstrip(")")
-    return receptacle(dest).name.lower() not in entry["instruction"].lower()
+    return receptacle(dest).name.lower() in entry["instruction"].lower()
+
+
+def _answers_first_branch(entry: dict[str, Any]) -> bool | None:
+    """For a counting conditional: whether the branch named first is the answer (the landmark's place comes first,
+    or the named receptacle in the ``.named_first.`` templates); else None."""
+    named = _answers_named(entry)
+    if named is None:
+        return None
+    return named == (".named_first." in entry["metadata"]["template"])
 
 
 def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "hard",
@@ -857,13 +904,15 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
     out: list[dict[str, Any]] = []
     seen: set[str] = set()
     branches = {True: 0, False: 0}  # conditionals answered by the branch named first / by the other one
+    named = 0  # conditionals answered by the named receptacle
+    backward = 0  # long_horizon tasks whose bounds hold walking the list backward
     tries = 0
     while len(out) < n:
         tries += 1
         if tries > 400 * n:
             raise RuntimeError(f"could not draw {n} valid {difficulty} {subset} tasks")
         try:
-            entry = draw(subset, rng, difficulty, len(out))
+            entry = draw(subset, rng, difficulty, len(out), backward=2 * backward < len(out))
         except _Reject:
             continue
         if entry is None or entry["instruction"] in seen:
@@ -872,8 +921,13 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
         if first is not None:  # keep the two within one of each other: always following one branch never pays
             if branches[first] > branches[not first]:
                 continue
+            to_named = bool(_answers_named(entry))
+            if to_named and named + 1 > max(1.0, NAMED_ANSWER_SHARE * (sum(branches.values()) + 1)):
+                continue  # the named branch, which a blind player reaches, pays in few tasks
             branches[first] += 1
+            named += to_named
         seen.add(entry["instruction"])
+        backward += 2 * backward < len(out)
         out.append(entry)
         if progress and (len(out) % 10 == 0 or len(out) == n):
             print(f"habitat {difficulty} {subset}: {len(out)}/{n} tasks ({tries} draws)", file=sys.stderr, flush=True)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -258,20 +259,50 @@ def _counted(t: Task) -> tuple[str, int]:
     return kind, {"two": 2, "three": 3}[number]
 
 
+def _named_place(t: Task) -> str:
+    """The receptacle a counting conditional names as its other branch."""
+    from eb_habitat.catalog import RECEPTACLES
+
+    return next(r.key for r in RECEPTACLES if f"the {r.name.lower()}" in t.instruction.lower())
+
+
 def test_first_branch_probe_reads_the_destination_of_a_counting_conditional() -> None:
-    """Both branches move the same object; the first sends it "there" (the landmark's place), the second to the
-    receptacle the instruction names. Always answering "there" must fail the probe."""
+    """Both branches move the same object, one "there" (the landmark's place), the other to the receptacle the
+    instruction names; the ``.named_first.`` templates name that one first. Answers that always follow the first
+    branch, or always "there", must fail the probe."""
     from eb_habitat.audit import conditional_first_branch
 
     tasks = BY_SUBSET["complex_instruction"]
     cond = [t for t in tasks if ".if_count." in t.metadata["template"]]
     assert len(cond) >= 6 and conditional_first_branch(tasks, {}).passed
-    broken = []
-    for t in cond:
-        meta = json.loads(json.dumps(t.metadata))
-        meta["goal"][0] = f"(on {meta['goal'][0].split()[1]} {_landmark_place(t)})"
-        broken.append(t.model_copy(update={"metadata": meta}))
-    assert not conditional_first_branch(broken, {}).passed
+
+    def answered(place: Callable[[Task], str]) -> list[Task]:
+        out = []
+        for t in cond:
+            meta = json.loads(json.dumps(t.metadata))
+            meta["goal"][0] = f"(on {meta['goal'][0].split()[1]} {place(t)})"
+            out.append(t.model_copy(update={"metadata": meta}))
+        return out
+
+    first = answered(lambda t: _named_place(t) if ".named_first." in t.metadata["template"] else _landmark_place(t))
+    assert conditional_first_branch(first, {}).value.startswith("100")
+    assert not conditional_first_branch(first, {}).passed
+    there_first = sum(".named_first." not in t.metadata["template"] for t in cond)
+    assert (there_first / len(cond) > 0.65) == (not conditional_first_branch(answered(_landmark_place), {}).passed)
+
+
+def test_counting_conditionals_pay_the_named_branch_in_few_tasks() -> None:
+    """A blind player reaches the named receptacle without looking, so that branch is the answer in about a
+    quarter of the conditionals (at least one); the order of the branches still says nothing (either comes first,
+    and the first-named one answers half, within one)."""
+    from eb_habitat.hard import NAMED_ANSWER_SHARE
+
+    cond = [t for t in BY_SUBSET["complex_instruction"] if ".if_count." in t.metadata["template"]]
+    named = [t for t in cond if spec_of(t).goal[0].split()[2].rstrip(")") == _named_place(t)]
+    assert 1 <= len(named) <= max(1, NAMED_ANSWER_SHARE * len(cond))
+    assert {".named_first." in t.metadata["template"] for t in cond} == {True, False}
+    first = sum((t in named) == (".named_first." in t.metadata["template"]) for t in cond)
+    assert abs(2 * first - len(cond)) <= 1
 
 
 def test_counting_conditionals_the_count_beside_the_landmark_decides() -> None:
@@ -334,7 +365,57 @@ def test_every_hard_task_is_within_the_stateless_bound() -> None:
     for t in HARD:
         m = t.metadata
         steps = stateless_search_steps(m["objects"], m["open"], m["goal"], t.instruction, m["template"])
-        assert steps is not None and m["oracle_steps"] <= steps <= MAX_STATELESS_STEPS, t.id
+        back = stateless_search_steps(m["objects"], m["open"], m["goal"], t.instruction, m["template"], reverse=True)
+        fits = [x is not None and m["oracle_steps"] <= x <= MAX_STATELESS_STEPS for x in (steps, back)]
+        # both ways (a task is not kept for lying early in the list); long_horizon: one way, drawn per task
+        assert all(fits) if t.subset != "long_horizon" else any(fits), t.id
+
+
+def test_the_bound_is_fair_to_both_list_orders() -> None:
+    """Long_horizon cannot hold the bound both ways (a memoryless agent walks from the start after each of three
+    picks), so each task holds it one way, about half forward; and no task gives all its objects to a blind walker
+    that takes the first of each type it meets, walking the list forward or backward."""
+    from eb_habitat.hard import MAX_STATELESS_STEPS
+    from eb_habitat.search import first_met, stateless_search_steps
+
+    long = BY_SUBSET["long_horizon"]
+    forward = 0
+    for t in long:
+        m = t.metadata
+        steps = stateless_search_steps(m["objects"], m["open"], m["goal"], t.instruction, m["template"])
+        forward += steps is not None and steps <= MAX_STATELESS_STEPS
+        assert not first_met(m["objects"], m["goal"]) and not first_met(m["objects"], m["goal"], reverse=True)
+    assert 0.3 * len(long) <= forward <= 0.8 * len(long)
+
+
+def test_first_met_is_what_a_blind_walker_in_list_order_takes() -> None:
+    from eb_habitat.search import first_met
+
+    objects = [{"name": "mug_1", "type": "mug", "color": "red", "at": "sofa", "slot": 0},
+               {"name": "mug_2", "type": "mug", "color": "blue", "at": "desk", "slot": 0},
+               {"name": "mug_3", "type": "mug", "color": "pink", "at": "desk", "slot": 1}]
+    assert first_met(objects, ["(on mug_1 desk)"]) and not first_met(objects, ["(on mug_1 desk)"], reverse=True)
+    assert first_met(objects, ["(on mug_2 sofa)"], reverse=True)
+    assert not first_met(objects, ["(on mug_3 sofa)"], reverse=True)  # mug_2 is left of it: pick up takes mug_2
+
+
+def test_a_named_branch_is_known_only_at_the_landmark_that_decides() -> None:
+    """In a counting conditional the named receptacle is the answer only once the agent, holding the object, has
+    seen the count beside the landmark: it walks to the landmark first (a blind walk straight to the named
+    receptacle is no plan of a seeing agent)."""
+    from eb_habitat.search import search_steps, stateless_search_steps
+
+    objects = [{"name": "mug_1", "type": "mug", "color": "red", "at": "left_counter", "slot": 0},
+               {"name": "bowl_1", "type": "bowl", "color": "blue", "at": "sofa", "slot": 0},
+               {"name": "cup_1", "type": "cup", "color": "white", "at": "sofa", "slot": 1}]
+    goal = ["(on mug_1 desk)", "(once mug_1)", "(untouched bowl_1)", "(untouched cup_1)"]
+    text = "Count the cups on the piece of furniture with the blue bowl. Exactly two: the red mug goes there. " \
+           "Any other number: the red mug goes on the desk."
+    plain = stateless_search_steps(objects, [], goal, text, "hard.base.0")
+    assert plain == 1 + 1 + 1 + 1  # navigate, pick, navigate to the named desk, place
+    # navigate, pick, walk again (left counter to sofa: 8 receptacles, 4 of them opened), then the desk
+    assert stateless_search_steps(objects, [], goal, text, "hard.complex.if_count.2") == 2 + 7 + 4 + 2
+    assert search_steps(objects, [], goal, text, "hard.complex.if_count.2") > search_steps(objects, [], goal, text)
 
 
 def _scene(mug_at: str, bowl_at: str) -> tuple[list[dict[str, object]], list[str]]:
