@@ -20,7 +20,7 @@ from typing import Any
 
 from eb_core.audit.contract import AuditProbe, ProbeResult
 from eb_core.env import Task
-from eb_habitat.catalog import COLORS, OBJECT_TYPES, RECEPTACLES, receptacle
+from eb_habitat.catalog import COLORS, OBJECT_TYPES, receptacle
 from eb_habitat.goals import Predicate
 from eb_habitat.oracle import OracleError, expert_plan
 from eb_habitat.tasks import spec_of
@@ -211,9 +211,18 @@ def conditional_first_branch(tasks: list[Task], env_params: dict[str, Any] | Non
     cond = [t for t in tasks if t.subset == "complex_instruction" and "if" in str(t.metadata.get("template", ""))]
     wins, solved = 0, []
     for t in cond:
-        first, color = _first_branch(t.instruction)
         spec = spec_of(t)
         placed = [p for p in spec.goal_predicates() if p.name in ("on", "inside")]
+        template = str(t.metadata.get("template", ""))
+        if ".if_count." in template:
+            # both branches move the same object, one "there" (the landmark's place), the other to the receptacle
+            # the instruction names; the named one comes first in the ``.named_first.`` templates
+            named = any(receptacle(p.args[1]).name.lower() in t.instruction.lower() for p in placed)
+            if placed and named == (".named_first." in template):
+                wins += 1
+                solved.append(t.id)
+            continue
+        first, color = _first_branch(t.instruction)
         types = {spec.instances().get(p.args[0], p.args[0].lstrip("?")) for p in placed}
         colors = {o.color for o in spec.objects for p in placed if o.name == p.args[0]}
         if first is not None and types == {first} and (color is None or colors == {color}):

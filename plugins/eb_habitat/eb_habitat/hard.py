@@ -21,10 +21,17 @@ changes is the scenes and the words:
   three or four with the landmark's look-alikes in rows of the same shape (spatial_relationship), looks only,
   with a same-colour look-alike type (visual_appearance), three objects among look-alikes (long_horizon).
 
+* **counting in one view** (version 3): a destination told by a count ("the one place that has exactly two
+  bowls", beside decoys with one more or one fewer; base) or a conditional on the count beside a landmark
+  (complex_instruction), every judgement made in the view where the agent acts.
+
 A blind player can neither tell the look-alikes apart nor find the landmark without picking it up, so guessing
 is about one chance in (look-alikes x receptacles). The expert solves every task within the classic step bounds
 (12 steps, 20 for long_horizon), and a seeing agent that first visits every receptacle in catalogue order until it
-has seen what it needs, then acts, within 26 (:func:`search_steps`).
+has seen what it needs, then acts, within 26 (:func:`search_steps`); one without memory, as the benchmark's
+planner (it acts on each view alone and walks again from the start after every pick), within 28
+(:func:`stateless_search_steps`). Both bounds hold walking the catalogue forward and backward, so no task is kept
+for lying early in the list (long_horizon: one order per task, taking turns; :func:`walk_directions`).
 """
 
 from __future__ import annotations
@@ -46,13 +53,15 @@ from eb_habitat.catalog import (
     receptacle,
 )
 from eb_habitat.generate import Draft, Scene, _finish, _Reject
+from eb_habitat.search import first_met, search_steps, stateless_search_steps
 
-__all__ = ["DIFFICULTIES", "LEVELS", "Level", "generate_subset", "HARD_BUILDERS"]
+__all__ = ["DIFFICULTIES", "HARD_BUILDERS", "LEVELS", "Level", "generate_subset", "search_steps",
+           "stateless_search_steps"]
 
 DIFFICULTIES = ("classic", "medium", "hard")
 """Generator levels: ``classic`` is :mod:`eb_habitat.generate`, the others are drawn here."""
 
-HARD_VERSION = "2"
+HARD_VERSION = "3"
 
 SURFACES = [r.key for r in RECEPTACLES if r.kind == "surface"]
 CONTAINERS = [r.key for r in RECEPTACLES if r.kind == "container"]
@@ -340,6 +349,67 @@ def _two_types(rng: random.Random) -> tuple[str, str]:
     return x, y
 
 
+# -- counting ----------------------------------------------------------------------------------------------------
+
+_NUMBERS = {1: "one", 2: "two", 3: "three"}
+
+
+def _put(scene: Scene, key: str, at: str, color: str) -> dict[str, Any]:
+    """One more instance of ``key`` on ``at`` in a free slot chosen later by :func:`_shuffle_slots` (several of a
+    type may share a surface here, unlike :meth:`Scene.add`)."""
+    used = scene.used_slots(at)
+    slot = next(s for s in range(receptacle(at).capacity) if s not in used)
+    obj = {"name": f"{key}_{1 + sum(o['type'] == key for o in scene.objects)}", "type": key, "color": color,
+           "at": at, "slot": slot}
+    scene.objects.append(obj)
+    return obj
+
+
+def _shuffle_slots(rng: random.Random, scene: Scene, at: str) -> None:
+    objs = [o for o in scene.objects if o["at"] == at]
+    for o, slot in zip(objs, rng.sample(range(receptacle(at).capacity), len(objs))):
+        o["slot"] = slot
+
+
+def _counted_type(rng: random.Random, x: str) -> str:
+    """The type counted to tell a surface: never the moved type nor one a hasty eye takes for it."""
+    return rng.choice([k for k in VARIED if k != x and k not in CONFUSERS.get(x, ()) and x not in CONFUSERS.get(k, ())])
+
+
+def _groups(rng: random.Random, scene: Scene, y: str, counts: list[tuple[int, int]], places: list[str]
+            ) -> list[str]:
+    """Per (instances of ``y``, instances of its look-alike type ``CONFUSERS[y][0]``), one surface from ``places``
+    holding exactly these, in colours drawn without repeats, with at least one slot left free (the object may go
+    there, and a failed ``place`` must not tell which). Returns the surfaces, in the order of ``counts``."""
+    out: list[str] = []
+    for n, twins in counts:
+        fits = [k for k in places if k not in out and not scene.used_slots(k)
+                and receptacle(k).capacity >= n + twins + 1]
+        if not fits:
+            raise _Reject("no surface for a counted group")
+        at = rng.choice(fits)
+        for color in _colors(rng, y, n):
+            _put(scene, y, at, color)
+        for _ in range(twins):
+            _put(scene, CONFUSERS[y][0], at, rng.choice(allowed_colors(CONFUSERS[y][0])))
+        _shuffle_slots(rng, scene, at)
+        out.append(at)
+    return out
+
+
+def count_decoys(rng: random.Random, y: str, n: int) -> list[tuple[int, int]]:
+    """Two groups that a careless count takes for ``n`` of ``y``: one more or one fewer, or one fewer beside an
+    object of the look-alike type (a mug among cups)."""
+    options = [(n - 1, 0)] if n > 1 else []
+    if n + 1 <= 3:
+        options.append((n + 1, 0))
+    if CONFUSERS.get(y) and n > 1:
+        options.append((n - 1, 1))
+    if len(options) < 2:
+        raise _Reject("no decoys for the count")
+    return rng.sample(options, 2)
+
+
 # -- base --------------------------------------------------------------------------------------------------------
 
 _BASE = (
@@ -358,7 +428,44 @@ _BASE = (
 )
 
 
+_BASE_COUNT = (
+    "Put the {c} {o} on the piece of furniture that holds exactly {n} {ys}.",
+    "Find the {c} {o} and set it down where exactly {n} {ys} stand together.",
+    "The {c} {o} belongs on the surface with exactly {n} {ys} on it; take it there.",
+    "Move the {c} {o} to the one place that has exactly {n} {ys}, no more and no fewer.",
+    "Bring the {c} {o} to the furniture where you count exactly {n} {ys}.",
+    "Several surfaces hold {ys}. Put the {c} {o} on the one with exactly {n} of them.",
+)
+
+
+def _counted_destination(rng: random.Random, level: Level, x: str
+                         ) -> tuple[Scene, dict[str, Any], str, str, int]:
+    """A scene where the destination is the one surface with exactly ``n`` objects of a counted type ``y`` (2, or
+    3 on a four-seat surface), beside two decoy groups (:func:`count_decoys`); nothing else lies on the three, so
+    nothing hides what is counted. Returns (scene, target, destination, y, n)."""
+    scene = _new_scene(rng)
+    y = _counted_type(rng, x)
+    n = 3 if rng.random() < 0.15 else 2
+    places = _groups(rng, scene, y, [(n, 0), *count_decoys(rng, y, n)], SURFACES)
+    xs = _spread(rng, scene, x, _colors(rng, x, level.k), [k for k in _visible_places(scene) if k not in places])
+    target = rng.choice(xs)
+    if not near_pair(rng, scene, target, [o for o in xs if o is not target]) and rng.random() < 0.7:
+        raise _Reject("no near-hue pair")
+    _clutter(rng, scene, level, {x, y, *CONFUSERS.get(y, ())}, avoid=tuple(places))
+    return scene, target, places[0], y, n
+
+
+def _base_count(rng: random.Random, level: Level) -> HardDraft:
+    x = rng.choice(PAIRED)
+    scene, target, dest, y, n = _counted_destination(rng, level, x)
+    i = rng.randrange(len(_BASE_COUNT))
+    text = _BASE_COUNT[i].format(c=target["color"], o=object_type(x).name, n=_NUMBERS[n], ys=_plural(y))
+    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, dest)], f"hard.base.count.{i}")
+
+
 def _base(rng: random.Random, level: Level) -> HardDraft:
+    if rng.random() < 0.5:
+        return _base_count(rng, level)
     scene = _new_scene(rng)
     x, y = _two_types(rng)
     target, _, lm, lms = _target_and_landmark(rng, scene, level, x, y)
@@ -432,41 +539,85 @@ _NEGATION = (
     "Several {os} are lying around. Ignore the {na} and the {nb} ones; bring the {c} {o} to the {lc} {l}.",
     "The {c} {o}, not any other {o}, should end up next to the {lc} {l}, and not next to any other {l}.",
 )
-_IF_BESIDE = (
-    "Check the {o} beside the {lc} {l}. If it is {ca}, bring the {cb} {o} to that spot; if it has any other colour, "
-    "bring the {cc} {o} there instead.",
-    "If the {o} lying next to the {lc} {l} is {ca}, put the {cb} {o} beside them; otherwise put the {cc} {o} there.",
-    "There is {a_o} next to the {lc} {l}. Should it be {ca}, move the {cb} {o} to that piece of furniture; should "
-    "it not, move the {cc} {o} there.",
+_IF_COUNT = (
+    "Find the {lc} {l}. If exactly two {ys} stand on the same piece of furniture as it, put the {c} {o} there; "
+    "otherwise put the {c} {o} {pt}.",
+    "If the furniture holding the {lc} {l} also holds exactly two {ys}, bring the {c} {o} to it; if it holds any "
+    "other number of {ys}, bring the {c} {o} to the {t} instead.",
+    "Count the {ys} on the piece of furniture with the {lc} {l}. Exactly two: the {c} {o} goes there. Any other "
+    "number: the {c} {o} goes {pt}.",
 )
 
 
+#: The same conditionals with the named receptacle's branch first (the condition turned round), so the order of the
+#: branches says nothing about the answer while the landmark's place is the answer in most tasks.
+_IF_COUNT_NAMED_FIRST = (
+    "Find the {lc} {l} and count the {ys} on the same piece of furniture. Unless there are exactly two {ys}, put "
+    "the {c} {o} {pt}; if there are, put the {c} {o} there.",
+    "If the furniture holding the {lc} {l} does not hold exactly two {ys}, bring the {c} {o} to the {t}; if it "
+    "does, bring the {c} {o} to that furniture instead.",
+    "Count the {ys} on the piece of furniture with the {lc} {l}. Any number but two: the {c} {o} goes {pt}. "
+    "Exactly two: the {c} {o} goes there.",
+)
+
+NAMED_ANSWER_SHARE = 0.25
+"""Share of counting conditionals whose answer is the named receptacle: a blind player reaches a named receptacle
+without looking (it only has to guess the object), so that branch pays in few tasks; the landmark's place, which
+only a seeing player finds, is the answer in the rest. The branch named first is the answer in half the tasks
+either way (the templates put either branch first)."""
+
+
 def _conditional(rng: random.Random, level: Level) -> HardDraft:
-    """The landmark's receptacle holds a look-alike whose colour decides which of two others goes there."""
+    """A count beside the landmark decides the destination: there, or a named receptacle. The decision and both
+    destinations are reached from the landmark's view, so an agent without memory can act on it; the landmark's
+    near-hue look-alike holds the other count, so a misread colour gives the wrong branch."""
     scene = _new_scene(rng)
-    x, y = _two_types(rng)
-    wide = [k for k in SURFACES if receptacle(k).capacity >= 3]
-    landmarks = _spread(rng, scene, y, _colors(rng, y, level.m), wide, keep_room=True)
-    lm = rng.choice(landmarks)
-    if len(scene.used_slots(lm["at"])) + 2 > receptacle(lm["at"]).capacity:
-        raise _Reject("no room for the witness and the object")
-    colors = _colors(rng, x, level.k)
-    witness = scene.add(rng, x, at=lm["at"], color=colors[0])
-    xs = _spread(rng, scene, x, colors[1:], [k for k in _visible_places(scene) if k != lm["at"]])
-    target, other = rng.sample(xs, 2)
-    if not near_pair(rng, scene, target, [o for o in xs if o is not target], keep=(other,)) and rng.random() < 0.7:
+    x, lt = _two_types(rng)
+    y = _counted_type(rng, x)
+    if y == lt or lt in CONFUSERS.get(y, ()) or y in CONFUSERS.get(lt, ()):
+        raise _Reject("counted type too close to the landmark")
+    here = 1 if rng.random() < NAMED_ANSWER_SHARE else 2
+    lcolors = _colors(rng, lt, level.m)
+    places: list[str] = []
+    for color, count in zip(lcolors, (here, 3 - here, rng.choice((0, 1)))):
+        fits = [k for k in SURFACES if k not in places and not scene.used_slots(k)
+                and receptacle(k).capacity >= count + 2]
+        if not fits:
+            raise _Reject("no surface for a landmark and its count")
+        at = rng.choice(fits)
+        _put(scene, lt, at, color)
+        for c in _colors(rng, y, count):
+            _put(scene, y, at, c)
+        _shuffle_slots(rng, scene, at)
+        places.append(at)
+    landmarks = [o for o in scene.objects if o["type"] == lt]
+    lm = landmarks[0]
+    # the look-alike holding the other count gets a near hue of the landmark's colour, when it has one
+    if not near_hues(lt, lm["color"]):
+        fits = [c for c in HARD_COLORS[lt] if near_hues(lt, c) and c not in lcolors]
+        lm["color"] = rng.choice(fits) if fits else lm["color"]
+    hues = near_hues(lt, lm["color"])
+    if hues:
+        hue = rng.choice(hues)
+        if landmarks[2]["color"] == hue:
+            landmarks[2]["color"] = landmarks[1]["color"]
+        landmarks[1]["color"] = hue
+    xs = _spread(rng, scene, x, _colors(rng, x, level.k), [k for k in _visible_places(scene) if k not in places])
+    target = rng.choice(xs)
+    if not near_pair(rng, scene, target, [o for o in xs if o is not target]) and rng.random() < 0.7:
         raise _Reject("no near-hue pair")
-    if rng.random() < 0.5:  # the condition holds
-        ca, cb, cc = witness["color"], target["color"], other["color"]
-    else:
-        near = near_hues(x, witness["color"]) if rng.random() < 0.8 else []  # asks about a near hue
-        ca = rng.choice(near or [c for c in HARD_COLORS[x] if c != witness["color"]])
-        cb, cc = other["color"], target["color"]
-    _clutter(rng, scene, level, {x, y}, keep_free=_places_of(landmarks))
-    i = rng.randrange(len(_IF_BESIDE))
-    name = object_type(x).name
-    text = _IF_BESIDE[i].format(o=name, a_o=f"a {name}", lc=lm["color"], l=object_type(y).name, ca=ca, cb=cb, cc=cc)
-    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.complex.if_beside.{i}")
+    named = rng.choice([k for k in SURFACES if k not in places and k != target["at"]
+                        and len(scene.used_slots(k)) + 2 <= receptacle(k).capacity])
+    _clutter(rng, scene, level, {x, lt, y, *CONFUSERS.get(y, ())}, avoid=(*places, named))
+    t = receptacle(named)
+    dest = lm["at"] if here == 2 else named
+    named_first = rng.random() < 0.5
+    frames = _IF_COUNT_NAMED_FIRST if named_first else _IF_COUNT
+    i = rng.randrange(len(frames))
+    text = frames[i].format(lc=lm["color"], l=object_type(lt).name, ys=_plural(y), c=target["color"],
+                            o=object_type(x).name, t=t.name, pt=f"{t.preposition} the {t.name}")
+    template = f"hard.complex.if_count.{'named_first.' if named_first else ''}{i}"
+    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, dest)], template)
 
 
 def _complex(rng: random.Random, level: Level) -> HardDraft:
@@ -683,61 +834,64 @@ def to_draft(rng: random.Random, hd: HardDraft) -> Draft:
 
 
 MAX_SEARCH_STEPS = 26
-"""Bound on :func:`search_steps`: a seeing agent that first looks everywhere still has 4 steps to spare."""
+"""Bound on :func:`~eb_habitat.search.search_steps`: a seeing agent that first looks everywhere still has 4 steps to
+spare."""
+
+MAX_STATELESS_STEPS = 28
+"""Bound on :func:`~eb_habitat.search.stateless_search_steps`: a seeing agent without memory (the benchmark's
+planner sees only the current image and the action history) still has 2 of the 30 steps to spare."""
 
 
-def search_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[str], instruction: str) -> int:
-    """Steps of a seeing agent without privileged knowledge: it walks to the receptacles in catalogue order
-    (opening the closed ones) until it has seen every object the goal moves and every destination the
-    instruction does not name (a landmark's place), then follows the expert's plan from there."""
-    from eb_habitat.goals import parse_predicate
-    from eb_habitat.oracle import expert_plan
-    from eb_habitat.skills import skill_id
-    from eb_habitat.world import World
-
-    w = World(objects, opened)
-    inst = {o["name"]: o["type"] for o in objects}
-    preds = [parse_predicate(g, inst) for g in goal]
-    places = [p for p in preds if p.name in ("on", "inside")]
-    need = {next(o["at"] for o in objects if o["name"] == p.args[0]) for p in places if p.args[0] in inst}
-    need |= {p.args[1] for p in places if receptacle(p.args[1]).name.lower() not in instruction.lower()}
-    steps = 0
-    for r in RECEPTACLES:
-        if not need:
-            break
-        w.step(skill_id("navigate", r.key))
-        steps += 1
-        if not w.is_open(r.key):
-            w.step(skill_id("open", r.key))
-            steps += 1
-        need.discard(r.key)
-    return steps + len(expert_plan(w, preds))
-
-
-def draw(subset: str, rng: random.Random, difficulty: str, index: int) -> dict[str, Any] | None:
+def draw(subset: str, rng: random.Random, difficulty: str, index: int, backward: bool | None = None
+         ) -> dict[str, Any] | None:
     """One validated task entry of ``subset`` at ``difficulty`` (``medium`` or ``hard``), or None if the draw
-    fails validation (the caller draws again). Raises :class:`~eb_habitat.generate._Reject` for a bad scene."""
+    fails validation (the caller draws again). Raises :class:`~eb_habitat.generate._Reject` for a bad scene.
+    ``backward``: the walk order of a long_horizon task's bounds (:func:`walk_directions`; None: drawn)."""
     hd = HARD_BUILDERS[subset](rng, LEVELS[difficulty])
     entry = _finish(to_draft(rng, hd), subset, index)
     if entry is None:
         return None
     meta = entry["metadata"]
-    if search_steps(meta["objects"], meta["open"], meta["goal"], entry["instruction"]) > MAX_SEARCH_STEPS:
-        return None
+    args = (meta["objects"], meta["open"], meta["goal"], entry["instruction"], meta["template"])
+    for reverse in walk_directions(subset, rng, backward):
+        if search_steps(*args, reverse=reverse) > MAX_SEARCH_STEPS:
+            return None
+        stateless = stateless_search_steps(*args, reverse=reverse)
+        if stateless is None or stateless > MAX_STATELESS_STEPS:
+            return None
+    if subset == "long_horizon" and any(first_met(meta["objects"], meta["goal"], r) for r in (False, True)):
+        return None  # a blind walker that knows the list order takes all three, each the first of its type met
     return entry
 
 
-def _answers_first_branch(entry: dict[str, Any]) -> bool | None:
-    """For a conditional (``hard.complex.if_beside``): whether the branch named first is the answer; else None."""
+def walk_directions(subset: str, rng: random.Random, backward: bool | None = None) -> tuple[bool, ...]:
+    """The catalogue orders (``reverse`` flags) in which the bounds must hold, so that no task is kept for lying
+    early in one order (a blind player that walks the list in that order would gain): both, forward and backward;
+    in long_horizon, where a memoryless agent walks again from the start after each of three picks and no task
+    fits 28 steps both ways, one order per task (``backward``, or drawn), the generator taking each for half the
+    tasks."""
+    if subset == "long_horizon":
+        return (rng.random() < 0.5 if backward is None else backward,)
+    return (False, True)
+
+
+def _answers_named(entry: dict[str, Any]) -> bool | None:
+    """For a counting conditional (``hard.complex.if_count``): whether the answer is the receptacle the
+    instruction names (not the landmark's place); else None."""
     meta = entry["metadata"]
-    if ".if_beside." not in meta["template"]:
+    if ".if_count." not in meta["template"]:
         return None
-    mover = meta["goal"][0].split()[1]
-    obj = next(o for o in meta["objects"] if o["name"] == mover)
-    after = entry["instruction"].split(",", 1)[1]
-    name = object_type(obj["type"]).name
-    named = [c for c in HARD_COLORS[obj["type"]] if f"the {c} {name}" in after]
-    return min(named, key=lambda c: after.index(f"the {c} {name}")) == obj["color"]
+    dest = meta["goal"][0].split()[2].rstrip(")")
+    return receptacle(dest).name.lower() in entry["instruction"].lower()
+
+
+def _answers_first_branch(entry: dict[str, Any]) -> bool | None:
+    """For a counting conditional: whether the branch named first is the answer (the landmark's place comes first,
+    or the named receptacle in the ``.named_first.`` templates); else None."""
+    named = _answers_named(entry)
+    if named is None:
+        return None
+    return named == (".named_first." in entry["metadata"]["template"])
 
 
 def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "hard",
@@ -750,13 +904,15 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
     out: list[dict[str, Any]] = []
     seen: set[str] = set()
     branches = {True: 0, False: 0}  # conditionals answered by the branch named first / by the other one
+    named = 0  # conditionals answered by the named receptacle
+    backward = 0  # long_horizon tasks whose bounds hold walking the list backward
     tries = 0
     while len(out) < n:
         tries += 1
         if tries > 400 * n:
             raise RuntimeError(f"could not draw {n} valid {difficulty} {subset} tasks")
         try:
-            entry = draw(subset, rng, difficulty, len(out))
+            entry = draw(subset, rng, difficulty, len(out), backward=2 * backward < len(out))
         except _Reject:
             continue
         if entry is None or entry["instruction"] in seen:
@@ -765,8 +921,13 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
         if first is not None:  # keep the two within one of each other: always following one branch never pays
             if branches[first] > branches[not first]:
                 continue
+            to_named = bool(_answers_named(entry))
+            if to_named and named + 1 > max(1.0, NAMED_ANSWER_SHARE * (sum(branches.values()) + 1)):
+                continue  # the named branch, which a blind player reaches, pays in few tasks
             branches[first] += 1
+            named += to_named
         seen.add(entry["instruction"])
+        backward += 2 * backward < len(out)
         out.append(entry)
         if progress and (len(out) % 10 == 0 or len(out) == n):
             print(f"habitat {difficulty} {subset}: {len(out)}/{n} tasks ({tries} draws)", file=sys.stderr, flush=True)

@@ -10,7 +10,8 @@ Per set and subset:
 * same-type: instances of the object's type in the apartment (mean), and look-alikes -- instances of its type the
   goal does not accept, and objects of a related type in its colour (a red cup for the red mug,
   ``hard.CONFUSERS``) -- visible in the view at the object's receptacle (mean, same sample);
-* plan: the expert's optimal plan length (mean of ``oracle_steps``);
+* plan: the expert's optimal plan length (mean of ``oracle_steps``); search: ``search_steps`` (a seeing agent
+  with memory) and ``stateless_search_steps`` (one without, as the benchmark's planner), mean and longest;
 * text rule / blind guess / blind sweep / random: success of the players of :mod:`eb_habitat.blind` (random: a
   uniformly random skill each step), with the benchmark's 30 steps and 10 failures, ``--seeds`` episodes a task;
 * noise p50: the noise level at which the closed-loop expert, each action replaced by a random skill with that
@@ -28,7 +29,7 @@ from typing import Any
 
 from eb_habitat.blind import MAX_FAILURES, MAX_STEPS, blind_guess, blind_sweep, text_rule_agent
 from eb_habitat.env import HabitatEnv
-from eb_habitat.hard import CONFUSERS, search_steps
+from eb_habitat.hard import CONFUSERS, search_steps, stateless_search_steps
 from eb_habitat.skills import SKILLS, skill_id
 from eb_habitat.tasks import SUBSETS, spec_of
 
@@ -93,6 +94,13 @@ def search_then_plan(task: Task) -> int:
     return search_steps(m["objects"], m["open"], m["goal"], task.instruction)
 
 
+def stateless(task: Task) -> int | None:
+    """:func:`eb_habitat.search.stateless_search_steps` of a task (a seeing agent without memory); None when no
+    such agent solves it, or the goal takes any instance of a type (the classic set)."""
+    m = task.metadata
+    return stateless_search_steps(m["objects"], m["open"], m["goal"], task.instruction, m["template"])
+
+
 def _random_episode(task: Task, seed: int) -> bool:
     env = HabitatEnv(render=False)
     env.reset(task, seed)
@@ -145,6 +153,8 @@ def figures(tasks: list[Task], render_n: int, noise_n: int, seeds: int) -> dict[
             "plan": statistics.mean(t.metadata["oracle_steps"] for t in ts),
             "search": statistics.mean(map(search_then_plan, ts)),
             "search_max": max(map(search_then_plan, ts)),
+            "stateless": statistics.mean(sl) if (sl := [x for x in map(stateless, ts) if x is not None]) else None,
+            "stateless_max": max(sl) if sl else None,
             "text_rule": sum(map(text_rule_agent, ts)) / len(ts) * 100,
             "blind_guess": sum(blind_guess(t, k) for t in ts for k in range(seeds)) / (len(ts) * seeds) * 100,
             "blind_sweep": sum(blind_sweep(t, k) for t in ts for k in range(seeds)) / (len(ts) * seeds) * 100,
@@ -169,6 +179,8 @@ ROWS = (
     ("plan", "optimal plan (mean steps)", "{:.1f}"),
     ("search", "search in catalogue order, then plan (mean steps)", "{:.1f}"),
     ("search_max", "the same, longest task (budget 30)", "{:.0f}"),
+    ("stateless", "search without memory, acting on each view (mean steps)", "{:.1f}"),
+    ("stateless_max", "the same, longest task (budget 30)", "{:.0f}"),
     ("text_rule", "text-only rule agent (ablation=text_state)", "{:.0f} %"),
     ("blind_guess", "blind guess", "{:.1f} %"),
     ("blind_sweep", "blind sweep (reads the pick feedback)", "{:.1f} %"),

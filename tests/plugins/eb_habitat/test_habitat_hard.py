@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -235,17 +236,245 @@ def test_generating_a_form_reports_progress_on_stderr(tmp_path: Path, capsys: py
     assert len(load_task_file(tmp_path / "long_horizon.json")) == 10
 
 
-def test_first_branch_probe_reads_the_colour_of_a_hard_conditional() -> None:
-    from eb_habitat.audit import _first_branch, conditional_first_branch
+def _landmark_place(t: Task) -> str:
+    """Where the landmark of a counting conditional lies ("the green plate" in "the furniture holding the green
+    plate")."""
+    spec = spec_of(t)
+    for o in spec.objects:
+        name = o.type.replace("_", " ")
+        if re.search(rf"(?:Find|holding|with) the {o.color} {name}\b", t.instruction):
+            return o.at
+    raise AssertionError(f"{t.id}: no landmark named")
+
+
+def _counted(t: Task) -> tuple[str, int]:
+    """The counted type of a counting task and the number the instruction asks for."""
+    text = t.instruction
+    m = (re.search(r"hold (?P<name>[a-z ]+?)s\. .* exactly (?P<n>two|three) of them", text)  # "Several surfaces ..."
+         or re.search(r"exactly (?P<n>two|three) (?P<name>[a-z ]+?)s\b", text)
+         or re.search(r"Count the (?P<name>[a-z ]+?)s ", text))
+    assert m is not None, t.id
+    number, name = m.groupdict().get("n") or "two", m.group("name")
+    kind = next(o.type for o in spec_of(t).objects if o.type.replace("_", " ") == name)
+    return kind, {"two": 2, "three": 3}[number]
+
+
+def _named_place(t: Task) -> str:
+    """The receptacle a counting conditional names as its other branch."""
+    from eb_habitat.catalog import RECEPTACLES
+
+    return next(r.key for r in RECEPTACLES if f"the {r.name.lower()}" in t.instruction.lower())
+
+
+def test_first_branch_probe_reads_the_destination_of_a_counting_conditional() -> None:
+    """Both branches move the same object, one "there" (the landmark's place), the other to the receptacle the
+    instruction names; the ``.named_first.`` templates name that one first. Answers that always follow the first
+    branch, or always "there", must fail the probe."""
+    from eb_habitat.audit import conditional_first_branch
 
     tasks = BY_SUBSET["complex_instruction"]
-    cond = [t for t in tasks if ".if_" in t.metadata["template"]]
-    assert cond and conditional_first_branch(tasks, {}).passed
-    broken = []
-    for t in cond:  # make the first-named branch the answer every time
-        kind, color = _first_branch(t.instruction)
-        first = next(o["name"] for o in t.metadata["objects"] if o["type"] == kind and o["color"] == color)
-        meta = json.loads(json.dumps(t.metadata))
-        meta["goal"][0] = f"(on {first} {meta['goal'][0].split()[2]}"
-        broken.append(t.model_copy(update={"metadata": meta}))
-    assert not conditional_first_branch(broken, {}).passed
+    cond = [t for t in tasks if ".if_count." in t.metadata["template"]]
+    assert len(cond) >= 6 and conditional_first_branch(tasks, {}).passed
+
+    def answered(place: Callable[[Task], str]) -> list[Task]:
+        out = []
+        for t in cond:
+            meta = json.loads(json.dumps(t.metadata))
+            meta["goal"][0] = f"(on {meta['goal'][0].split()[1]} {place(t)})"
+            out.append(t.model_copy(update={"metadata": meta}))
+        return out
+
+    first = answered(lambda t: _named_place(t) if ".named_first." in t.metadata["template"] else _landmark_place(t))
+    assert conditional_first_branch(first, {}).value.startswith("100")
+    assert not conditional_first_branch(first, {}).passed
+    there_first = sum(".named_first." not in t.metadata["template"] for t in cond)
+    assert (there_first / len(cond) > 0.65) == (not conditional_first_branch(answered(_landmark_place), {}).passed)
+
+
+def test_counting_conditionals_pay_the_named_branch_in_few_tasks() -> None:
+    """A blind player reaches the named receptacle without looking, so that branch is the answer in about a
+    quarter of the conditionals (at least one); the order of the branches still says nothing (either comes first,
+    and the first-named one answers half, within one)."""
+    from eb_habitat.hard import NAMED_ANSWER_SHARE
+
+    cond = [t for t in BY_SUBSET["complex_instruction"] if ".if_count." in t.metadata["template"]]
+    named = [t for t in cond if spec_of(t).goal[0].split()[2].rstrip(")") == _named_place(t)]
+    assert 1 <= len(named) <= max(1, NAMED_ANSWER_SHARE * len(cond))
+    assert {".named_first." in t.metadata["template"] for t in cond} == {True, False}
+    first = sum((t in named) == (".named_first." in t.metadata["template"]) for t in cond)
+    assert abs(2 * first - len(cond)) <= 1
+
+
+def test_counting_conditionals_the_count_beside_the_landmark_decides() -> None:
+    """Exactly two of the counted type beside the landmark sends the object there, one sends it to the named
+    receptacle; a look-alike landmark holds the other count, so a misread colour flips the branch."""
+    from eb_habitat.catalog import receptacle
+
+    cond = [t for t in BY_SUBSET["complex_instruction"] if ".if_count." in t.metadata["template"]]
+    answers = set()
+    for t in cond:
+        spec = spec_of(t)
+        kind, _ = _counted(t)
+        there = _landmark_place(t)
+        dest = spec.goal[0].split()[2].rstrip(")")
+        count = sum(o.type == kind and o.at == there for o in spec.objects)
+        assert count in (1, 2), t.id
+        if count == 2:
+            assert dest == there, t.id
+        else:
+            assert dest != there and receptacle(dest).name.lower() in t.instruction.lower(), t.id
+        answers.add(count)
+        lm_kind = next(o.type for o in spec.objects if o.at == there and o.type != kind)
+        others = {o.at for o in spec.objects if o.type == lm_kind} - {there}
+        flip = [o for o in spec.objects if o.type == lm_kind and o.at in others
+                and sum(p.type == kind and p.at == o.at for p in spec.objects) == 3 - count]
+        lm_color = next(o.color for o in spec.objects if o.type == lm_kind and o.at == there)
+        near = near_hues(lm_kind, lm_color)
+        assert flip and (not near or any(o.color in near for o in flip)), t.id
+    assert answers == {1, 2}
+
+
+def test_counting_destinations_hold_exactly_the_number_and_decoys_do_not() -> None:
+    """"The furniture that holds exactly two cups": the destination holds exactly that many of the type and
+    nothing else (nothing hides what is counted), two decoy surfaces hold one more or one fewer (or one fewer
+    beside an object of the look-alike type: a mug among cups), and no other receptacle holds the type."""
+    from eb_habitat.hard import CONFUSERS
+
+    count_tasks = [t for t in BY_SUBSET["base"] if ".base.count." in t.metadata["template"]]
+    assert len(count_tasks) >= 15
+    for t in count_tasks:
+        spec = spec_of(t)
+        kind, n = _counted(t)
+        dest = spec.goal[0].split()[2].rstrip(")")
+        assert [o.type for o in spec.objects if o.at == dest] == [kind] * n, t.id
+        decoys = {o.at for o in spec.objects if o.type == kind} - {dest}
+        assert len(decoys) == 2, t.id
+        for at in decoys:
+            here = [o.type for o in spec.objects if o.at == at]
+            twins = [k for k in here if k in CONFUSERS[kind]]
+            assert here.count(kind) in (n - 1, n + 1) and len(here) == here.count(kind) + len(twins), t.id
+            assert len(twins) <= 1 and (not twins or here.count(kind) == n - 1), t.id
+
+
+def test_every_hard_task_is_within_the_stateless_bound() -> None:
+    """A seeing agent without memory (the benchmark's planner with ``chat_history=False``) solves every shipped
+    hard task within 28 of the 30 steps."""
+    from eb_habitat.hard import MAX_STATELESS_STEPS
+    from eb_habitat.search import stateless_search_steps
+
+    for t in HARD:
+        m = t.metadata
+        steps = stateless_search_steps(m["objects"], m["open"], m["goal"], t.instruction, m["template"])
+        back = stateless_search_steps(m["objects"], m["open"], m["goal"], t.instruction, m["template"], reverse=True)
+        fits = [x is not None and m["oracle_steps"] <= x <= MAX_STATELESS_STEPS for x in (steps, back)]
+        # both ways (a task is not kept for lying early in the list); long_horizon: one way, drawn per task
+        assert all(fits) if t.subset != "long_horizon" else any(fits), t.id
+
+
+def test_the_bound_is_fair_to_both_list_orders() -> None:
+    """Long_horizon cannot hold the bound both ways (a memoryless agent walks from the start after each of three
+    picks), so each task holds it one way, about half forward; and no task gives all its objects to a blind walker
+    that takes the first of each type it meets, walking the list forward or backward."""
+    from eb_habitat.hard import MAX_STATELESS_STEPS
+    from eb_habitat.search import first_met, stateless_search_steps
+
+    long = BY_SUBSET["long_horizon"]
+    forward = 0
+    for t in long:
+        m = t.metadata
+        steps = stateless_search_steps(m["objects"], m["open"], m["goal"], t.instruction, m["template"])
+        forward += steps is not None and steps <= MAX_STATELESS_STEPS
+        assert not first_met(m["objects"], m["goal"]) and not first_met(m["objects"], m["goal"], reverse=True)
+    assert 0.3 * len(long) <= forward <= 0.8 * len(long)
+
+
+def test_first_met_is_what_a_blind_walker_in_list_order_takes() -> None:
+    from eb_habitat.search import first_met
+
+    objects = [{"name": "mug_1", "type": "mug", "color": "red", "at": "sofa", "slot": 0},
+               {"name": "mug_2", "type": "mug", "color": "blue", "at": "desk", "slot": 0},
+               {"name": "mug_3", "type": "mug", "color": "pink", "at": "desk", "slot": 1}]
+    assert first_met(objects, ["(on mug_1 desk)"]) and not first_met(objects, ["(on mug_1 desk)"], reverse=True)
+    assert first_met(objects, ["(on mug_2 sofa)"], reverse=True)
+    assert not first_met(objects, ["(on mug_3 sofa)"], reverse=True)  # mug_2 is left of it: pick up takes mug_2
+
+
+def test_a_named_branch_is_known_only_at_the_landmark_that_decides() -> None:
+    """In a counting conditional the named receptacle is the answer only once the agent, holding the object, has
+    seen the count beside the landmark: it walks to the landmark first (a blind walk straight to the named
+    receptacle is no plan of a seeing agent)."""
+    from eb_habitat.search import search_steps, stateless_search_steps
+
+    objects = [{"name": "mug_1", "type": "mug", "color": "red", "at": "left_counter", "slot": 0},
+               {"name": "bowl_1", "type": "bowl", "color": "blue", "at": "sofa", "slot": 0},
+               {"name": "cup_1", "type": "cup", "color": "white", "at": "sofa", "slot": 1}]
+    goal = ["(on mug_1 desk)", "(once mug_1)", "(untouched bowl_1)", "(untouched cup_1)"]
+    text = "Count the cups on the piece of furniture with the blue bowl. Exactly two: the red mug goes there. " \
+           "Any other number: the red mug goes on the desk."
+    plain = stateless_search_steps(objects, [], goal, text, "hard.base.0")
+    assert plain == 1 + 1 + 1 + 1  # navigate, pick, navigate to the named desk, place
+    # navigate, pick, walk again (left counter to sofa: 8 receptacles, 4 of them opened), then the desk
+    assert stateless_search_steps(objects, [], goal, text, "hard.complex.if_count.2") == 2 + 7 + 4 + 2
+    assert search_steps(objects, [], goal, text, "hard.complex.if_count.2") > search_steps(objects, [], goal, text)
+
+
+def _scene(mug_at: str, bowl_at: str) -> tuple[list[dict[str, object]], list[str]]:
+    objects = [{"name": "mug_1", "type": "mug", "color": "red", "at": mug_at, "slot": 0},
+               {"name": "bowl_1", "type": "bowl", "color": "blue", "at": bowl_at, "slot": 0}]
+    return objects, [f"(on mug_1 {bowl_at})", "(once mug_1)", "(untouched bowl_1)"]
+
+
+def test_stateless_agent_starts_its_walk_again_after_a_pick() -> None:
+    """Mug on the desk (last in catalogue order), bowl on the right counter (second): with memory the agent walks
+    to 15 receptacles and opens 4 containers (19), then picks, walks back and places (22); without memory it
+    picks at the desk and walks again from the left counter (20 + 2 + place = 23). The other way round it picks
+    on the left counter at once and finds the bowl on its second walk."""
+    from eb_habitat.search import search_steps, stateless_search_steps
+
+    text = "Put the red mug beside the blue bowl."
+    objects, goal = _scene("desk", "right_counter")
+    assert search_steps(objects, [], goal, text) == 22
+    assert stateless_search_steps(objects, [], goal, text) == 23
+    objects, goal = _scene("left_counter", "desk")
+    assert stateless_search_steps(objects, [], goal, text) == 1 + 1 + 14 + 4 + 1  # nav, pick, walk on, opens, place
+    assert stateless_search_steps(objects, ["fridge", "cabinet"], goal, text) == 1 + 1 + 14 + 2 + 1
+
+
+def test_stateless_agent_walks_straight_to_a_named_receptacle() -> None:
+    from eb_habitat.search import stateless_search_steps
+
+    objects, _ = _scene("sofa", "desk")
+    goal = ["(on mug_1 left_chair)", "(once mug_1)", "(untouched bowl_1)"]
+    # 8 navigations and 4 opens to reach the sofa, then pick, navigate, place
+    assert stateless_search_steps(objects, [], goal, "Put the red mug on the left chair.") == 8 + 4 + 3
+
+
+def test_a_witness_on_another_receptacle_cannot_be_acted_on_without_memory() -> None:
+    """Version 2's conditionals ("if the mug beside the red bowl is yellow, bring the orange mug there"): the view
+    that decides is not the view where the object is picked up."""
+    from eb_habitat.search import stateless_search_steps
+
+    objects, goal = _scene("sofa", "desk")
+    text = "If the mug beside the blue bowl is red, bring the red mug there."
+    assert stateless_search_steps(objects, [], goal, text, "hard.complex.if_beside.0") is None
+    assert stateless_search_steps(objects, [], goal, text, "hard.complex.if_count.0") is not None
+
+
+def test_generator_refuses_a_task_above_the_stateless_bound(monkeypatch: pytest.MonkeyPatch) -> None:
+    import random
+
+    from eb_habitat import hard
+
+    def kept(bound: int | None) -> int:
+        monkeypatch.setattr(hard, "stateless_search_steps", lambda *a, **k: bound)
+        rng, n = random.Random(5), 0
+        for i in range(40):
+            try:
+                n += hard.draw("base", rng, "hard", i) is not None
+            except hard._Reject:
+                pass
+        return n
+
+    assert kept(hard.MAX_STATELESS_STEPS) > 0
+    assert kept(hard.MAX_STATELESS_STEPS + 1) == 0
+    assert kept(None) == 0

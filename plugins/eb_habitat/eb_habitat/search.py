@@ -1,0 +1,182 @@
+"""Step bounds of seeing agents without privileged knowledge, for the hard generator and the difficulty figures.
+
+* :func:`search_steps`: an agent **with memory** walks to the receptacles in catalogue order (opening closed ones)
+  until it has seen everything it needs, then follows the expert's plan.
+* :func:`stateless_search_steps`: an agent **without memory**, as the benchmark's planner is with its default
+  ``chat_history=False``: every call sees the current image and the action history with the world's feedback,
+  never its own earlier descriptions. It can act only on what one view (and the text) tells it.
+
+Both walk the catalogue forward by default; ``reverse=True`` walks it backward (desk first). The hard generator
+holds its bounds in both directions, so a task is not kept for lying early in one order (a blind player that knows
+the order would gain).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from eb_habitat.catalog import RECEPTACLES, object_type, receptacle
+
+__all__ = ["WITNESS_ELSEWHERE", "first_met", "stateless_search_steps", "search_steps"]
+
+WITNESS_ELSEWHERE = (".if_beside.",)
+"""Template parts whose object is told by a witness on another receptacle (version 2's conditionals: "if the mug
+beside the red bowl is yellow, bring the orange mug there"): the view that tells which object to move is not the
+view where it can be picked up, so no agent without memory can act on it."""
+
+_LIMIT = 60
+"""A walk longer than this is not worth following: the caller's bound is far below."""
+
+
+def _named(key: str, instruction: str) -> bool:
+    return receptacle(key).name.lower() in instruction.lower()
+
+
+def _order(reverse: bool) -> list[str]:
+    keys = [r.key for r in RECEPTACLES]
+    return keys[::-1] if reverse else keys
+
+
+def _deciding_place(objects: list[dict[str, Any]], movers: set[str], instruction: str, template: str) -> str | None:
+    """For a counting conditional (``.if_count.``): the receptacle of the landmark whose count decides the branch
+    (the one object other than the movers named by colour and type); else None."""
+    if ".if_count." not in template:
+        return None
+    text = instruction.lower()
+    named = [o["at"] for o in objects if o["name"] not in movers
+             and f"{o['color']} {object_type(o['type']).name.lower()}" in text]
+    return named[0] if len(named) == 1 else None
+
+
+def search_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[str], instruction: str,
+                 template: str = "", reverse: bool = False) -> int:
+    """Steps of a seeing agent with memory: it walks to the receptacles in catalogue order (``reverse``: backward)
+    opening the closed ones, until it has seen every object the goal moves and every destination the instruction
+    does not name (a landmark's place) or whose count decides a conditional, then follows the expert's plan from
+    there."""
+    from eb_habitat.goals import parse_predicate
+    from eb_habitat.oracle import expert_plan
+    from eb_habitat.skills import skill_id
+    from eb_habitat.world import World
+
+    w = World(objects, opened)
+    inst = {o["name"]: o["type"] for o in objects}
+    preds = [parse_predicate(g, inst) for g in goal]
+    places = [p for p in preds if p.name in ("on", "inside")]
+    need = {next(o["at"] for o in objects if o["name"] == p.args[0]) for p in places if p.args[0] in inst}
+    need |= {p.args[1] for p in places if not _named(p.args[1], instruction)}
+    gate = _deciding_place(objects, set(inst) & {p.args[0] for p in places}, instruction, template)
+    need |= {gate} if gate else set()
+    steps = 0
+    for key in _order(reverse):
+        if not need:
+            break
+        w.step(skill_id("navigate", key))
+        steps += 1
+        if not w.is_open(key):
+            w.step(skill_id("open", key))
+            steps += 1
+        need.discard(key)
+    return steps + len(expert_plan(w, preds))
+
+
+def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[str], instruction: str,
+                           template: str = "", reverse: bool = False) -> int | None:
+    """Steps of a seeing agent **without memory**, or None when no such agent can solve the task.
+
+    It walks to the receptacles in catalogue order (``reverse``: backward), opening closed ones, and in each view
+    does everything that view allows, in one plan: with an empty hand it picks up an object the goal moves if the
+    view tells that it is that object (its colour, its row, what lies beside it: all on the object's own
+    receptacle); holding one, it places it when it stands at its destination and knows it is one -- a receptacle
+    the instruction names is known from the text (it walks straight there), a landmark's receptacle only in the
+    view that shows the landmark, and in a counting conditional the named receptacle only once it holds the object
+    at the landmark whose count decides. It cannot know what it passed, so after every pick it starts its walk
+    again from the first receptacle. None when an object is told only by a witness on another receptacle
+    (:data:`WITNESS_ELSEWHERE`), when ``pick up`` would take another instance, or when a whole walk finds nothing
+    to act on."""
+    from eb_habitat.goals import parse_predicate
+    from eb_habitat.oracle import OracleError, expert_plan
+    from eb_habitat.skills import skill_id
+    from eb_habitat.world import World
+
+    if any(part in template for part in WITNESS_ELSEWHERE):
+        return None
+    w = World(objects, opened)
+    inst = {o["name"]: o["type"] for o in objects}
+    preds = [parse_predicate(g, inst) for g in goal]
+    dest = {p.args[0]: p.args[1] for p in preds if p.name in ("on", "inside") and p.args[0] in inst}
+    if len(dest) != sum(p.name in ("on", "inside") for p in preds):
+        return None  # a goal that accepts any instance of a type: not a hard-set goal
+    pending = set(dest)
+    gate = _deciding_place(objects, set(dest), instruction, template)
+    steps = 0
+
+    def do(kind: str, arg: str) -> bool:
+        nonlocal steps
+        steps += 1
+        return w.step(skill_id(kind, arg)).success
+
+    def go(key: str) -> None:
+        if w.agent_at != key:
+            do("navigate", key)
+        if not w.is_open(key):
+            do("open", key)
+
+    order = _order(reverse)
+    walk = 0  # the next receptacle of the current walk
+    while pending and steps <= _LIMIT:
+        held = w.held
+        if held is not None and _named(dest[held], instruction) and gate in (None, w.agent_at):
+            go(dest[held])
+            if not do("place", dest[held]):
+                return None
+            pending.discard(held)
+            continue
+        if walk >= len(order):
+            return None  # a whole walk without anything to act on
+        here = order[walk]
+        walk += 1
+        go(here)
+        while True:  # everything this view allows
+            held = w.held
+            if held is not None and dest[held] == here:
+                if not do("place", here):
+                    return None
+                pending.discard(held)
+                continue
+            if held is None:
+                todo = sorted(n for n in pending if w.items[n].loc == here)
+                if todo:
+                    takes = [w.pick_candidate(w.items[n].type) for n in todo]
+                    cand = next((c for c in takes if c is not None and c.name in todo), None)
+                    if cand is None:
+                        return None  # the object is not the one ``pick up`` takes
+                    do("pick", cand.type)
+                    walk = 0  # it cannot know what it passed: the walk starts again
+                    if _named(dest[cand.name], instruction) and gate in (None, here):
+                        break
+                    continue
+            break
+    if pending or steps > _LIMIT:
+        return None
+    try:
+        return steps + len(expert_plan(w, [p for p in preds if p.name not in ("on", "inside")]))
+    except OracleError:
+        return None
+
+
+def first_met(objects: list[dict[str, Any]], goal: list[str], reverse: bool = False) -> bool:
+    """Whether a blind walker takes every object the goal moves: walking the catalogue in order (``reverse``:
+    backward), it picks up each object's type at the first receptacle that holds one."""
+    from eb_habitat.world import World
+
+    types = {o["name"]: o["type"] for o in objects}
+    movers = [g.split()[1] for g in goal if g.startswith(("(on ", "(inside "))]
+    for name in movers:
+        for key in _order(reverse):
+            cand = World(objects, agent_at=key).pick_candidate(types[name])
+            if cand is not None:
+                if cand.name != name:
+                    return False
+                break
+    return True
