@@ -149,13 +149,15 @@ class ManipulationEnv(Env):
         return ACTION_SPACE
 
     def prompt_parts(self) -> PromptParts:
-        from eb_manipulation.prompts import example_set, prompt_parts
+        from eb_manipulation.prompts import example_set, prompt_parts, uses_hard_examples
 
         family = self._scene.family if self._scene is not None else "pick"
         sizes = [o.size for o in self._scene.objects if o.kind == "area" and o.size] if self._scene else []
         kw: dict[str, Any] = {"area_cm": (round(max(sizes[0]) * 100), round(min(sizes[0]) * 100))} if sizes else {}
         if self._scene is not None and any(o.hole_yaws for o in self._scene.objects):
             kw["turned_holes"] = True
+        if self._scene is not None and uses_hard_examples(self._scene):
+            kw["hard_examples"] = True
         return prompt_parts(family, example_set(self.params.detection_boxes, self.multi_view), self.multi_view,
                             **kw)
 
@@ -264,7 +266,7 @@ class ManipulationEnv(Env):
             if self.params.detection_boxes != "none" and self._clear_tags():
                 self.tags = self._draw_clear(front, shown, list(groups), pixels)
             elif self.params.detection_boxes != "none":
-                draw_boxes(front, shown)
+                self.tags = draw_boxes(front, shown)
             images["front"] = np.asarray(front)
             if self.multi_view:
                 images["wrist"] = self._renderer.rgb(world.data, "wrist")

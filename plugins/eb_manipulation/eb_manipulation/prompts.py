@@ -12,6 +12,11 @@ the run's condition (with the original's counts per family: pick 2, stack 4, sor
 Visual in-context examples (``ablation=visual_icl``) are the first two of the ablation set with their front
 images (rendered from this world, shipped as small PNGs in ``visual_examples/``, read on first use).
 ``python -m eb_manipulation.examples`` rebuilds ``examples.json`` and the PNGs.
+
+Scenes of the harder sets where orientation or the "only" conditions matter (:func:`uses_hard_examples`) draw the
+same three sets from ``examples_hard.json`` instead (``python -m eb_manipulation.examples --hard``): examples of
+such scenes, whose answers turn a shape to its hole's outline, line a cube up with the one below, or stroke the way
+an area's arrow points.
 """
 
 from __future__ import annotations
@@ -22,12 +27,14 @@ from pathlib import Path
 from typing import Literal
 
 from eb_core.env import PromptParts, VisualExample
-
 from eb_manipulation.shapes import COLOURS
+from eb_manipulation.spec import SceneSpec
 
-__all__ = ["ACTION_RULES", "EXAMPLE_COUNTS", "GUIDELINES", "OUTPUT_NOTES", "ROLE", "example_set", "prompt_parts"]
+__all__ = ["ACTION_RULES", "EXAMPLE_COUNTS", "GUIDELINES", "OUTPUT_NOTES", "ROLE", "example_set", "prompt_parts",
+           "uses_hard_examples"]
 
 EXAMPLES_FILE = Path(__file__).parent / "examples.json"
+HARD_EXAMPLES_FILE = Path(__file__).parent / "examples_hard.json"
 VISUAL_DIR = Path(__file__).parent / "visual_examples"
 #: In-context examples per family, as the original ships them.
 EXAMPLE_COUNTS = {"pick": 2, "stack": 4, "sorter": 4, "wipe": 8}
@@ -128,11 +135,25 @@ WRIST_VIEW = ("The second image comes from a camera on the robot's wrist, lookin
 ExampleSet = Literal["baseline", "ablation"]
 
 
-@lru_cache(maxsize=1)
-def _doc() -> dict:
-    if not EXAMPLES_FILE.exists():
+@lru_cache(maxsize=2)
+def _doc(hard: bool = False) -> dict:
+    path = HARD_EXAMPLES_FILE if hard else EXAMPLES_FILE
+    if not path.exists():
         return {"examples": {}, "visual": {}}
-    return json.loads(EXAMPLES_FILE.read_text())
+    return json.loads(path.read_text())
+
+
+def uses_hard_examples(scene: SceneSpec) -> bool:
+    """Whether a scene gets the hard example sets: a sorter with turned hole outlines, a flush tower, areas with
+    arrows, or a pick with "only" conditions (the harder sets' pick scenes). Classic scenes never do."""
+    g = scene.goal
+    if g.family == "sorter":
+        return any(o.hole_yaws for o in scene.objects)
+    if g.family == "stack":
+        return g.flush
+    if g.family == "wipe":
+        return any(o.arrow for o in scene.objects)
+    return bool(g.keep_still)
 
 
 def example_set(detection_boxes: str, multi_view: bool) -> ExampleSet:
@@ -141,24 +162,25 @@ def example_set(detection_boxes: str, multi_view: bool) -> ExampleSet:
     return "baseline" if detection_boxes == "all" and not multi_view else "ablation"
 
 
-@lru_cache(maxsize=8)
-def _visual(family: str) -> tuple[VisualExample, ...]:
+@lru_cache(maxsize=16)
+def _visual(family: str, hard: bool = False) -> tuple[VisualExample, ...]:
     out = []
-    for item in _doc().get("visual", {}).get(family, [])[:VISUAL_COUNT]:
+    for item in _doc(hard).get("visual", {}).get(family, [])[:VISUAL_COUNT]:
         out.append(VisualExample(text=item["text"], images=((VISUAL_DIR / item["image"]).read_bytes(),)))
     return tuple(out)
 
 
 def prompt_parts(family: str, which: ExampleSet = "baseline", multi_view: bool = False,
                  visual: bool = True, area_cm: tuple[int, int] = CLASSIC_AREA,
-                 turned_holes: bool = False) -> PromptParts:
+                 turned_holes: bool = False, hard_examples: bool = False) -> PromptParts:
     """Prompt parts for an episode of ``family`` (pick, stack, sorter or wipe) under an example set;
     ``area_cm``: (length, width) of the scene's marked areas in cm; ``turned_holes``: the sorter's hole outlines
-    are turned (hard set), so a shape must be turned to match."""
-    sets = _doc()["examples"].get(family, {})
+    are turned (hard set), so a shape must be turned to match; ``hard_examples``: the examples come from the hard
+    sets (:func:`uses_hard_examples`)."""
+    sets = _doc(hard_examples)["examples"].get(family, {})
     return PromptParts(
         role=ROLE, action_rules=action_rules(area_cm, turned_holes), guidelines=GUIDELINES, output_notes=OUTPUT_NOTES,
         examples=tuple(sets.get(which, ())), examples_language_only=tuple(sets.get("language_only", ())),
-        visual_examples=_visual(family) if visual else (), text_before_images=True,
+        visual_examples=_visual(family, hard_examples) if visual else (), text_before_images=True,
         view_descriptions={"wrist": WRIST_VIEW} if multi_view else {},
     )

@@ -264,8 +264,11 @@ def draw_axes(img: Image.Image, model, data, camera: str = "front") -> None:
         draw.text((tx, ty), name, fill=AXIS_RED, font=font, anchor="mm", stroke_width=1, stroke_fill=(255, 255, 255))
 
 
-def draw_boxes(img: Image.Image, boxes: list[tuple[str, tuple[int, int, int, int]]]) -> None:
-    """Detection boxes with index tags: ``boxes`` is a list of (label, (x0, y0, x1, y1))."""
+def draw_boxes(img: Image.Image, boxes: list[tuple[str, tuple[int, int, int, int]]]
+               ) -> dict[str, tuple[int, int, int, int]]:
+    """Detection boxes with index tags above each box's top-left corner (the classic overlay): ``boxes`` is a list
+    of (label, (x0, y0, x1, y1)). Returns each tag's rectangle (inclusive)."""
+    tags: dict[str, tuple[int, int, int, int]] = {}
     draw = ImageDraw.Draw(img)
     size = img.size[0]
     width = max(1, size // 250)
@@ -283,3 +286,5 @@ def draw_boxes(img: Image.Image, boxes: list[tuple[str, tuple[int, int, int, int
             ty0 = y1 + 2
         draw.rectangle([tx0, ty0, tx0 + tw + 2 * pad, ty0 + th + 2 * pad], fill=colour, outline=BOX_EDGE)
         draw.text((tx0 + pad - tb[0], ty0 + pad - tb[1]), label, fill=(0, 0, 0), font=font)
+        tags[label] = (tx0, ty0, tx0 + tw + 2 * pad, ty0 + th + 2 * pad)
+    return tags
