@@ -97,6 +97,7 @@ class ManipulationEnv(Env):
             self._task = task
             self._scene = scene_of(task)
             self._world = World(self._scene, resolution=self.resolution, render_meshes=self.params.render)
+            self._order = []
             self._renumber()
             if self.params.render:
                 from eb_manipulation.render import SceneRenderer
@@ -158,6 +159,8 @@ class ManipulationEnv(Env):
             kw["turned_holes"] = True
         if self._scene is not None and uses_hard_examples(self._scene):
             kw["hard_examples"] = True
+        if self.fixed_numbers():
+            kw["fixed_numbers"] = True
         return prompt_parts(family, example_set(self.params.detection_boxes, self.multi_view), self.multi_view,
                             **kw)
 
@@ -194,11 +197,21 @@ class ManipulationEnv(Env):
         self._world = None
 
     # --- observation ------------------------------------------------------------------------------------
+    def fixed_numbers(self) -> bool:
+        """Whether objects keep the numbers of the episode's first list (scenes with "only" conditions: hard,
+        medium). A stateless player then reads the same numbers in the image, the list, its action history and
+        the feedback; a plan of several actions cannot have its objects renumbered under it. Classic scenes are
+        numbered again after every action, as the original re-sorts its list."""
+        return self._scene is not None and bool(self._scene.goal.keep_still)
+
     def _renumber(self) -> None:
         """Number the objects by ascending discrete y (left to right in the front image), as the original
-        orders its object list; ties by ascending x, then by id. Re-done after every action."""
+        orders its object list; ties by ascending x, then by id. Re-done after every action, except in scenes
+        with :meth:`fixed_numbers`, which keep the numbers of the first list."""
         world = self._world
         assert world is not None
+        if self._order and self.fixed_numbers():
+            return
         coords = {o.key: self.discrete_position(o.key) for o in world.objects}
         self._order = sorted(coords, key=lambda k: (coords[k][1], coords[k][0], k))
 
@@ -284,7 +297,7 @@ class ManipulationEnv(Env):
 
     def _clear_tags(self) -> bool:
         layout = self.params.tag_layout
-        return layout == "clear" or (layout == "auto" and self._scene is not None and bool(self._scene.goal.keep_still))
+        return layout == "clear" or (layout == "auto" and self.fixed_numbers())
 
     def _draw_clear(self, front, shown: list[tuple[str, tuple[int, int, int, int]]], keys: list[str],
                     pixels: np.ndarray) -> dict[str, tuple[int, int, int, int]]:
