@@ -14,7 +14,6 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict
 
 from eb_core.env import Action, Env, ObjectInfo, Observation, PlanItemError, PromptParts, StepResult, Task
-
 from eb_manipulation.actions import ACTION_SPACE, pos_to_bin
 from eb_manipulation.spec import SceneSpec
 from eb_manipulation.tasks import load_task_file, scene_of
@@ -33,6 +32,10 @@ class ManipulationParams(BaseModel):
     """Boxes with index labels in the front image: all objects (default), only the task's objects, or none."""
     draw_axes: bool = True
     """Draw the red X/Y/Z frame at the robot base in the front image."""
+    tag_layout: Literal["auto", "corner", "clear"] = "auto"
+    """Where the boxes' number tags go: ``corner`` above each box's top-left corner (the classic overlay), ``clear``
+    where they cover the least of any object (:mod:`eb_manipulation.tags`), ``auto`` clear in the harder sets'
+    scenes (those with "only" conditions) and corner in the classic ones, whose images stay as they were."""
     task_file: str | None = None
     """Another task file (or a folder of them) made by ``eb tasks generate env=manipulation``; default: the shipped
     file of the task set."""
@@ -56,6 +59,8 @@ class ManipulationEnv(Env):
         self._task: Task | None = None
         self._scene: SceneSpec | None = None
         self._order: list[str] = []  # object keys in index order (object 1 first), re-read every observation
+        self.tags: dict[str, tuple[int, int, int, int]] = {}
+        """Tag rectangle (x0, y0, x1, y1, inclusive) of each label in the last front image (tests, viewers)."""
         self._closed = False
 
     # --- tasks ------------------------------------------------------------------------------------------
@@ -92,6 +97,7 @@ class ManipulationEnv(Env):
             self._task = task
             self._scene = scene_of(task)
             self._world = World(self._scene, resolution=self.resolution, render_meshes=self.params.render)
+            self._order = []
             self._renumber()
             if self.params.render:
                 from eb_manipulation.render import SceneRenderer
@@ -144,13 +150,17 @@ class ManipulationEnv(Env):
         return ACTION_SPACE
 
     def prompt_parts(self) -> PromptParts:
-        from eb_manipulation.prompts import example_set, prompt_parts
+        from eb_manipulation.prompts import example_set, prompt_parts, uses_hard_examples
 
         family = self._scene.family if self._scene is not None else "pick"
         sizes = [o.size for o in self._scene.objects if o.kind == "area" and o.size] if self._scene else []
         kw: dict[str, Any] = {"area_cm": (round(max(sizes[0]) * 100), round(min(sizes[0]) * 100))} if sizes else {}
         if self._scene is not None and any(o.hole_yaws for o in self._scene.objects):
             kw["turned_holes"] = True
+        if self._scene is not None and uses_hard_examples(self._scene):
+            kw["hard_examples"] = True
+        if self.fixed_numbers():
+            kw["fixed_numbers"] = True
         return prompt_parts(family, example_set(self.params.detection_boxes, self.multi_view), self.multi_view,
                             **kw)
 
@@ -187,11 +197,21 @@ class ManipulationEnv(Env):
         self._world = None
 
     # --- observation ------------------------------------------------------------------------------------
+    def fixed_numbers(self) -> bool:
+        """Whether objects keep the numbers of the episode's first list (scenes with "only" conditions: hard,
+        medium). A stateless player then reads the same numbers in the image, the list, its action history and
+        the feedback; a plan of several actions cannot have its objects renumbered under it. Classic scenes are
+        numbered again after every action, as the original re-sorts its list."""
+        return self._scene is not None and bool(self._scene.goal.keep_still)
+
     def _renumber(self) -> None:
         """Number the objects by ascending discrete y (left to right in the front image), as the original
-        orders its object list; ties by ascending x, then by id. Re-done after every action."""
+        orders its object list; ties by ascending x, then by id. Re-done after every action, except in scenes
+        with :meth:`fixed_numbers`, which keep the numbers of the first list."""
         world = self._world
         assert world is not None
+        if self._order and self.fixed_numbers():
+            return
         coords = {o.key: self.discrete_position(o.key) for o in world.objects}
         self._order = sorted(coords, key=lambda k: (coords[k][1], coords[k][0], k))
 
@@ -243,20 +263,23 @@ class ManipulationEnv(Env):
             from eb_manipulation.render import draw_axes, draw_boxes
 
             groups: dict[str, set[int]] = {}
-            for g, owner in world.geom_owner.items():
+            for g in world.geom_owner:
                 name = world.model.geom(g).name
                 key = name.split("#")[0]
                 if key in descr and (descr[key].kind != "sorter"):
                     groups.setdefault(key, set()).add(g)
-            boxes = self._renderer.boxes(world.data, "front", groups)
+            boxes, pixels = self._renderer.boxes_and_pixels(world.data, "front", groups)
             front = Image.fromarray(self._renderer.rgb(world.data, "front"))
             if self.params.draw_axes:
                 draw_axes(front, world.model, world.data, "front")
             shown = [(str(i + 1), boxes[k]) for i, k in enumerate(self._order) if k in boxes
                      and (self.params.detection_boxes == "all"
                           or (self.params.detection_boxes == "target" and self._is_target(k)))]
-            if self.params.detection_boxes != "none":
-                draw_boxes(front, shown)
+            self.tags = {}
+            if self.params.detection_boxes != "none" and self._clear_tags():
+                self.tags = self._draw_clear(front, shown, list(groups), pixels)
+            elif self.params.detection_boxes != "none":
+                self.tags = draw_boxes(front, shown)
             images["front"] = np.asarray(front)
             if self.multi_view:
                 images["wrist"] = self._renderer.rgb(world.data, "wrist")
@@ -271,6 +294,27 @@ class ManipulationEnv(Env):
                                   for i, k in enumerate(self._order)) + "}"
         return Observation(images=images, primary="front" if images else None, text=listing,
                            objects=objects, extra_prompt=listing)
+
+    def _clear_tags(self) -> bool:
+        layout = self.params.tag_layout
+        return layout == "clear" or (layout == "auto" and self.fixed_numbers())
+
+    def _draw_clear(self, front, shown: list[tuple[str, tuple[int, int, int, int]]], keys: list[str],
+                    pixels: np.ndarray) -> dict[str, tuple[int, int, int, int]]:
+        """Boxes with tags that keep off every listed object's pixels (tagged or not); the tags' rectangles."""
+        from eb_manipulation.tags import draw_clear_boxes
+
+        index = {label: j for j, (label, _) in enumerate(shown)}
+        to_shown = np.full(len(keys) + 1, -1, dtype=np.int16)  # group index + 1 -> index in ``shown``
+        to_other = np.full(len(keys) + 1, -1, dtype=np.int16)
+        for g, key in enumerate(keys):
+            label = str(self._order.index(key) + 1) if key in self._order else None
+            if label in index:
+                to_shown[g + 1] = index[label]
+            else:
+                to_other[g + 1] = g
+        placed = draw_clear_boxes(front, shown, to_shown[pixels + 1], to_other[pixels + 1])
+        return {label: rect for label, rect, _ in placed}
 
     def describe(self) -> str:
         """Each object with its colour and shape or kind (for people: the viewer, examples, debugging).
@@ -290,9 +334,10 @@ class ManipulationEnv(Env):
         for i, k in enumerate(self._order):
             d = descr[k]
             art = "an" if d.description[:1] in "aeiou" else "a"
-            what = {"shape": f"{art} {d.description}", "container": f"{art} {d.description} (open box, coordinates of the "
-                    f"centre of its opening)", "sponge": "a sponge", "hole": f"the {d.description} (coordinates of the "
-                    f"hole's centre)"}.get(d.kind, d.description)
+            what = {"shape": f"{art} {d.description}",
+                    "container": f"{art} {d.description} (open box, coordinates of the centre of its opening)",
+                    "sponge": "a sponge", "hole": f"the {d.description} (coordinates of the hole's centre)"
+                    }.get(d.kind, d.description)
             if d.kind == "area":
                 spec = self._scene.get(k)
                 dx, dy = spec.extent

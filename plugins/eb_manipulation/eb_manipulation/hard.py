@@ -25,9 +25,9 @@ from __future__ import annotations
 import numpy as np
 
 from eb_manipulation.families import (
-    _cubes,
-    _SIDE,
     _AREA_SIDE,
+    _SIDE,
+    _cubes,
     _Draft,
     _neighbour,
     _Placer,
@@ -177,9 +177,20 @@ def _lookalike_shapes(rng: np.random.Generator, target_shape: str, n: int, shape
     return shapes, colours
 
 
-def _two_hop(objs: list[ObjectSpec], target: ObjectSpec, rng: np.random.Generator) -> str | None:
+def _two_hop(objs: list[ObjectSpec], target: ObjectSpec, rng: np.random.Generator,
+             gone: ObjectSpec | None = None) -> str | None:
     """"the <shape> just <side> of the <shape A> that is just <side> of the <colour shape B>": the anchor A is named
-    by its shape only, so both hops need the image; None when the layout has no such chain."""
+    by its shape only, so both hops need the image; None when the layout has no such chain. With ``gone`` (an
+    object the task moves away first), the chain must also hold without it, so a stateless player asked again
+    after that move still finds the target in the image it then gets."""
+    options = _chains(objs, target)
+    if gone is not None:
+        later = set(_chains([o for o in objs if o is not gone], target))
+        options = [o for o in options if o in later]
+    return pick(rng, options) if options else None
+
+
+def _chains(objs: list[ObjectSpec], target: ObjectSpec) -> list[str]:
     named = {(o.colour, o.shape) for o in objs}
     options = []
     for a in objs:
@@ -195,7 +206,7 @@ def _two_hop(objs: list[ObjectSpec], target: ObjectSpec, rng: np.random.Generato
                     if _neighbour(objs, b, s2) is a and (b.colour, b.shape) in named:
                         options.append(f"the {target.shape} just {_REL[s1]} the {a.shape} that is just {_REL[s2]} "
                                        f"the {b.colour} {b.shape}")
-    return pick(rng, options) if options else None
+    return options
 
 
 _REL = {"left": "to the left of", "right": "to the right of", "front": "in front of", "back": "behind"}
@@ -380,7 +391,9 @@ def _sorter(rng: np.random.Generator, subset: str, k: int, level: int) -> _Draft
     first, second = objs[0], objs[3]
     sorter = ObjectSpec(id="sorter", kind="sorter", x=round(sx, 4), y=round(sy, 4), yaw=round(yaw, 1),
                         holes=tuple(holes), hole_yaws=_hole_yaws(rng, holes, [first, second], yaw))
-    refs = [_two_hop(objs, o, rng) if subset == "spatial" else _obj_text(subset, o, rng) for o in (first, second)]
+    # the second shape's chain must not lean on the first, which is in the sorter by the time it is needed
+    refs = [_two_hop(objs, o, rng, gone=first if o is second else None) if subset == "spatial"
+            else _obj_text(subset, o, rng) for o in (first, second)]
     if None in refs:
         raise _Retry("no two-hop reference")
     core = _tpick(rng, ("Put two objects into the shape sorter: first {o}; then {p}.",

@@ -12,6 +12,11 @@ the run's condition (with the original's counts per family: pick 2, stack 4, sor
 Visual in-context examples (``ablation=visual_icl``) are the first two of the ablation set with their front
 images (rendered from this world, shipped as small PNGs in ``visual_examples/``, read on first use).
 ``python -m eb_manipulation.examples`` rebuilds ``examples.json`` and the PNGs.
+
+Scenes of the harder sets where orientation or the "only" conditions matter (:func:`uses_hard_examples`) draw the
+same three sets from ``examples_hard.json`` instead (``python -m eb_manipulation.examples --hard``): examples of
+such scenes, whose answers turn a shape to its hole's outline, line a cube up with the one below, or stroke the way
+an area's arrow points.
 """
 
 from __future__ import annotations
@@ -22,12 +27,14 @@ from pathlib import Path
 from typing import Literal
 
 from eb_core.env import PromptParts, VisualExample
-
 from eb_manipulation.shapes import COLOURS
+from eb_manipulation.spec import SceneSpec
 
-__all__ = ["ACTION_RULES", "EXAMPLE_COUNTS", "GUIDELINES", "OUTPUT_NOTES", "ROLE", "example_set", "prompt_parts"]
+__all__ = ["ACTION_RULES", "EXAMPLE_COUNTS", "GUIDELINES", "OUTPUT_NOTES", "ROLE", "example_set", "prompt_parts",
+           "uses_hard_examples"]
 
 EXAMPLES_FILE = Path(__file__).parent / "examples.json"
+HARD_EXAMPLES_FILE = Path(__file__).parent / "examples_hard.json"
 VISUAL_DIR = Path(__file__).parent / "visual_examples"
 #: In-context examples per family, as the original ships them.
 EXAMPLE_COUNTS = {"pick": 2, "stack": 4, "sorter": 4, "wipe": 8}
@@ -100,14 +107,32 @@ CLASSIC_AREA = (22, 12)
 #: Added to the sorter rule when the scene's hole outlines are turned (the hard set).
 TURNED_HOLES = (" Here each hole's outline is drawn turned on the lid: a shape passes its own hole only when it is "
                 "turned to match that outline, within {tol:g} degrees (a held object turns with the gripper); turned "
-                "any other way it stays on the lid, and a shape left on the lid loses the task for good.")
+                "any other way it stays on the lid, and a shape left on the lid loses the task for good. To find the "
+                "turn, compare in the image a feature of the shape (a triangle's corners, the way a moon's opening "
+                "faces) with the same feature of its outline on the lid, and change the yaw by that angle while you "
+                "hold it: up for counter-clockwise, down for clockwise.")
 _SORTER_RULE_END = "dropped there stays on the lid."
+_LIST_RENUMBERED = ("It is measured again before each of your turns, so numbers and coordinates can change as things "
+                    "move.")
+#: Instead of :data:`_LIST_RENUMBERED` in scenes whose objects keep their numbers for the episode.
+LIST_FIXED = ("These numbers come from the first list of the episode and never change: an object keeps its number "
+              "wherever it moves, in the image, the list and the feedback. Coordinates are measured again before "
+              "each of your turns.")
+_FEEDBACK_RENUMBERED = ("- Feedback names objects by their numbers in the list from before that action, and adds the "
+                        "new number when the action changed it.")
+FEEDBACK_FIXED = "- Feedback names objects by their numbers, which stay the same for the whole episode."
 
 
-def action_rules(area_cm: tuple[int, int] = CLASSIC_AREA, turned_holes: bool = False) -> str:
-    """The action rules, with the size of this scene's marked areas (long side along the wiping direction) and,
-    for a sorter whose hole outlines are turned, the rule that a shape must be turned to match."""
+def action_rules(area_cm: tuple[int, int] = CLASSIC_AREA, turned_holes: bool = False,
+                 fixed_numbers: bool = False) -> str:
+    """The action rules, with the size of this scene's marked areas (long side along the wiping direction), for a
+    sorter whose hole outlines are turned the rule that a shape must be turned to match, and with
+    ``fixed_numbers`` that objects keep their numbers for the whole episode."""
     text = _ACTION_RULES.replace("{area_size}", AREA_SIZE.format(long=area_cm[0], short=area_cm[1]))
+    if fixed_numbers:
+        text = text.replace(_LIST_RENUMBERED, LIST_FIXED).replace(_FEEDBACK_RENUMBERED, FEEDBACK_FIXED)
+        text = text.replace("(object 1 is the leftmost in the front image)",
+                            "(object 1 was the leftmost in the episode's first image)")
     if turned_holes:
         from eb_manipulation.spec import FIT_TOLERANCE
 
@@ -128,11 +153,25 @@ WRIST_VIEW = ("The second image comes from a camera on the robot's wrist, lookin
 ExampleSet = Literal["baseline", "ablation"]
 
 
-@lru_cache(maxsize=1)
-def _doc() -> dict:
-    if not EXAMPLES_FILE.exists():
+@lru_cache(maxsize=2)
+def _doc(hard: bool = False) -> dict:
+    path = HARD_EXAMPLES_FILE if hard else EXAMPLES_FILE
+    if not path.exists():
         return {"examples": {}, "visual": {}}
-    return json.loads(EXAMPLES_FILE.read_text())
+    return json.loads(path.read_text())
+
+
+def uses_hard_examples(scene: SceneSpec) -> bool:
+    """Whether a scene gets the hard example sets: a sorter with turned hole outlines, a flush tower, areas with
+    arrows, or a pick with "only" conditions (the harder sets' pick scenes). Classic scenes never do."""
+    g = scene.goal
+    if g.family == "sorter":
+        return any(o.hole_yaws for o in scene.objects)
+    if g.family == "stack":
+        return g.flush
+    if g.family == "wipe":
+        return any(o.arrow for o in scene.objects)
+    return bool(g.keep_still)
 
 
 def example_set(detection_boxes: str, multi_view: bool) -> ExampleSet:
@@ -141,24 +180,26 @@ def example_set(detection_boxes: str, multi_view: bool) -> ExampleSet:
     return "baseline" if detection_boxes == "all" and not multi_view else "ablation"
 
 
-@lru_cache(maxsize=8)
-def _visual(family: str) -> tuple[VisualExample, ...]:
+@lru_cache(maxsize=16)
+def _visual(family: str, hard: bool = False) -> tuple[VisualExample, ...]:
     out = []
-    for item in _doc().get("visual", {}).get(family, [])[:VISUAL_COUNT]:
+    for item in _doc(hard).get("visual", {}).get(family, [])[:VISUAL_COUNT]:
         out.append(VisualExample(text=item["text"], images=((VISUAL_DIR / item["image"]).read_bytes(),)))
     return tuple(out)
 
 
 def prompt_parts(family: str, which: ExampleSet = "baseline", multi_view: bool = False,
                  visual: bool = True, area_cm: tuple[int, int] = CLASSIC_AREA,
-                 turned_holes: bool = False) -> PromptParts:
+                 turned_holes: bool = False, hard_examples: bool = False, fixed_numbers: bool = False) -> PromptParts:
     """Prompt parts for an episode of ``family`` (pick, stack, sorter or wipe) under an example set;
     ``area_cm``: (length, width) of the scene's marked areas in cm; ``turned_holes``: the sorter's hole outlines
-    are turned (hard set), so a shape must be turned to match."""
-    sets = _doc()["examples"].get(family, {})
+    are turned (hard set), so a shape must be turned to match; ``hard_examples``: the examples come from the hard
+    sets (:func:`uses_hard_examples`); ``fixed_numbers``: objects keep their numbers for the episode."""
+    sets = _doc(hard_examples)["examples"].get(family, {})
     return PromptParts(
-        role=ROLE, action_rules=action_rules(area_cm, turned_holes), guidelines=GUIDELINES, output_notes=OUTPUT_NOTES,
+        role=ROLE, action_rules=action_rules(area_cm, turned_holes, fixed_numbers), guidelines=GUIDELINES,
+        output_notes=OUTPUT_NOTES,
         examples=tuple(sets.get(which, ())), examples_language_only=tuple(sets.get("language_only", ())),
-        visual_examples=_visual(family) if visual else (), text_before_images=True,
+        visual_examples=_visual(family, hard_examples) if visual else (), text_before_images=True,
         view_descriptions={"wrist": WRIST_VIEW} if multi_view else {},
     )

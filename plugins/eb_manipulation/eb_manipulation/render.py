@@ -14,9 +14,8 @@ from functools import lru_cache
 from typing import Any
 
 import numpy as np
-from PIL import Image, ImageDraw, ImageFont
-
 from eb_scenekit.gl import import_mujoco
+from PIL import Image, ImageDraw, ImageFont
 
 from eb_manipulation.scene import ROBOT_BASE
 
@@ -191,15 +190,21 @@ class SceneRenderer:
 
     def boxes(self, data, camera: str, groups: dict[str, set[int]]) -> dict[str, tuple[int, int, int, int]]:
         """Pixel box (x0, y0, x1, y1) of each named geom group that is visible (at least 4 pixels)."""
+        return self.boxes_and_pixels(data, camera, groups)[0]
+
+    def boxes_and_pixels(self, data, camera: str, groups: dict[str, set[int]]
+                         ) -> tuple[dict[str, tuple[int, int, int, int]], np.ndarray]:
+        """:meth:`boxes`, and the (H, W) map of which group each pixel shows: its index in ``groups``' order, -1
+        for none (what the clear tag layout keeps its tags off, :mod:`eb_manipulation.tags`)."""
         segid, objid = self._segment(data, camera)
         keys = list(groups)
         label = np.full(len(objid), -1, dtype=np.int16)  # segid + 1 -> index of its group in ``keys``
         for k, key in enumerate(keys):
             for g in groups[key]:
                 label[objid == g] = k
-        if (label < 0).all():
-            return {}
         pix = label[segid]
+        if (label < 0).all():
+            return {}, pix
         counts = np.bincount(pix.ravel() + 1, minlength=len(keys) + 1)
         out: dict[str, tuple[int, int, int, int]] = {}
         for k, key in enumerate(keys):
@@ -209,7 +214,7 @@ class SceneRenderer:
             ys = np.flatnonzero(mask.any(axis=1))
             xs = np.flatnonzero(mask.any(axis=0))
             out[key] = (int(xs[0]), int(ys[0]), int(xs[-1]), int(ys[-1]))
-        return out
+        return out, pix
 
     def close(self) -> None:
         if self._closed:
@@ -221,7 +226,7 @@ class SceneRenderer:
         if self._own is not None:
             try:
                 self._own.close()
-            except Exception:  # noqa: BLE001 - GL teardown at interpreter exit may already be gone
+            except Exception:
                 pass
 
 
@@ -259,8 +264,11 @@ def draw_axes(img: Image.Image, model, data, camera: str = "front") -> None:
         draw.text((tx, ty), name, fill=AXIS_RED, font=font, anchor="mm", stroke_width=1, stroke_fill=(255, 255, 255))
 
 
-def draw_boxes(img: Image.Image, boxes: list[tuple[str, tuple[int, int, int, int]]]) -> None:
-    """Detection boxes with index tags: ``boxes`` is a list of (label, (x0, y0, x1, y1))."""
+def draw_boxes(img: Image.Image, boxes: list[tuple[str, tuple[int, int, int, int]]]
+               ) -> dict[str, tuple[int, int, int, int]]:
+    """Detection boxes with index tags above each box's top-left corner (the classic overlay): ``boxes`` is a list
+    of (label, (x0, y0, x1, y1)). Returns each tag's rectangle (inclusive)."""
+    tags: dict[str, tuple[int, int, int, int]] = {}
     draw = ImageDraw.Draw(img)
     size = img.size[0]
     width = max(1, size // 250)
@@ -278,3 +286,5 @@ def draw_boxes(img: Image.Image, boxes: list[tuple[str, tuple[int, int, int, int
             ty0 = y1 + 2
         draw.rectangle([tx0, ty0, tx0 + tw + 2 * pad, ty0 + th + 2 * pad], fill=colour, outline=BOX_EDGE)
         draw.text((tx0 + pad - tb[0], ty0 + pad - tb[1]), label, fill=(0, 0, 0), font=font)
+        tags[label] = (tx0, ty0, tx0 + tw + 2 * pad, ty0 + th + 2 * pad)
+    return tags

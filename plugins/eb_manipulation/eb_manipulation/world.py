@@ -13,15 +13,22 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-
 from eb_scenekit.gl import import_mujoco
 from eb_scenekit.scene import compile_model
 
 from eb_manipulation.actions import bin_to_angle, bin_to_pos, euler_to_matrix
 from eb_manipulation.kinematics import Arm, Blocker
 from eb_manipulation.robot import FINGER_OPEN, HOME_QPOS, REST_QPOS
-from eb_manipulation.scene import (CONTAINER, DIRECTION_STEP, SHAPE_BITS, SORTER, SPONGE, TABLE_TOP, build_scene,
-                                   hole_centres)
+from eb_manipulation.scene import (
+    CONTAINER,
+    DIRECTION_STEP,
+    SHAPE_BITS,
+    SORTER,
+    SPONGE,
+    TABLE_TOP,
+    build_scene,
+    hole_centres,
+)
 from eb_manipulation.shapes import CUBE_HALF, SHAPES, SYMMETRY
 from eb_manipulation.spec import FIT_TOLERANCE, FLUSH_TOLERANCE, ObjectSpec, SceneSpec
 
@@ -224,6 +231,11 @@ class World:
         if refs.get("obj") is not None and grasped is None and self._turned \
                 and any(self.on_sorter_lid(refs["obj"], s) for s in self._turned):
             parts.append("It stayed on the lid of the shape sorter, which loses the task for good.")
+        if refs.get("obj") is not None and grasped is None and self.scene.goal.flush:
+            below = self._not_flush_on(refs["obj"])
+            if below is not None:
+                parts.append("It rests on {below}, but its sides do not line up with it: the two are not flush.")
+                refs["below"] = below
         self._check_keep(grasped)
         if missed:  # executed as asked (as in the original), but the grasp it was for did not happen
             return ActionOutcome(ok=True, feedback=" ".join(parts), refs=refs, failure=FAILURES["empty_grasp"])
@@ -562,6 +574,16 @@ class World:
             ok = self.wiped_fraction >= 1.0
             return ok, 1.0 if ok else min(self.wiped_fraction, 0.99)
         return False, 0.0
+
+    def _not_flush_on(self, cube: str) -> str | None:
+        """The cube that ``cube`` (just released) rests on when the two are turned against each other by more than
+        :data:`FLUSH_TOLERANCE` (modulo 90 degrees), else None. A fact of the state, said in the feedback like a
+        shape left on the sorter's lid (it tells nothing the image does not show)."""
+        for other in self.free_objects:
+            if other != cube and self.on_top_of(cube, other):
+                off = abs((self.yaw_of(cube) - self.yaw_of(other) + 45.0) % 90.0 - 45.0)
+                return other if off > FLUSH_TOLERANCE else None
+        return None
 
     def _stacked_in_order(self, order: tuple[str, ...]) -> int:
         """How many cubes of ``order`` already sit, unheld, on the one below them, counted from the bottom."""

@@ -3,17 +3,18 @@
 from __future__ import annotations
 
 import hashlib
+import re
 from collections import Counter
 
 import numpy as np
 import pytest
+from eb_manipulation.env import ManipulationEnv
+from eb_manipulation.generate import make_task, verify_task
+from eb_manipulation.scene import SORTER, TABLE_TOP
+from eb_manipulation.tasks import DEFAULT_TASK_FILE, HARD_TASK_FILE, SUBSET_COUNTS, TaskFileError, load_task_file
 
 from eb_core.taskfile import TaskFileError as CoreTaskFileError
 from eb_core.taskfile import task_set_digest
-from eb_manipulation.env import ManipulationEnv
-from eb_manipulation.generate import make_task, verify_task
-from eb_manipulation.scene import TABLE_TOP, SORTER
-from eb_manipulation.tasks import DEFAULT_TASK_FILE, HARD_TASK_FILE, SUBSET_COUNTS, TaskFileError, load_task_file
 
 CLASSIC_SHA256 = "316e66bb560a60e2185bd4b19f1040f9542f79ddf1a5d11b3d01bfb5a3d16ee4"
 
@@ -98,8 +99,8 @@ def _sorter_case(env, tasks):
 
 def test_a_shape_passes_only_through_its_own_hole(env, tasks):
     """Issue 25: the sorter let any shape through any hole; now a wrong shape stays on the lid."""
-    from eb_manipulation.oracle import _clear_yaw, state_of_world
     from eb_manipulation.actions import angle_to_bin, pos_to_bin
+    from eb_manipulation.oracle import _clear_yaw, state_of_world
     from eb_manipulation.scene import hole_centres
 
     task, sorter, shape = _sorter_case(env, list(tasks.values()))
@@ -123,8 +124,7 @@ def test_a_shape_passes_only_through_its_own_hole(env, tasks):
 
 @pytest.mark.parametrize("family", ["pick", "stack"])
 def test_grasping_a_look_alike_ruins_a_hard_task(env, hard, family):
-    from eb_manipulation.actions import angle_to_bin, pos_to_bin
-    from eb_manipulation.oracle import _clear_yaw, state_of_world
+    from eb_manipulation.oracle import state_of_world
 
     task = next(t for t in hard if t.metadata["family"] == family)
     env.reset(task, 0)
@@ -419,3 +419,54 @@ def test_hard_wipe_heights_do_not_tell_the_sponge(env, hard):
         obs = env.reset(task, 0)
         zs = sorted(v[2] for v in json.loads(obs.extra_prompt).values() if v[2] > 15)
         assert len(zs) >= 3 and len(set(zs)) == 1, (task.id, zs)
+
+
+def test_hard_objects_keep_their_numbers_through_a_plan(env, hard, tasks):
+    """A calibration player's plan grabbed "object 3" and the feedback let go of "object 5" (renumbered mid-plan).
+    In hard scenes every object keeps the number of the episode's first list: the image, the list, the action
+    history and the feedback all use it; classic scenes are still numbered again after every action."""
+    from eb_manipulation.prompts import FEEDBACK_FIXED, LIST_FIXED
+
+    task = next(t for t in hard if t.metadata["family"] == "stack" and t.id == "complex_stack_11")
+    env.reset(task, 0)
+    first = list(env._order)
+    assert env.fixed_numbers() and LIST_FIXED in env.prompt_parts().action_rules
+    assert FEEDBACK_FIXED in env.prompt_parts().action_rules
+    names = []
+    for action in env.expert_plan() or []:
+        r = env.step(action)
+        assert env._order == first and "in the new list" not in r.feedback
+        names += re.findall(r"(?:holding|let go of) (object \d+)", r.feedback)
+        if r.done:
+            break
+    assert r.task_success and names and all(n == names[i - i % 2] for i, n in enumerate(names))
+    env.reset(tasks["base_pick_00"], 0)
+    assert not env.fixed_numbers() and LIST_FIXED not in env.prompt_parts().action_rules
+
+
+def test_a_cube_released_turned_on_another_is_said_not_flush(env, hard):
+    """A hard tower cube released on the one below but turned against it: the feedback says the two are not flush
+    (a fact of the state, like a shape left on the lid); released turned to match, it says nothing of the kind."""
+    from eb_manipulation.actions import angle_to_bin, pos_to_bin
+    from eb_manipulation.oracle import _clear_yaw, state_of_world
+
+    task = next(t for t in hard if t.metadata["family"] == "stack")
+    env.reset(task, 0)
+    world, order = env._world, env._scene.goal.order
+    below, cube = order[0], order[1]
+    p, q = world.body_pos(cube), world.body_pos(below)
+    yaw = angle_to_bin(_clear_yaw(env._scene, state_of_world(world), cube))
+    grab = [pos_to_bin(p[0], "x"), pos_to_bin(p[1], "y"), pos_to_bin(p[2], "z"), 120, 60, yaw]
+    env.step(grab + [1])
+    env.step(grab + [0])
+    if world.held != cube:
+        pytest.skip("the scripted grasp missed")
+    above = [pos_to_bin(q[0], "x"), pos_to_bin(q[1], "y"), pos_to_bin(q[2], "z") + 6, 120, 60, yaw]
+    assert env.step(above + [0]).action_success
+    r = env.step(above + [1])
+    assert world.on_top_of(cube, below) and world._stacked_in_order(order) == 0
+    assert f"rests on {env._label(below)}" in r.feedback and "not flush" in r.feedback
+    # the expert, which turns the cube to line up, gets no such note
+    env.reset(task, 0)
+    notes = [env.step(a).feedback for a in env.expert_plan() or []]
+    assert not any("not flush" in n for n in notes)
