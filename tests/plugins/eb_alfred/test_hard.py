@@ -121,6 +121,47 @@ def test_every_hard_instruction_singles_out_what_its_goal_singles_out() -> None:
     assert [t.id for t in _hard() if phrase_problems(t.instruction, t.metadata["goal"], world_of(t))] == []
 
 
+def test_no_look_alike_stands_in_a_deep_receptacle_or_an_appliance() -> None:
+    """A frontier model failed hard long_horizon_23 of the first regeneration: the target's look-alike cloth lay
+    in a bathtub, out of sight after its ``find``. No instance of the object's type is put in a basin, hamper,
+    bin, box or appliance (``hard.DEEP``) any more: every candidate stands where a person sees it."""
+    from eb_alfred.hard import DEEP
+
+    for t in _hard():
+        w, goal = World.from_scene(t.metadata["scene"]), t.metadata["goal"]
+        xt = w.objects[goal["object"]["instance"]].type if "instance" in goal["object"] else goal["object"]["type"]
+        for n in w.of_type(xt):
+            assert not {w.objects[a].type for a in w.ancestors(n)} & set(DEEP), (t.id, n, w.objects[n].parent)
+
+
+def test_hard_instructions_pass_the_audits_grammar_check_and_the_generator_refuses_a_doubled_word(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """"put flowers in in the white drawer" (a use description ending in "in" before the destination) came out
+    of a regeneration and failed the audit's instruction_grammar probe: the generator now runs the same check
+    on every candidate and refuses it."""
+    from eb_alfred import hard
+
+    from eb_core.audit import grammar_issues
+
+    assert [t.id for t in _hard() if grammar_issues(t.instruction)] == []
+    found = None
+    for seed in range(1, 400):
+        if hard.make_hard("base", "pick_and_place", seed, random.Random(seed)) is not None:
+            found = seed
+            break
+    assert found is not None
+    real = hard._instruction
+
+    def doubled(*args: object, **kw: object) -> tuple[str, str]:
+        template, text = real(*args, **kw)  # type: ignore[arg-type]
+        return template, text.replace(" in the ", " in in the ", 1).replace(" on the ", " on on the ", 1)
+
+    monkeypatch.setattr(hard, "_instruction", doubled)
+    assert hard.make_hard("base", "pick_and_place", found, random.Random(found)) is None
+    monkeypatch.setattr(hard, "_instruction", real)
+    assert hard.make_hard("base", "pick_and_place", found, random.Random(found)) is not None
+
+
 def test_unknown_taskset_is_one_line() -> None:
     with pytest.raises(ValueError) as err:
         AlfredEnv.load_tasks(taskset="expert")
@@ -310,9 +351,9 @@ def test_a_shape_word_before_a_colour_word_is_checked_as_drawn() -> None:
 def test_a_candidate_that_hides_behind_another_thing_is_refused() -> None:
     """A vase behind a pillow shows only its flowers after its find: it cannot be told from its look-alikes, so
     ``hard.hidden_candidates`` (rendered for real) names it; a candidate with one is refused when the level has
-    ``check_hidden``."""
+    ``check_hidden``: the shipped set refuses a hidden target (``"target"``)."""
     from eb_alfred.audit import Views
-    from eb_alfred.hard import hidden_candidates
+    from eb_alfred.hard import LEVELS, _hidden_refused, hidden_candidates
     from eb_alfred.render import AlfredRenderer
 
     case = json.loads((Path(__file__).parent / "data" / "hidden_vase.json").read_text())
@@ -321,7 +362,18 @@ def test_a_candidate_that_hides_behind_another_thing_is_refused() -> None:
         w = World.from_scene(case["scene"])
         assert hidden_candidates(w, "Vase", Views(w, renderer)) == ["Vase_5"]
         assert case["goal"]["object"] == {"instance": "Vase_5"}
+        views = Views(w, renderer)
+        # check_hidden="target" (the shipped set) refuses it as the target, not as a look-alike; "all" does both
+        assert _hidden_refused("target", w, case["goal"], "Vase", views)
+        other = next(n for n in w.of_type("Vase") if n != "Vase_5")
+        as_look_alike = dict(case["goal"], object={"instance": other})
+        assert not _hidden_refused("target", w, as_look_alike, "Vase", views)
+        assert _hidden_refused("all", w, as_look_alike, "Vase", views)
+        assert not _hidden_refused(False, w, case["goal"], "Vase", views)
+        with pytest.raises(ValueError, match="check_hidden must be"):
+            _hidden_refused("some", w, case["goal"], "Vase", views)
         w.objects["Vase_5"].parent = "Dresser"  # on the dresser beside the white vase, in plain view
         assert hidden_candidates(w, "Vase", Views(w, renderer)) == []
     finally:
         renderer.close()
+    assert LEVELS["hard"]["check_hidden"] == "target"
