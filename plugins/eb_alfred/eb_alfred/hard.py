@@ -30,7 +30,7 @@ import statistics
 from typing import Any
 
 from eb_alfred.actions import scene_actions
-from eb_alfred.audit import _targets, candidate_phrases, phrase_problems, use_phrase
+from eb_alfred.audit import _targets, candidate_phrases, phrase_problems, relation_problems, use_phrase
 from eb_alfred.catalog import KNIVES, TYPES, fits
 from eb_alfred.draw import (
     _PLACE_TARGETS,
@@ -149,10 +149,12 @@ def _choose_destination(rng: random.Random, scene: dict[str, Any], goal: dict[st
 
 
 def _add_look_alikes(rng: random.Random, scene: dict[str, Any], xt: str, n_obj: int, avoid: set[str],
-                     hosts: list[str] | None, open_only: bool = False) -> list[dict[str, Any]] | None:
+                     hosts: list[str] | None, open_first: bool = False) -> list[dict[str, Any]] | None:
     """Make ``n_obj`` instances of ``xt`` (clones of one of them), each on/in a fitting receptacle outside
-    ``avoid`` (the destination's type); with ``hosts``, one per host instance (spatial); with ``open_only``, on
-    or in nothing that closes (each costs one ``find`` to inspect). Returns the instances."""
+    ``avoid`` (the destination's type) and outside :data:`DEEP`; with ``hosts``, one per host instance (spatial);
+    with ``open_first``, on furniture in plain view (one ``find`` to inspect each) before any inside a drawer or
+    cabinet (``find``, ``open``, ``close``; :func:`search_bound` decides whether the task can afford them).
+    Returns the instances."""
     objs = scene["objects"]
     mine = [o for o in objs if o["type"] == xt]
     if not mine:
@@ -188,13 +190,17 @@ def _add_look_alikes(rng: random.Random, scene: dict[str, Any], xt: str, n_obj: 
         return o["name"]
 
     receps = [o for o in objs if TYPES[o["type"]].receptacle and fits(xt, o["type"]) and o["type"] not in avoid
-              and o["type"] not in DEEP and not TYPES[o["type"]].pickupable and top(o) not in avoid_places(objs, avoid)
-              and not (open_only and TYPES[o["type"]].openable)]
+              and o["type"] not in DEEP and not TYPES[o["type"]].pickupable
+              and top(o) not in avoid_places(objs, avoid)]
     by_place: dict[str, list[dict[str, Any]]] = {}
     for r in receps:
         by_place.setdefault(top(r), []).append(r)
     places = sorted(by_place)
     rng.shuffle(places)
+    if open_first:  # places in plain view first; closed drawers and cabinets only to make up the number
+        for p in places:
+            by_place[p] = [r for r in by_place[p] if not TYPES[r["type"]].openable] or by_place[p]
+        places.sort(key=lambda p: TYPES[by_place[p][0]["type"]].openable)
     if len(places) < n_obj:
         return None
     while len(mine) < n_obj:
@@ -326,7 +332,8 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
         # common_sense names the look by itself ("the red handled cup..."): check it as "the red mug"
         seen = dict(rec, instruction=f"{text} ({value} {noun(xt)})") if subset == "common_sense" and value else rec
         views = views_for(world)
-        if image_problems(seen, views) or _hidden_refused(cfg.get("check_hidden"), world, goal, xt, views):
+        if (image_problems(seen, views) or relation_problems(text, goal, views, own_view=True)
+                or _hidden_refused(cfg.get("check_hidden"), world, goal, xt, views)):
             return None
     return rec
 
@@ -360,7 +367,7 @@ def _hard_goal(subset: str, kind: str, seed: int, rng: random.Random,
     if not rooms:
         return None
     room = rng.choice(rooms)
-    scene = make_scene(seed, room, size=(0.3 + 0.5 * rng.random()) if long else (0.6 + 0.4 * rng.random()))
+    scene = make_scene(seed, room, size=(0.5 + 0.5 * rng.random()) if long else (0.6 + 0.4 * rng.random()))
     world = World.from_scene(scene)
     sliced = long and room == "kitchen" and rng.random() < 0.5
     goal = propose_goal(rng, kind, world, sliced=sliced)
@@ -395,7 +402,7 @@ def _hard_targets(rng: random.Random, subset: str, scene: dict[str, Any], goal: 
         hosts = [o["name"] for o in _standing(scene, host_type)]
     n_obj = cfg["n_obj"] if hosts is None else min(cfg["n_obj"], len(hosts))
     mine = _add_look_alikes(rng, scene, xt, n_obj, {rt, *( [goal["movable"]["type"]] if "movable" in goal else [])},
-                            hosts, open_only=subset == "long_horizon")
+                            hosts, open_first=subset == "long_horizon")
     if mine is None:
         return None
     if spatial and not pick_two:
@@ -456,8 +463,9 @@ def _name_and_build(rng: random.Random, scene: dict[str, Any], rt: str, targets:
 
 
 def _shut_all_away(rng: random.Random, world: World, goal: dict[str, Any], xt: str, rt: str) -> bool:
-    """Long-horizon: shut the dish and the knives away (:func:`_shut_away`; the object's look-alikes stay in
-    plain view, each cheap to inspect), still one per place (see :func:`_add_look_alikes`); False when that fails."""
+    """Long-horizon: shut the dish and the knives away (:func:`_shut_away`; the object's look-alikes stay where
+    :func:`_add_look_alikes` put them, in plain view where the room has places enough), still one per place;
+    False when that fails."""
     shut_goal = dict(goal, object={"type": xt}, receptacle={"type": rt})
     if not _shut_away(rng, world, shut_goal, skip_object=True):
         return False

@@ -188,14 +188,17 @@ def test_hard_oracle_open_and_closed_loop_on_a_sample(subset: str) -> None:
 
 
 def test_hard_blind_players_stay_under_5_percent_per_subset() -> None:
+    """Three seeded episodes of each blind player per task (300 per subset): one episode a task scattered too
+    widely around the 2-4 % rate (12/100 in long_horizon for one draw, 2-3 % over 12 draws)."""
     by: dict[str, list[bool]] = {s: [] for s in SUBSETS}
     rnd = []
     for t in _hard():
         scene, goal = t.metadata["scene"], t.metadata["goal"]
-        rng = random.Random(t.id)
-        by[t.subset] += [guess_episode(scene, goal, rng), sweep_episode(scene, goal, rng)]
-        if t.subset in ("base", "long_horizon"):
-            rnd.append(random_episode(scene, goal, rng))
+        for k in range(3):
+            rng = random.Random(f"{t.id}/{k}")
+            by[t.subset] += [guess_episode(scene, goal, rng), sweep_episode(scene, goal, rng)]
+            if t.subset in ("base", "long_horizon") and k == 0:
+                rnd.append(random_episode(scene, goal, rng))
     for subset, wins in by.items():
         assert sum(wins) / len(wins) <= 0.05, (subset, sum(wins))
     assert sum(rnd) == 0
