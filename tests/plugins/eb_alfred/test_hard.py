@@ -380,3 +380,23 @@ def test_a_candidate_that_hides_behind_another_thing_is_refused() -> None:
     finally:
         renderer.close()
     assert LEVELS["hard"]["check_hidden"] == "target"
+
+
+def test_a_relation_is_judged_in_the_view_of_the_thing_it_singles_out() -> None:
+    """A player that remembers no earlier image (``chat_history=False``) judges "the white drawer just to the
+    left of the garbage can" standing at a drawer: the garbage can must be in that drawer's own view. Here it is
+    not (only the drawer shows in the can's view, which does not say which drawer it is): the classic check
+    passes, the generator's own-view check refuses it (rendered for real)."""
+    from eb_alfred.audit import Views, relation_problems
+    from eb_alfred.render import AlfredRenderer
+
+    case = json.loads((Path(__file__).parent / "data" / "relation_own_view.json").read_text())
+    renderer = AlfredRenderer(250)
+    try:
+        w = World.from_scene(case["scene"])
+        views = Views(w, renderer)
+        assert relation_problems(case["instruction"], case["goal"], views) == []
+        got = relation_problems(case["instruction"], case["goal"], views, own_view=True)
+        assert len(got) == 1 and "garbage can" in got[0] and case["goal"]["receptacle"]["instance"] in got[0]
+    finally:
+        renderer.close()
