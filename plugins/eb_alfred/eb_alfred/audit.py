@@ -267,8 +267,11 @@ def attribute_problems(instruction: str, goal: dict[str, Any], views: Views) -> 
     return problems
 
 
-def relation_problems(instruction: str, goal: dict[str, Any], views: Views) -> list[str]:
-    """Spatial phrases in the instruction whose related things are never in one image together."""
+def relation_problems(instruction: str, goal: dict[str, Any], views: Views, own_view: bool = False) -> list[str]:
+    """Spatial phrases in the instruction whose related things are never in one image together; with
+    ``own_view``, not all in the view after the ``find`` of the thing the phrase singles out (where an agent
+    that remembers no earlier image has to judge it: ``find a GarbageCan`` shows the drawer beside it, but not
+    which drawer that is)."""
     world = views.world
     low = instruction.lower()
     problems = []
@@ -276,7 +279,12 @@ def relation_problems(instruction: str, goal: dict[str, Any], views: Views) -> l
         for phrase, refs in candidate_phrases(world, goal, role):
             if len(refs) < 2 or phrase.lower() not in low:
                 continue
-            if views.together(refs) is None:
+            if own_view:
+                seen = views.view(goal[role]["instance"])
+                if any(seen.get(n, 0.0) < MIN_AREA for n in refs):
+                    problems.append(f"'{phrase}' relates {', '.join(refs)}, not all in the view after finding "
+                                    f"{goal[role]['instance']}")
+            elif views.together(refs) is None:
                 problems.append(f"'{phrase}' relates {', '.join(refs)}, never all in one image")
     return problems
 

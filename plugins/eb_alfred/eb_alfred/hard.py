@@ -30,7 +30,7 @@ import statistics
 from typing import Any
 
 from eb_alfred.actions import scene_actions
-from eb_alfred.audit import candidate_phrases, phrase_problems, use_phrase
+from eb_alfred.audit import _targets, candidate_phrases, phrase_problems, relation_problems, use_phrase
 from eb_alfred.catalog import KNIVES, TYPES, fits
 from eb_alfred.draw import (
     _PLACE_TARGETS,
@@ -72,15 +72,16 @@ MAX_STEPS = 30
 LEVELS: dict[str, dict[str, Any]] = {
     "medium": {"n_obj": 3, "n_rec": 2, "n_rec_max": 3, "n_host": 3, "untouched": ("object",), "two_looks": False},
     "hard": {"n_obj": 6, "n_rec": 4, "n_rec_max": 6, "n_host": 5, "untouched": ("object", "receptacle"),
-             "two_looks": True, "short": {"n_obj": 7, "n_rec": 5}, "check_hidden": False},
+             "two_looks": True, "short": {"n_obj": 7, "n_rec": 5}, "check_hidden": "target"},
 }
 """Per level: instances of the object's type, of the destination's type (at least ``n_rec``, at most
 ``n_rec_max``), of the furniture type holding the spatial look-alikes (one each), the roles whose look-alikes the
 goal protects, whether a target of a type with colours and shapes is singled out by both ("the round white
 plate" among white square plates and blue round ones), and what changes for the subsets of short plans (all
 but spatial_awareness and long_horizon), which have steps to spare for more candidates. ``check_hidden``
-refuses a candidate with a look-alike that its view shows much less of than the others
-(:func:`hidden_candidates`); off for the shipped set, whose generation it slows several times (issue 25)."""
+refuses a candidate whose view after ``find`` shows much less of it than of the others
+(:func:`hidden_candidates`): ``"target"`` when it is one the goal accepts (the shipped hard set), ``"all"`` when
+it is any instance of the object's type (every look-alike too; much slower to draw), ``False`` never."""
 
 #: Task types of the hard set: every type with a destination (examine-in-light has one lamp per room, so only
 #: the object could be ambiguous, and one guess in six is too easy).
@@ -89,6 +90,11 @@ KINDS = ("pick_and_place", "stack_and_place", "pick_two_and_place", "clean_and_p
 #: Oracle-step range per subset (inclusive); the budget is 30.
 STEP_RANGE = {"base": (4, 18), "common_sense": (4, 18), "complex_instruction": (4, 18),
               "spatial_awareness": (4, 20), "visual_appearance": (4, 20), "long_horizon": (16, 22)}
+#: Where no look-alike is put: deep receptacles whose contents the view after ``find`` barely shows (a white
+#: cloth at the bottom of a bathtub, hard long_horizon_23 of the first regeneration), bins, and appliances and
+#: boxes, whose contents need extra steps or are unexpected. Every look-alike stands where a person sees it.
+DEEP = ("Sink", "SinkBasin", "Bathtub", "BathtubBasin", "LaundryHamper", "GarbageCan", "Microwave", "Fridge",
+        "Toaster", "CoffeeMachine", "Safe", "Box")
 #: Furniture that can be a destination or hold the object in spatial tasks.
 _HOSTS = ("Cabinet", "Drawer", "Shelf", "SideTable", "CounterTop", "Dresser", "TowelHolder")
 _LEAVE = ("Leave the other {xs} and {rs} alone.", "Do not touch any of the other {xs} or {rs}.",
@@ -143,10 +149,12 @@ def _choose_destination(rng: random.Random, scene: dict[str, Any], goal: dict[st
 
 
 def _add_look_alikes(rng: random.Random, scene: dict[str, Any], xt: str, n_obj: int, avoid: set[str],
-                     hosts: list[str] | None, open_only: bool = False) -> list[dict[str, Any]] | None:
+                     hosts: list[str] | None, open_first: bool = False) -> list[dict[str, Any]] | None:
     """Make ``n_obj`` instances of ``xt`` (clones of one of them), each on/in a fitting receptacle outside
-    ``avoid`` (the destination's type); with ``hosts``, one per host instance (spatial); with ``open_only``, on
-    or in nothing that closes (each costs one ``find`` to inspect). Returns the instances."""
+    ``avoid`` (the destination's type) and outside :data:`DEEP`; with ``hosts``, one per host instance (spatial);
+    with ``open_first``, on furniture in plain view (one ``find`` to inspect each) before any inside a drawer or
+    cabinet (``find``, ``open``, ``close``; :func:`search_bound` decides whether the task can afford them).
+    Returns the instances."""
     objs = scene["objects"]
     mine = [o for o in objs if o["type"] == xt]
     if not mine:
@@ -182,15 +190,17 @@ def _add_look_alikes(rng: random.Random, scene: dict[str, Any], xt: str, n_obj: 
         return o["name"]
 
     receps = [o for o in objs if TYPES[o["type"]].receptacle and fits(xt, o["type"]) and o["type"] not in avoid
-              and o["type"] not in ("Sink", "Bathtub", "Microwave", "Fridge", "Toaster", "CoffeeMachine",
-                                    "GarbageCan", "Safe", "Box")
-              and not TYPES[o["type"]].pickupable and top(o) not in avoid_places(objs, avoid)
-              and not (open_only and TYPES[o["type"]].openable)]
+              and o["type"] not in DEEP and not TYPES[o["type"]].pickupable
+              and top(o) not in avoid_places(objs, avoid)]
     by_place: dict[str, list[dict[str, Any]]] = {}
     for r in receps:
         by_place.setdefault(top(r), []).append(r)
     places = sorted(by_place)
     rng.shuffle(places)
+    if open_first:  # places in plain view first; closed drawers and cabinets only to make up the number
+        for p in places:
+            by_place[p] = [r for r in by_place[p] if not TYPES[r["type"]].openable] or by_place[p]
+        places.sort(key=lambda p: TYPES[by_place[p][0]["type"]].openable)
     if len(places) < n_obj:
         return None
     while len(mine) < n_obj:
@@ -312,17 +322,31 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     if words is None:
         return None
     template, text = _instruction(rng, subset, goal, world, words, xt, rt, level)
-    if phrase_problems(text, goal, world):
-        return None
+    from eb_core.audit.instructions import grammar_issues  # the audit's own check (imported on first draw)
+
+    if phrase_problems(text, goal, world) or grammar_issues(text):
+        return None  # grammar: "the decorative jar you put flowers in in the white drawer" (audit's probe)
     rec = {"instruction": text, "task_type": kind, "goal": goal, "scene": world.to_scene(), "scene_seed": seed,
            "oracle_steps": len(plan), "notes": words["notes"], "template": template}
     if views_for is not None:
         # common_sense names the look by itself ("the red handled cup..."): check it as "the red mug"
         seen = dict(rec, instruction=f"{text} ({value} {noun(xt)})") if subset == "common_sense" and value else rec
         views = views_for(world)
-        if image_problems(seen, views) or (cfg.get("check_hidden") and hidden_candidates(world, xt, views)):
+        if (image_problems(seen, views) or relation_problems(text, goal, views, own_view=True)
+                or _hidden_refused(cfg.get("check_hidden"), world, goal, xt, views)):
             return None
     return rec
+
+
+def _hidden_refused(check: str | bool | None, world: World, goal: dict[str, Any], xt: str, views: Any) -> bool:
+    """Whether ``check_hidden`` (see :data:`LEVELS`) refuses the candidate: a target (``"target"``) or any
+    instance of the object's type (``"all"``) that its own view barely shows (:func:`hidden_candidates`)."""
+    if not check:
+        return False
+    if check not in ("target", "all"):
+        raise ValueError(f"alfred: check_hidden must be 'target', 'all' or False, not {check!r}")
+    hidden = hidden_candidates(world, xt, views)
+    return bool(hidden) if check == "all" else any(n in hidden for n in _targets(goal, world))
 
 
 def hidden_candidates(world: World, xt: str, views: Any) -> list[str]:
@@ -343,7 +367,7 @@ def _hard_goal(subset: str, kind: str, seed: int, rng: random.Random,
     if not rooms:
         return None
     room = rng.choice(rooms)
-    scene = make_scene(seed, room, size=(0.3 + 0.5 * rng.random()) if long else (0.6 + 0.4 * rng.random()))
+    scene = make_scene(seed, room, size=(0.5 + 0.5 * rng.random()) if long else (0.6 + 0.4 * rng.random()))
     world = World.from_scene(scene)
     sliced = long and room == "kitchen" and rng.random() < 0.5
     goal = propose_goal(rng, kind, world, sliced=sliced)
@@ -378,7 +402,7 @@ def _hard_targets(rng: random.Random, subset: str, scene: dict[str, Any], goal: 
         hosts = [o["name"] for o in _standing(scene, host_type)]
     n_obj = cfg["n_obj"] if hosts is None else min(cfg["n_obj"], len(hosts))
     mine = _add_look_alikes(rng, scene, xt, n_obj, {rt, *( [goal["movable"]["type"]] if "movable" in goal else [])},
-                            hosts, open_only=subset == "long_horizon")
+                            hosts, open_first=subset == "long_horizon")
     if mine is None:
         return None
     if spatial and not pick_two:
@@ -439,8 +463,9 @@ def _name_and_build(rng: random.Random, scene: dict[str, Any], rt: str, targets:
 
 
 def _shut_all_away(rng: random.Random, world: World, goal: dict[str, Any], xt: str, rt: str) -> bool:
-    """Long-horizon: shut the dish and the knives away (:func:`_shut_away`; the object's look-alikes stay in
-    plain view, each cheap to inspect), still one per place (see :func:`_add_look_alikes`); False when that fails."""
+    """Long-horizon: shut the dish and the knives away (:func:`_shut_away`; the object's look-alikes stay where
+    :func:`_add_look_alikes` put them, in plain view where the room has places enough), still one per place;
+    False when that fails."""
     shut_goal = dict(goal, object={"type": xt}, receptacle={"type": rt})
     if not _shut_away(rng, world, shut_goal, skip_object=True):
         return False
