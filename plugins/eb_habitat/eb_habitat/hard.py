@@ -61,7 +61,11 @@ __all__ = ["DIFFICULTIES", "HARD_BUILDERS", "LEVELS", "Level", "generate_subset"
 DIFFICULTIES = ("classic", "medium", "hard")
 """Generator levels: ``classic`` is :mod:`eb_habitat.generate`, the others are drawn here."""
 
-HARD_VERSION = "3"
+HARD_VERSION = "4"
+
+#: The generator version each subset's random draws are keyed on: version 4 changes only long_horizon, so the other
+#: subsets keep version 3's draws (and files) unchanged.
+DRAW_VERSION: dict[str, str] = {"long_horizon": "4"}
 
 SURFACES = [r.key for r in RECEPTACLES if r.kind == "surface"]
 CONTAINERS = [r.key for r in RECEPTACLES if r.kind == "container"]
@@ -756,54 +760,126 @@ def _visual(rng: random.Random, level: Level) -> HardDraft:
     return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.visual.looks.{i}")
 
 
-# -- long horizon ------------------------------------------------------------------------------------------------
+# -- long horizon: quantified gathering (version 4) ---------------------------------------------------------------
 
-_LONG_ONE = ("Put the {p} {pt}.", "Gather the {p} {pt}.", "Bring the {p} to the {t}, one after another.",
-             "Collect the {p} and leave them {pt}.", "All of these go {pt}: the {p}.", "Move the {p} over to the {t}.")
-# every frame has a verb of placing before the list, so "the red ball on the right counter" reads as where it goes,
-# never as where it lies now (a frontier model read "Tidy up: the red ball on the right counter" both ways)
-_LONG_EACH = ("Rearrange as follows: put {p}.", "Please place {p}.", "Here is what I want: put {p}.",
-              "Tidy up: place {p}.", "Put things in order: place {p}.", "I want you to put {p}.")
+#: The groups a gathering names: a type, or a small category spelt out (singular, plural, and a sentence that says
+#: what the category holds, when its name does not).
+GATHER_GROUPS: dict[tuple[str, ...], tuple[str, str, str]] = {
+    ("cup",): ("cup", "cups", ""),
+    ("mug",): ("mug", "mugs", ""),
+    ("bowl",): ("bowl", "bowls", ""),
+    ("ball",): ("ball", "balls", ""),
+    ("cup", "mug"): ("cup or mug", "cups and mugs", ""),
+    ("ball", "toy_airplane"): ("toy", "toys", "Toys here are balls and toy airplanes."),
+    ("bowl", "plate"): ("dish", "dishes", "Dishes here are bowls and plates."),
+}
+
+_GATHER = (
+    "Bring every {c} {one} to the {t}.",
+    "Put all the {c} {many} {pt}.",
+    "Find every {c} {one} and gather them {pt}.",
+    "Collect all the {c} {many} and leave them {pt}.",
+    "Every {c} {one} belongs {pt}: take each one there.",
+    "Find each {c} {one} and move it to the {t}.",
+    "Tidy up: all the {c} {many} go {pt}.",
+    "Move every single {c} {one} over to the {t}.",
+)
+_GATHER_NOT = (
+    "Put all the {many} that are not {c} {pt}.",
+    "Bring every {one} that is not {c} to the {t}.",
+    "Gather all the {many} {pt}, except the {c} ones.",
+    "Every {one} except the {c} ones goes {pt}: take each one there.",
+)
 
 
-def _join(parts: list[str]) -> str:
-    return ", ".join(parts[:-1]) + (", and " if len(parts) > 2 else " and ") + parts[-1]
+def _lay(rng: random.Random, scene: Scene, at: str, items: list[tuple[str, str, bool]]) -> list[dict[str, Any]]:
+    """Lay ``items`` ((type, colour, qualifies)) on ``at`` in random free slots, keeping one slot free, with the
+    qualifying instances of each type left of the others of that type (``pick up`` takes the leftmost)."""
+    free = _free_slots(scene, at)
+    if len(items) + 1 > len(free):
+        raise _Reject(f"no room at {at}")
+    slots = sorted(rng.sample(free, len(items)))
+    order = items[:]
+    rng.shuffle(order)
+    for key in {k for k, _, _ in order}:  # within a type, the qualifying ones first
+        pos = [i for i, it in enumerate(order) if it[0] == key]
+        mine = sorted((order[i] for i in pos), key=lambda it: not it[2])
+        for i, it in zip(pos, mine):
+            order[i] = it
+    out = []
+    for (key, color, _), slot in zip(order, slots):
+        obj = {"name": f"{key}_{1 + sum(o['type'] == key for o in scene.objects)}", "type": key, "color": color,
+               "at": at, "slot": slot}
+        scene.objects.append(obj)
+        out.append(obj)
+    return out
 
 
-def _long(rng: random.Random, level: Level) -> HardDraft:
+def _gather(rng: random.Random, level: Level) -> HardDraft:
+    """"Bring every red toy to the coffee table" / "Put all the cups that are not blue on the sofa": 2-4
+    qualifying objects (the number is never said) on 2-3 surfaces, each the leftmost of its type there but for
+    qualifying ones of its type; near-hue look-alikes that must stay untouched beside them (right of them) and
+    alone on other surfaces, so colours are judged side by side and one object at a time."""
     scene = _new_scene(rng)
-    keys = rng.sample(PAIRED, 3)
-    one_place = rng.random() < 0.5
-    targets: list[dict[str, Any]] = []
-    for key in keys:
-        xs = _spread(rng, scene, key, _colors(rng, key, level.long_k), _visible_places(scene))
-        target = rng.choice([o for o in xs if near_hues(key, o["color"])] or xs)
-        if not near_pair(rng, scene, target, [o for o in xs if o is not target]):
-            raise _Reject(f"no near hue for the {target['color']} {key}")
-        targets.append(target)
-    if one_place:
-        dest = rng.choice([k for k in SURFACES if receptacle(k).capacity >= 3 and len(scene.used_slots(k)) == 0
-                           and all(t["at"] != k for t in targets)] or [None])
-        if dest is None:
-            raise _Reject("no empty surface")
-        moves = [(t, dest) for t in targets]
-        _clutter(rng, scene, level, set(keys), avoid=(dest,))
-        r = receptacle(dest)
-        i = rng.randrange(len(_LONG_ONE))
-        p = _join([f"{t['color']} {object_type(t['type']).name}" for t in targets])
-        text = _LONG_ONE[i].format(p=p, pt=f"{r.preposition} the {r.name}", t=r.name)
-        template = f"hard.long.one_place.{i}"
+    group = rng.choice(list(GATHER_GROUPS))
+    negate = rng.random() < 0.35
+    hued = sorted({c for t in group for c in HARD_COLORS[t] if near_hues(t, c)})
+    c = rng.choice(hued)
+    n = rng.choice((2, 3, 3, 4))
+    n_bad = rng.choice((4, 5))  # one beside a qualifying object, the others alone on surfaces of their own
+    with_c = [t for t in group if c in HARD_COLORS[t]]
+    if negate:
+        # qualifying: other colours, near hues of c first; not qualifying: the c ones
+        pool = [(t, h) for t in group for h in HARD_COLORS[t] if h != c]
+        near = [(t, h) for t, h in pool if h in near_hues(t, c)]
+        if not near:
+            raise _Reject("no near hue to keep")
+        rest = [x for x in pool if x not in near]
+        picks = rng.sample(near, min(len(near), rng.choice((1, 2))))
+        picks += rng.sample(rest, n - len(picks))
+        qual = [(t, h, True) for t, h in picks]
+        bad = [(rng.choice(with_c), c, False) for _ in range(n_bad)]
     else:
-        dests = rng.sample([k for k in SURFACES if len(scene.used_slots(k)) < receptacle(k).capacity], 3)
-        if any(t["at"] == d for t, d in zip(targets, dests)):
-            raise _Reject("already there")
-        moves = list(zip(targets, dests))
-        _clutter(rng, scene, level, set(keys), avoid=tuple(dests))
-        i = rng.randrange(len(_LONG_EACH))
-        p = _join([f"the {t['color']} {object_type(t['type']).name} {receptacle(d).preposition} the "
-                   f"{receptacle(d).name}" for t, d in moves])
-        text, template = _LONG_EACH[i].format(p=p), f"hard.long.each.{i}"
-    return HardDraft(f"{text} {_rule(rng, len(moves))}", scene, moves, template)
+        qual = [(rng.choice(with_c), c, True) for _ in range(n)]
+        lookalikes = [(t, h) for t in group for h in near_hues(t, c)]
+        if not lookalikes:
+            raise _Reject("no near hue")
+        others = [(t, h) for t in group for h in HARD_COLORS[t] if h != c]
+        bad = [(t, h, False) for t, h in (rng.choice(lookalikes) for _ in range(3))]
+        bad += [(t, h, False) for t, h in (rng.choice(others) for _ in range(n_bad - 3))]
+    dest = rng.choice([k for k in SURFACES if receptacle(k).capacity >= n])
+    wide = [k for k in SURFACES if k != dest and receptacle(k).capacity >= 3]
+    k_src = min(n, rng.choice((2, 3)))
+    sources = rng.sample(wide, k_src)
+    per: dict[str, list[tuple[str, str, bool]]] = {s: [] for s in sources}
+    rng.shuffle(qual)
+    for i, q in enumerate(qual):
+        per[sources[i % k_src]].append(q)
+    # one look-alike beside qualifying ones (of a type there, right of it), the others alone elsewhere
+    beside, alone = bad[0], bad[1:]
+    homes = [s for s in sources if any(t == beside[0] for t, _, _ in per[s])]
+    if not homes:
+        raise _Reject("no qualifying object of the look-alike's type")
+    per[rng.choice(homes)].append(beside)
+    for s, items in per.items():
+        if len(items) + 1 > receptacle(s).capacity:
+            raise _Reject("source too full")
+        _lay(rng, scene, s, items)
+    lone = [k for k in SURFACES if k != dest and k not in sources and receptacle(k).capacity >= 2]
+    if len(lone) < len(alone):
+        raise _Reject("no surface left for a lone look-alike")
+    for item, at in zip(alone, rng.sample(lone, len(alone))):
+        _lay(rng, scene, at, [item])
+    _clutter(rng, scene, level, set(group), avoid=(dest,))
+    movers = [o for o in scene.objects if o["type"] in group and (o["color"] != c) == negate]
+    r = receptacle(dest)
+    one, many, gloss = GATHER_GROUPS[group]
+    frames = _GATHER_NOT if negate else _GATHER
+    i = rng.randrange(len(frames))
+    text = frames[i].format(c=c, one=one, many=many, t=r.name, pt=f"{r.preposition} the {r.name}")
+    template = f"hard.long.{'gather_not' if negate else 'gather'}.{i}"
+    text = f"{text} {gloss}".strip()
+    return HardDraft(f"{text} {_rule(rng, len(movers))}", scene, [(o, dest) for o in movers], template)
 
 
 HARD_BUILDERS: dict[str, Callable[[random.Random, Level], HardDraft]] = {
@@ -812,7 +888,7 @@ HARD_BUILDERS: dict[str, Callable[[random.Random, Level], HardDraft]] = {
     "complex_instruction": _complex,
     "spatial_relationship": _spatial,
     "visual_appearance": _visual,
-    "long_horizon": _long,
+    "long_horizon": _gather,
 }
 
 
@@ -842,36 +918,31 @@ MAX_STATELESS_STEPS = 28
 planner sees only the current image and the action history) still has 2 of the 30 steps to spare."""
 
 
-def draw(subset: str, rng: random.Random, difficulty: str, index: int, backward: bool | None = None
-         ) -> dict[str, Any] | None:
+def draw(subset: str, rng: random.Random, difficulty: str, index: int) -> dict[str, Any] | None:
     """One validated task entry of ``subset`` at ``difficulty`` (``medium`` or ``hard``), or None if the draw
-    fails validation (the caller draws again). Raises :class:`~eb_habitat.generate._Reject` for a bad scene.
-    ``backward``: the walk order of a long_horizon task's bounds (:func:`walk_directions`; None: drawn)."""
+    fails validation (the caller draws again). Raises :class:`~eb_habitat.generate._Reject` for a bad scene."""
     hd = HARD_BUILDERS[subset](rng, LEVELS[difficulty])
     entry = _finish(to_draft(rng, hd), subset, index)
     if entry is None:
         return None
     meta = entry["metadata"]
     args = (meta["objects"], meta["open"], meta["goal"], entry["instruction"], meta["template"])
-    for reverse in walk_directions(subset, rng, backward):
+    for reverse in walk_directions(subset):
         if search_steps(*args, reverse=reverse) > MAX_SEARCH_STEPS:
             return None
         stateless = stateless_search_steps(*args, reverse=reverse)
         if stateless is None or stateless > MAX_STATELESS_STEPS:
             return None
     if subset == "long_horizon" and any(first_met(meta["objects"], meta["goal"], r) for r in (False, True)):
-        return None  # a blind walker that knows the list order takes all three, each the first of its type met
+        return None  # a blind walker that knows the list order takes every object, each the first of its type met
     return entry
 
 
-def walk_directions(subset: str, rng: random.Random, backward: bool | None = None) -> tuple[bool, ...]:
+def walk_directions(subset: str) -> tuple[bool, ...]:
     """The catalogue orders (``reverse`` flags) in which the bounds must hold, so that no task is kept for lying
-    early in one order (a blind player that walks the list in that order would gain): both, forward and backward;
-    in long_horizon, where a memoryless agent walks again from the start after each of three picks and no task
-    fits 28 steps both ways, one order per task (``backward``, or drawn), the generator taking each for half the
-    tasks."""
-    if subset == "long_horizon":
-        return (rng.random() < 0.5 if backward is None else backward,)
+    early in one order (a blind player that walks the list in that order would gain): forward and backward, in
+    every subset (version 3's long_horizon, three named objects each fetched with a walk from the start, held them
+    one way only; version 4's gatherings walk the list once)."""
     return (False, True)
 
 
@@ -900,19 +971,18 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
     instructions."""
     if difficulty not in LEVELS:
         raise ValueError(f"habitat: unknown difficulty {difficulty!r}; allowed: {', '.join(DIFFICULTIES)}")
-    rng = random.Random(f"eb-habitat-{difficulty}/{HARD_VERSION}/{seed}/{subset}")
+    rng = random.Random(f"eb-habitat-{difficulty}/{DRAW_VERSION.get(subset, '3')}/{seed}/{subset}")
     out: list[dict[str, Any]] = []
     seen: set[str] = set()
     branches = {True: 0, False: 0}  # conditionals answered by the branch named first / by the other one
     named = 0  # conditionals answered by the named receptacle
-    backward = 0  # long_horizon tasks whose bounds hold walking the list backward
     tries = 0
     while len(out) < n:
         tries += 1
         if tries > 400 * n:
             raise RuntimeError(f"could not draw {n} valid {difficulty} {subset} tasks")
         try:
-            entry = draw(subset, rng, difficulty, len(out), backward=2 * backward < len(out))
+            entry = draw(subset, rng, difficulty, len(out))
         except _Reject:
             continue
         if entry is None or entry["instruction"] in seen:
@@ -927,7 +997,6 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
             branches[first] += 1
             named += to_named
         seen.add(entry["instruction"])
-        backward += 2 * backward < len(out)
         out.append(entry)
         if progress and (len(out) % 10 == 0 or len(out) == n):
             print(f"habitat {difficulty} {subset}: {len(out)}/{n} tasks ({tries} draws)", file=sys.stderr, flush=True)
