@@ -19,7 +19,8 @@ changes is the scenes and the words:
 * per subset: colour names (base), use descriptions with a same-colour object of a related type in the
   apartment (common_sense), long stories and negations (complex_instruction), two-hop relations in rows of
   three or four with the landmark's look-alikes in rows of the same shape (spatial_relationship), looks only,
-  with a same-colour look-alike type (visual_appearance), three objects among look-alikes (long_horizon).
+  with a same-colour look-alike type (visual_appearance), quantified gathering (long_horizon, version 4: "bring
+  every red toy to the coffee table", "put all the cups that are not blue on the sofa"; the number is never said).
 
 * **counting in one view** (version 3): a destination told by a count ("the one place that has exactly two
   bowls", beside decoys with one more or one fewer; base) or a conditional on the count beside a landmark
@@ -31,7 +32,8 @@ is about one chance in (look-alikes x receptacles). The expert solves every task
 has seen what it needs, then acts, within 26 (:func:`search_steps`); one without memory, as the benchmark's
 planner (it acts on each view alone and walks again from the start after every pick), within 28
 (:func:`stateless_search_steps`). Both bounds hold walking the catalogue forward and backward, so no task is kept
-for lying early in the list (long_horizon: one order per task, taking turns; :func:`walk_directions`).
+for lying early in the list (:func:`walk_directions`); in a gathering no agent knows how many objects qualify, so
+the bounds walk every receptacle until the last is delivered (:func:`~eb_habitat.search.gather_steps`).
 """
 
 from __future__ import annotations
@@ -100,7 +102,8 @@ class Level:
     clutter: tuple[int, int]
     """Objects in the scene, at least and at most."""
     long_k: int
-    """Instances per type in long_horizon (three types)."""
+    """Look-alikes that stay in a long_horizon gathering, at least (one more in half the draws): one beside the
+    qualifying objects, the others alone elsewhere."""
 
 
 LEVELS = {"medium": Level(k=3, m=2, clutter=(12, 14), long_k=2), "hard": Level(k=5, m=3, clutter=(16, 20), long_k=4)}
@@ -787,7 +790,7 @@ _GATHER = (
 _GATHER_NOT = (
     "Put all the {many} that are not {c} {pt}.",
     "Bring every {one} that is not {c} to the {t}.",
-    "Gather all the {many} {pt}, except the {c} ones.",
+    "Except for the {c} ones, every {one} goes {pt}.",
     "Every {one} except the {c} ones goes {pt}: take each one there.",
 )
 
@@ -826,7 +829,7 @@ def _gather(rng: random.Random, level: Level) -> HardDraft:
     hued = sorted({c for t in group for c in HARD_COLORS[t] if near_hues(t, c)})
     c = rng.choice(hued)
     n = rng.choice((2, 3, 3, 4))
-    n_bad = rng.choice((4, 5))  # one beside a qualifying object, the others alone on surfaces of their own
+    n_bad = rng.choice((level.long_k, level.long_k + 1))  # one beside a qualifying object, the others alone
     with_c = [t for t in group if c in HARD_COLORS[t]]
     if negate:
         # qualifying: other colours, near hues of c first; not qualifying: the c ones
@@ -845,7 +848,7 @@ def _gather(rng: random.Random, level: Level) -> HardDraft:
         if not lookalikes:
             raise _Reject("no near hue")
         others = [(t, h) for t in group for h in HARD_COLORS[t] if h != c]
-        bad = [(t, h, False) for t, h in (rng.choice(lookalikes) for _ in range(3))]
+        bad = [(t, h, False) for t, h in (rng.choice(lookalikes) for _ in range(min(3, n_bad)))]
         bad += [(t, h, False) for t, h in (rng.choice(others) for _ in range(n_bad - 3))]
     dest = rng.choice([k for k in SURFACES if receptacle(k).capacity >= n])
     wide = [k for k in SURFACES if k != dest and receptacle(k).capacity >= 3]
