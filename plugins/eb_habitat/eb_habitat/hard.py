@@ -17,10 +17,11 @@ changes is the scenes and the words:
   may keep naming the colour of what was taken (it comes too late to help);
 * **clutter**: 16-20 objects (12-14 at ``medium``), several per receptacle, other types in several colours;
 * per subset: colour names (base), use descriptions with a same-colour object of a related type in the
-  apartment (common_sense), long stories and negations (complex_instruction), two-hop relations in rows of
-  three or four with the landmark's look-alikes in rows of the same shape (spatial_relationship), looks only,
-  with a same-colour look-alike type (visual_appearance), quantified gathering (long_horizon, version 4: "bring
-  every red toy to the coffee table", "put all the cups that are not blue on the sofa"; the number is never said).
+  apartment (common_sense), long stories, negations and "every ... except ..." gatherings (complex_instruction),
+  two-hop relations in rows of three or four with the landmark's look-alikes in rows of the same shape
+  (spatial_relationship), looks only, with a same-colour look-alike type (visual_appearance), quantified
+  gathering (long_horizon, version 4: "bring every red toy to the coffee table", "put all the cups that are not
+  blue on the sofa"; the number is never said).
 
 * **counting in one view** (version 3): a destination told by a count ("the one place that has exactly two
   bowls", beside decoys with one more or one fewer; base) or a conditional on the count beside a landmark
@@ -65,9 +66,9 @@ DIFFICULTIES = ("classic", "medium", "hard")
 
 HARD_VERSION = "4"
 
-#: The generator version each subset's random draws are keyed on: version 4 changes only long_horizon, so the other
-#: subsets keep version 3's draws (and files) unchanged.
-DRAW_VERSION: dict[str, str] = {"long_horizon": "4"}
+#: The generator version each subset's random draws are keyed on: version 4 changes long_horizon and
+#: complex_instruction, so the other subsets keep version 3's draws (and files) unchanged.
+DRAW_VERSION: dict[str, str] = {"long_horizon": "4", "complex_instruction": "4"}
 
 SURFACES = [r.key for r in RECEPTACLES if r.kind == "surface"]
 CONTAINERS = [r.key for r in RECEPTACLES if r.kind == "container"]
@@ -628,7 +629,10 @@ def _conditional(rng: random.Random, level: Level) -> HardDraft:
 
 
 def _complex(rng: random.Random, level: Level) -> HardDraft:
-    if rng.random() < 0.3:
+    draw = rng.random()
+    if draw < COMPLEX_GATHER_SHARE:
+        return _gather(rng, level, complex_form=True)
+    if draw < COMPLEX_GATHER_SHARE + 0.3:
         return _conditional(rng, level)
     scene = _new_scene(rng)
     x, y = _two_types(rng)
@@ -818,18 +822,33 @@ def _lay(rng: random.Random, scene: Scene, at: str, items: list[tuple[str, str, 
     return out
 
 
-def _gather(rng: random.Random, level: Level) -> HardDraft:
+#: Share of complex_instruction drawn as an "every ... except ..." gathering (version 4).
+COMPLEX_GATHER_SHARE = 0.1
+
+_EVERY_EXCEPT = (
+    "I am clearing up the {many}: every one of them goes {pt}, except the {c} ones, which stay where they are.",
+    "Bring every {one} to the {t}, except any that is {c}: those stay put.",
+    "All the {many} belong {pt} now, all but the {c} ones.",
+    "Leave the {c} {many} alone and carry each of the others to the {t}.",
+    "Except for anything {c}, every {one} in the apartment goes {pt}.",
+)
+
+
+def _gather(rng: random.Random, level: Level, complex_form: bool = False) -> HardDraft:
     """"Bring every red toy to the coffee table" / "Put all the cups that are not blue on the sofa": 2-4
     qualifying objects (the number is never said) on 2-3 surfaces, each the leftmost of its type there but for
     qualifying ones of its type; near-hue look-alikes that must stay untouched beside them (right of them) and
-    alone on other surfaces, so colours are judged side by side and one object at a time."""
+    alone on other surfaces, so colours are judged side by side and one object at a time. ``complex_form``: the
+    "every ... except ..." form of complex_instruction, always negated, 2-3 objects (the expert's 12 steps)."""
     scene = _new_scene(rng)
     group = rng.choice(list(GATHER_GROUPS))
-    negate = rng.random() < 0.35
+    negate = complex_form or rng.random() < 0.35
     hued = sorted({c for t in group for c in HARD_COLORS[t] if near_hues(t, c)})
     c = rng.choice(hued)
-    n = rng.choice((2, 3, 3, 4))
-    n_bad = rng.choice((level.long_k, level.long_k + 1))  # one beside a qualifying object, the others alone
+    n = rng.choice((2, 3) if complex_form else (2, 3, 3, 4))
+    # look-alikes that stay: one beside a qualifying object, the others alone (one more in the complex form, where
+    # two qualifying objects are the rule and a blind player would find them more often)
+    n_bad = rng.choice((level.long_k, level.long_k + 1)) + complex_form
     with_c = [t for t in group if c in HARD_COLORS[t]]
     if negate:
         # qualifying: other colours, near hues of c first; not qualifying: the c ones
@@ -877,10 +896,11 @@ def _gather(rng: random.Random, level: Level) -> HardDraft:
     movers = [o for o in scene.objects if o["type"] in group and (o["color"] != c) == negate]
     r = receptacle(dest)
     one, many, gloss = GATHER_GROUPS[group]
-    frames = _GATHER_NOT if negate else _GATHER
+    frames = _EVERY_EXCEPT if complex_form else _GATHER_NOT if negate else _GATHER
     i = rng.randrange(len(frames))
     text = frames[i].format(c=c, one=one, many=many, t=r.name, pt=f"{r.preposition} the {r.name}")
-    template = f"hard.long.{'gather_not' if negate else 'gather'}.{i}"
+    kind = "gather_not" if negate else "gather"
+    template = f"hard.complex.{kind}.{i}" if complex_form else f"hard.long.{kind}.{i}"
     text = f"{text} {gloss}".strip()
     return HardDraft(f"{text} {_rule(rng, len(movers))}", scene, [(o, dest) for o in movers], template)
 

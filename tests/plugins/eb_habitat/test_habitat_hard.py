@@ -111,15 +111,20 @@ def _gathering(t: Task) -> tuple[list, list, str]:
 
 
 def test_long_horizon_gathers_every_object_of_a_colour_without_saying_how_many() -> None:
-    """Quantified gathering (version 4): 2-4 objects qualify by colour (or by not having it), on 2-3 receptacles;
+    """Quantified gathering (version 4; long_horizon, and complex_instruction's "every ... except ..." share): 2-4
+    objects qualify by colour (or by not having it), on 2-3 receptacles;
     the number is never said; every qualifying object is reachable (left of the others of its type there); a
     look-alike that must stay stands beside one of them and others stand alone elsewhere, near hues among them."""
     numbers = re.compile(r"\b(two|three|four|five|\d)\b", re.I)
     negated = 0
-    for t in BY_SUBSET["long_horizon"]:
+    every_except = [t for t in BY_SUBSET["complex_instruction"] if ".gather_not." in t.metadata["template"]]
+    assert 5 <= len(every_except) <= 15  # complex_instruction's "every ... except ..." share
+    for t in BY_SUBSET["long_horizon"] + every_except:
         assert ".gather" in t.metadata["template"] and not numbers.search(t.instruction), t.id
+        if t.subset == "complex_instruction":
+            assert len(_gathering(t)[0]) <= 3 and t.metadata["oracle_steps"] <= 12, t.id
         movers, rest, color = _gathering(t)
-        negated += ".gather_not." in t.metadata["template"]
+        negated += t.subset == "long_horizon" and ".gather_not." in t.metadata["template"]
         if ".gather_not." in t.metadata["template"]:
             assert all(o.color != color for o in movers) and all(o.color == color for o in rest), t.id
             assert any(o.color in near_hues(o.type, color) for o in movers), t.id
