@@ -607,7 +607,7 @@ def _conditional(rng: random.Random, level: Level) -> HardDraft:
     hues = near_hues(lt, lm["color"])
     if hues:
         hue = rng.choice(hues)
-        if landmarks[2]["color"] == hue:
+        if len(landmarks) > 2 and landmarks[2]["color"] == hue:  # medium has two
             landmarks[2]["color"] = landmarks[1]["color"]
         landmarks[1]["color"] = hue
     xs = _spread(rng, scene, x, _colors(rng, x, level.k), [k for k in _visible_places(scene) if k not in places])
@@ -799,11 +799,13 @@ _GATHER_NOT = (
 )
 
 
-def _lay(rng: random.Random, scene: Scene, at: str, items: list[tuple[str, str, bool]]) -> list[dict[str, Any]]:
-    """Lay ``items`` ((type, colour, qualifies)) on ``at`` in random free slots, keeping one slot free, with the
-    qualifying instances of each type left of the others of that type (``pick up`` takes the leftmost)."""
+def _lay(rng: random.Random, scene: Scene, at: str, items: list[tuple[str, str, bool]], keep_free: bool = True
+         ) -> list[dict[str, Any]]:
+    """Lay ``items`` ((type, colour, qualifies)) on ``at`` in random free slots, keeping one slot free (unless not
+    ``keep_free``), with the qualifying instances of each type left of the others of that type (``pick up`` takes
+    the leftmost)."""
     free = _free_slots(scene, at)
-    if len(items) + 1 > len(free):
+    if len(items) + keep_free > len(free):
         raise _Reject(f"no room at {at}")
     slots = sorted(rng.sample(free, len(items)))
     order = items[:]
@@ -845,10 +847,10 @@ def _gather(rng: random.Random, level: Level, complex_form: bool = False) -> Har
     negate = complex_form or rng.random() < 0.35
     hued = sorted({c for t in group for c in HARD_COLORS[t] if near_hues(t, c)})
     c = rng.choice(hued)
-    n = rng.choice((2, 3) if complex_form else (2, 3, 3, 4))
-    # look-alikes that stay: one beside a qualifying object, the others alone (one more in the complex form, where
-    # two qualifying objects are the rule and a blind player would find them more often)
-    n_bad = rng.choice((level.long_k, level.long_k + 1)) + complex_form
+    n = rng.choice((2, 3) if complex_form else (2, 3, 3, 3, 4, 4))
+    # look-alikes that stay: one beside a qualifying object, the others alone (the more there are alone, the less
+    # a blind player that takes the first of the type it meets gains)
+    n_bad = rng.choice((level.long_k + 1, level.long_k + 2))
     with_c = [t for t in group if c in HARD_COLORS[t]]
     if negate:
         # qualifying: other colours, near hues of c first; not qualifying: the c ones
@@ -872,6 +874,8 @@ def _gather(rng: random.Random, level: Level, complex_form: bool = False) -> Har
     dest = rng.choice([k for k in SURFACES if receptacle(k).capacity >= n])
     wide = [k for k in SURFACES if k != dest and receptacle(k).capacity >= 3]
     k_src = min(n, rng.choice((2, 3)))
+    if n == 4:  # four deliveries fit 28 steps both ways only from the middle of the list (the living room)
+        wide = [k for k in wide if k in ("sofa", "tv_stand", "coffee_table", "dining_table")]
     sources = rng.sample(wide, k_src)
     per: dict[str, list[tuple[str, str, bool]]] = {s: [] for s in sources}
     rng.shuffle(qual)
@@ -887,11 +891,15 @@ def _gather(rng: random.Random, level: Level, complex_form: bool = False) -> Har
         if len(items) + 1 > receptacle(s).capacity:
             raise _Reject("source too full")
         _lay(rng, scene, s, items)
-    lone = [k for k in SURFACES if k != dest and k not in sources and receptacle(k).capacity >= 2]
+    # in long_horizon a chair may hold one (the destination is named, so the free slot that keeps a failed place
+    # from telling where a landmark is has no use there; more places alone, fewer lucky blind picks);
+    # complex_instruction's share keeps the first draft's rule (every surface keeps a free slot)
+    keep_free = complex_form
+    lone = [k for k in SURFACES if k != dest and k not in sources and receptacle(k).capacity >= 1 + keep_free]
     if len(lone) < len(alone):
         raise _Reject("no surface left for a lone look-alike")
     for item, at in zip(alone, rng.sample(lone, len(alone))):
-        _lay(rng, scene, at, [item])
+        _lay(rng, scene, at, [item], keep_free=keep_free)
     _clutter(rng, scene, level, set(group), avoid=(dest,))
     movers = [o for o in scene.objects if o["type"] in group and (o["color"] != c) == negate]
     r = receptacle(dest)
