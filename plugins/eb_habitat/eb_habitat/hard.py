@@ -17,9 +17,11 @@ changes is the scenes and the words:
   may keep naming the colour of what was taken (it comes too late to help);
 * **clutter**: 16-20 objects (12-14 at ``medium``), several per receptacle, other types in several colours;
 * per subset: colour names (base), use descriptions with a same-colour object of a related type in the
-  apartment (common_sense), long stories and negations (complex_instruction), two-hop relations in rows of
-  three or four with the landmark's look-alikes in rows of the same shape (spatial_relationship), looks only,
-  with a same-colour look-alike type (visual_appearance), three objects among look-alikes (long_horizon).
+  apartment (common_sense), long stories, negations and "every ... except ..." gatherings (complex_instruction),
+  two-hop relations in rows of three or four with the landmark's look-alikes in rows of the same shape
+  (spatial_relationship), looks only, with a same-colour look-alike type (visual_appearance), quantified
+  gathering (long_horizon, version 4: "bring every red toy to the coffee table", "put all the cups that are not
+  blue on the sofa"; the number is never said).
 
 * **counting in one view** (version 3): a destination told by a count ("the one place that has exactly two
   bowls", beside decoys with one more or one fewer; base) or a conditional on the count beside a landmark
@@ -31,7 +33,8 @@ is about one chance in (look-alikes x receptacles). The expert solves every task
 has seen what it needs, then acts, within 26 (:func:`search_steps`); one without memory, as the benchmark's
 planner (it acts on each view alone and walks again from the start after every pick), within 28
 (:func:`stateless_search_steps`). Both bounds hold walking the catalogue forward and backward, so no task is kept
-for lying early in the list (long_horizon: one order per task, taking turns; :func:`walk_directions`).
+for lying early in the list (:func:`walk_directions`); in a gathering no agent knows how many objects qualify, so
+the bounds walk every receptacle until the last is delivered (:func:`~eb_habitat.search.gather_steps`).
 """
 
 from __future__ import annotations
@@ -61,7 +64,11 @@ __all__ = ["DIFFICULTIES", "HARD_BUILDERS", "LEVELS", "Level", "generate_subset"
 DIFFICULTIES = ("classic", "medium", "hard")
 """Generator levels: ``classic`` is :mod:`eb_habitat.generate`, the others are drawn here."""
 
-HARD_VERSION = "3"
+HARD_VERSION = "4"
+
+#: The generator version each subset's random draws are keyed on: version 4 changes long_horizon and
+#: complex_instruction, so the other subsets keep version 3's draws (and files) unchanged.
+DRAW_VERSION: dict[str, str] = {"long_horizon": "4", "complex_instruction": "4"}
 
 SURFACES = [r.key for r in RECEPTACLES if r.kind == "surface"]
 CONTAINERS = [r.key for r in RECEPTACLES if r.kind == "container"]
@@ -96,7 +103,8 @@ class Level:
     clutter: tuple[int, int]
     """Objects in the scene, at least and at most."""
     long_k: int
-    """Instances per type in long_horizon (three types)."""
+    """Look-alikes that stay in a long_horizon gathering, at least (one more in half the draws): one beside the
+    qualifying objects, the others alone elsewhere."""
 
 
 LEVELS = {"medium": Level(k=3, m=2, clutter=(12, 14), long_k=2), "hard": Level(k=5, m=3, clutter=(16, 20), long_k=4)}
@@ -599,7 +607,7 @@ def _conditional(rng: random.Random, level: Level) -> HardDraft:
     hues = near_hues(lt, lm["color"])
     if hues:
         hue = rng.choice(hues)
-        if landmarks[2]["color"] == hue:
+        if len(landmarks) > 2 and landmarks[2]["color"] == hue:  # medium has two
             landmarks[2]["color"] = landmarks[1]["color"]
         landmarks[1]["color"] = hue
     xs = _spread(rng, scene, x, _colors(rng, x, level.k), [k for k in _visible_places(scene) if k not in places])
@@ -621,7 +629,10 @@ def _conditional(rng: random.Random, level: Level) -> HardDraft:
 
 
 def _complex(rng: random.Random, level: Level) -> HardDraft:
-    if rng.random() < 0.3:
+    draw = rng.random()
+    if draw < COMPLEX_GATHER_SHARE:
+        return _gather(rng, level, complex_form=True)
+    if draw < COMPLEX_GATHER_SHARE + 0.3:
         return _conditional(rng, level)
     scene = _new_scene(rng)
     x, y = _two_types(rng)
@@ -756,54 +767,150 @@ def _visual(rng: random.Random, level: Level) -> HardDraft:
     return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.visual.looks.{i}")
 
 
-# -- long horizon ------------------------------------------------------------------------------------------------
+# -- long horizon: quantified gathering (version 4) ---------------------------------------------------------------
 
-_LONG_ONE = ("Put the {p} {pt}.", "Gather the {p} {pt}.", "Bring the {p} to the {t}, one after another.",
-             "Collect the {p} and leave them {pt}.", "All of these go {pt}: the {p}.", "Move the {p} over to the {t}.")
-# every frame has a verb of placing before the list, so "the red ball on the right counter" reads as where it goes,
-# never as where it lies now (a frontier model read "Tidy up: the red ball on the right counter" both ways)
-_LONG_EACH = ("Rearrange as follows: put {p}.", "Please place {p}.", "Here is what I want: put {p}.",
-              "Tidy up: place {p}.", "Put things in order: place {p}.", "I want you to put {p}.")
+#: The groups a gathering names: a type, or a small category spelt out (singular, plural, and a sentence that says
+#: what the category holds, when its name does not).
+GATHER_GROUPS: dict[tuple[str, ...], tuple[str, str, str]] = {
+    ("cup",): ("cup", "cups", ""),
+    ("mug",): ("mug", "mugs", ""),
+    ("bowl",): ("bowl", "bowls", ""),
+    ("ball",): ("ball", "balls", ""),
+    ("cup", "mug"): ("cup or mug", "cups and mugs", ""),
+    ("ball", "toy_airplane"): ("toy", "toys", "Toys here are balls and toy airplanes."),
+    ("bowl", "plate"): ("dish", "dishes", "Dishes here are bowls and plates."),
+}
+
+_GATHER = (
+    "Bring every {c} {one} to the {t}.",
+    "Put all the {c} {many} {pt}.",
+    "Find every {c} {one} and gather them {pt}.",
+    "Collect all the {c} {many} and leave them {pt}.",
+    "Every {c} {one} belongs {pt}: take each one there.",
+    "Find each {c} {one} and move it to the {t}.",
+    "Tidy up: all the {c} {many} go {pt}.",
+    "Move every single {c} {one} over to the {t}.",
+)
+_GATHER_NOT = (
+    "Put all the {many} that are not {c} {pt}.",
+    "Bring every {one} that is not {c} to the {t}.",
+    "Except for the {c} ones, every {one} goes {pt}.",
+    "Every {one} except the {c} ones goes {pt}: take each one there.",
+)
 
 
-def _join(parts: list[str]) -> str:
-    return ", ".join(parts[:-1]) + (", and " if len(parts) > 2 else " and ") + parts[-1]
+def _lay(rng: random.Random, scene: Scene, at: str, items: list[tuple[str, str, bool]], keep_free: bool = True
+         ) -> list[dict[str, Any]]:
+    """Lay ``items`` ((type, colour, qualifies)) on ``at`` in random free slots, keeping one slot free (unless not
+    ``keep_free``), with the qualifying instances of each type left of the others of that type (``pick up`` takes
+    the leftmost)."""
+    free = _free_slots(scene, at)
+    if len(items) + keep_free > len(free):
+        raise _Reject(f"no room at {at}")
+    slots = sorted(rng.sample(free, len(items)))
+    order = items[:]
+    rng.shuffle(order)
+    for key in {k for k, _, _ in order}:  # within a type, the qualifying ones first
+        pos = [i for i, it in enumerate(order) if it[0] == key]
+        mine = sorted((order[i] for i in pos), key=lambda it: not it[2])
+        for i, it in zip(pos, mine):
+            order[i] = it
+    out = []
+    for (key, color, _), slot in zip(order, slots):
+        obj = {"name": f"{key}_{1 + sum(o['type'] == key for o in scene.objects)}", "type": key, "color": color,
+               "at": at, "slot": slot}
+        scene.objects.append(obj)
+        out.append(obj)
+    return out
 
 
-def _long(rng: random.Random, level: Level) -> HardDraft:
+#: Share of complex_instruction drawn as an "every ... except ..." gathering (version 4).
+COMPLEX_GATHER_SHARE = 0.1
+
+_EVERY_EXCEPT = (
+    "I am clearing up the {many}: every one of them goes {pt}, except the {c} ones, which stay where they are.",
+    "Bring every {one} to the {t}, except any that is {c}: those stay put.",
+    "All the {many} belong {pt} now, all but the {c} ones.",
+    "Leave the {c} {many} alone and carry each of the others to the {t}.",
+    "Except for anything {c}, every {one} in the apartment goes {pt}.",
+)
+
+
+def _gather(rng: random.Random, level: Level, complex_form: bool = False) -> HardDraft:
+    """"Bring every red toy to the coffee table" / "Put all the cups that are not blue on the sofa": 2-4
+    qualifying objects (the number is never said) on 2-3 surfaces, each the leftmost of its type there but for
+    qualifying ones of its type; near-hue look-alikes that must stay untouched beside them (right of them) and
+    alone on other surfaces, so colours are judged side by side and one object at a time. ``complex_form``: the
+    "every ... except ..." form of complex_instruction, always negated, 2-3 objects (the expert's 12 steps)."""
     scene = _new_scene(rng)
-    keys = rng.sample(PAIRED, 3)
-    one_place = rng.random() < 0.5
-    targets: list[dict[str, Any]] = []
-    for key in keys:
-        xs = _spread(rng, scene, key, _colors(rng, key, level.long_k), _visible_places(scene))
-        target = rng.choice([o for o in xs if near_hues(key, o["color"])] or xs)
-        if not near_pair(rng, scene, target, [o for o in xs if o is not target]):
-            raise _Reject(f"no near hue for the {target['color']} {key}")
-        targets.append(target)
-    if one_place:
-        dest = rng.choice([k for k in SURFACES if receptacle(k).capacity >= 3 and len(scene.used_slots(k)) == 0
-                           and all(t["at"] != k for t in targets)] or [None])
-        if dest is None:
-            raise _Reject("no empty surface")
-        moves = [(t, dest) for t in targets]
-        _clutter(rng, scene, level, set(keys), avoid=(dest,))
-        r = receptacle(dest)
-        i = rng.randrange(len(_LONG_ONE))
-        p = _join([f"{t['color']} {object_type(t['type']).name}" for t in targets])
-        text = _LONG_ONE[i].format(p=p, pt=f"{r.preposition} the {r.name}", t=r.name)
-        template = f"hard.long.one_place.{i}"
+    group = rng.choice(list(GATHER_GROUPS))
+    negate = complex_form or rng.random() < 0.35
+    hued = sorted({c for t in group for c in HARD_COLORS[t] if near_hues(t, c)})
+    c = rng.choice(hued)
+    n = rng.choice((2, 3) if complex_form else (2, 3, 3, 3, 4, 4))
+    # look-alikes that stay: one beside a qualifying object, the others alone (the more there are alone, the less
+    # a blind player that takes the first of the type it meets gains)
+    n_bad = rng.choice((level.long_k + 1, level.long_k + 2))
+    with_c = [t for t in group if c in HARD_COLORS[t]]
+    if negate:
+        # qualifying: other colours, near hues of c first; not qualifying: the c ones
+        pool = [(t, h) for t in group for h in HARD_COLORS[t] if h != c]
+        near = [(t, h) for t, h in pool if h in near_hues(t, c)]
+        if not near:
+            raise _Reject("no near hue to keep")
+        rest = [x for x in pool if x not in near]
+        picks = rng.sample(near, min(len(near), rng.choice((1, 2))))
+        picks += rng.sample(rest, n - len(picks))
+        qual = [(t, h, True) for t, h in picks]
+        bad = [(rng.choice(with_c), c, False) for _ in range(n_bad)]
     else:
-        dests = rng.sample([k for k in SURFACES if len(scene.used_slots(k)) < receptacle(k).capacity], 3)
-        if any(t["at"] == d for t, d in zip(targets, dests)):
-            raise _Reject("already there")
-        moves = list(zip(targets, dests))
-        _clutter(rng, scene, level, set(keys), avoid=tuple(dests))
-        i = rng.randrange(len(_LONG_EACH))
-        p = _join([f"the {t['color']} {object_type(t['type']).name} {receptacle(d).preposition} the "
-                   f"{receptacle(d).name}" for t, d in moves])
-        text, template = _LONG_EACH[i].format(p=p), f"hard.long.each.{i}"
-    return HardDraft(f"{text} {_rule(rng, len(moves))}", scene, moves, template)
+        qual = [(rng.choice(with_c), c, True) for _ in range(n)]
+        lookalikes = [(t, h) for t in group for h in near_hues(t, c)]
+        if not lookalikes:
+            raise _Reject("no near hue")
+        others = [(t, h) for t in group for h in HARD_COLORS[t] if h != c]
+        bad = [(t, h, False) for t, h in (rng.choice(lookalikes) for _ in range(min(3, n_bad)))]
+        bad += [(t, h, False) for t, h in (rng.choice(others) for _ in range(n_bad - 3))]
+    dest = rng.choice([k for k in SURFACES if receptacle(k).capacity >= n])
+    wide = [k for k in SURFACES if k != dest and receptacle(k).capacity >= 3]
+    k_src = min(n, rng.choice((2, 3)))
+    if n == 4:  # four deliveries fit 28 steps both ways only from the middle of the list (the living room)
+        wide = [k for k in wide if k in ("sofa", "tv_stand", "coffee_table", "dining_table")]
+    sources = rng.sample(wide, k_src)
+    per: dict[str, list[tuple[str, str, bool]]] = {s: [] for s in sources}
+    rng.shuffle(qual)
+    for i, q in enumerate(qual):
+        per[sources[i % k_src]].append(q)
+    # one look-alike beside qualifying ones (of a type there, right of it), the others alone elsewhere
+    beside, alone = bad[0], bad[1:]
+    homes = [s for s in sources if any(t == beside[0] for t, _, _ in per[s])]
+    if not homes:
+        raise _Reject("no qualifying object of the look-alike's type")
+    per[rng.choice(homes)].append(beside)
+    for s, items in per.items():
+        if len(items) + 1 > receptacle(s).capacity:
+            raise _Reject("source too full")
+        _lay(rng, scene, s, items)
+    # in long_horizon a chair may hold one (the destination is named, so the free slot that keeps a failed place
+    # from telling where a landmark is has no use there; more places alone, fewer lucky blind picks);
+    # complex_instruction's share keeps the first draft's rule (every surface keeps a free slot)
+    keep_free = complex_form
+    lone = [k for k in SURFACES if k != dest and k not in sources and receptacle(k).capacity >= 1 + keep_free]
+    if len(lone) < len(alone):
+        raise _Reject("no surface left for a lone look-alike")
+    for item, at in zip(alone, rng.sample(lone, len(alone))):
+        _lay(rng, scene, at, [item], keep_free=keep_free)
+    _clutter(rng, scene, level, set(group), avoid=(dest,))
+    movers = [o for o in scene.objects if o["type"] in group and (o["color"] != c) == negate]
+    r = receptacle(dest)
+    one, many, gloss = GATHER_GROUPS[group]
+    frames = _EVERY_EXCEPT if complex_form else _GATHER_NOT if negate else _GATHER
+    i = rng.randrange(len(frames))
+    text = frames[i].format(c=c, one=one, many=many, t=r.name, pt=f"{r.preposition} the {r.name}")
+    kind = "gather_not" if negate else "gather"
+    template = f"hard.complex.{kind}.{i}" if complex_form else f"hard.long.{kind}.{i}"
+    text = f"{text} {gloss}".strip()
+    return HardDraft(f"{text} {_rule(rng, len(movers))}", scene, [(o, dest) for o in movers], template)
 
 
 HARD_BUILDERS: dict[str, Callable[[random.Random, Level], HardDraft]] = {
@@ -812,7 +919,7 @@ HARD_BUILDERS: dict[str, Callable[[random.Random, Level], HardDraft]] = {
     "complex_instruction": _complex,
     "spatial_relationship": _spatial,
     "visual_appearance": _visual,
-    "long_horizon": _long,
+    "long_horizon": _gather,
 }
 
 
@@ -842,36 +949,31 @@ MAX_STATELESS_STEPS = 28
 planner sees only the current image and the action history) still has 2 of the 30 steps to spare."""
 
 
-def draw(subset: str, rng: random.Random, difficulty: str, index: int, backward: bool | None = None
-         ) -> dict[str, Any] | None:
+def draw(subset: str, rng: random.Random, difficulty: str, index: int) -> dict[str, Any] | None:
     """One validated task entry of ``subset`` at ``difficulty`` (``medium`` or ``hard``), or None if the draw
-    fails validation (the caller draws again). Raises :class:`~eb_habitat.generate._Reject` for a bad scene.
-    ``backward``: the walk order of a long_horizon task's bounds (:func:`walk_directions`; None: drawn)."""
+    fails validation (the caller draws again). Raises :class:`~eb_habitat.generate._Reject` for a bad scene."""
     hd = HARD_BUILDERS[subset](rng, LEVELS[difficulty])
     entry = _finish(to_draft(rng, hd), subset, index)
     if entry is None:
         return None
     meta = entry["metadata"]
     args = (meta["objects"], meta["open"], meta["goal"], entry["instruction"], meta["template"])
-    for reverse in walk_directions(subset, rng, backward):
+    for reverse in walk_directions(subset):
         if search_steps(*args, reverse=reverse) > MAX_SEARCH_STEPS:
             return None
         stateless = stateless_search_steps(*args, reverse=reverse)
         if stateless is None or stateless > MAX_STATELESS_STEPS:
             return None
     if subset == "long_horizon" and any(first_met(meta["objects"], meta["goal"], r) for r in (False, True)):
-        return None  # a blind walker that knows the list order takes all three, each the first of its type met
+        return None  # a blind walker that knows the list order takes every object, each the first of its type met
     return entry
 
 
-def walk_directions(subset: str, rng: random.Random, backward: bool | None = None) -> tuple[bool, ...]:
+def walk_directions(subset: str) -> tuple[bool, ...]:
     """The catalogue orders (``reverse`` flags) in which the bounds must hold, so that no task is kept for lying
-    early in one order (a blind player that walks the list in that order would gain): both, forward and backward;
-    in long_horizon, where a memoryless agent walks again from the start after each of three picks and no task
-    fits 28 steps both ways, one order per task (``backward``, or drawn), the generator taking each for half the
-    tasks."""
-    if subset == "long_horizon":
-        return (rng.random() < 0.5 if backward is None else backward,)
+    early in one order (a blind player that walks the list in that order would gain): forward and backward, in
+    every subset (version 3's long_horizon, three named objects each fetched with a walk from the start, held them
+    one way only; version 4's gatherings walk the list once)."""
     return (False, True)
 
 
@@ -900,19 +1002,18 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
     instructions."""
     if difficulty not in LEVELS:
         raise ValueError(f"habitat: unknown difficulty {difficulty!r}; allowed: {', '.join(DIFFICULTIES)}")
-    rng = random.Random(f"eb-habitat-{difficulty}/{HARD_VERSION}/{seed}/{subset}")
+    rng = random.Random(f"eb-habitat-{difficulty}/{DRAW_VERSION.get(subset, '3')}/{seed}/{subset}")
     out: list[dict[str, Any]] = []
     seen: set[str] = set()
     branches = {True: 0, False: 0}  # conditionals answered by the branch named first / by the other one
     named = 0  # conditionals answered by the named receptacle
-    backward = 0  # long_horizon tasks whose bounds hold walking the list backward
     tries = 0
     while len(out) < n:
         tries += 1
         if tries > 400 * n:
             raise RuntimeError(f"could not draw {n} valid {difficulty} {subset} tasks")
         try:
-            entry = draw(subset, rng, difficulty, len(out), backward=2 * backward < len(out))
+            entry = draw(subset, rng, difficulty, len(out))
         except _Reject:
             continue
         if entry is None or entry["instruction"] in seen:
@@ -927,7 +1028,6 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
             branches[first] += 1
             named += to_named
         seen.add(entry["instruction"])
-        backward += 2 * backward < len(out)
         out.append(entry)
         if progress and (len(out) % 10 == 0 or len(out) == n):
             print(f"habitat {difficulty} {subset}: {len(out)}/{n} tasks ({tries} draws)", file=sys.stderr, flush=True)

@@ -17,7 +17,11 @@ from typing import Any
 
 from eb_habitat.catalog import RECEPTACLES, object_type, receptacle
 
-__all__ = ["WITNESS_ELSEWHERE", "first_met", "stateless_search_steps", "search_steps"]
+__all__ = ["GATHERING", "WITNESS_ELSEWHERE", "first_met", "gather_steps", "stateless_search_steps", "search_steps"]
+
+GATHERING = (".gather.", ".gather_not.")
+"""Template parts of quantified gatherings ("bring every red toy to the coffee table"): the instruction never says
+how many objects qualify, so no agent can know it has found them all before it has seen every receptacle."""
 
 WITNESS_ELSEWHERE = (".if_beside.",)
 """Template parts whose object is told by a witness on another receptacle (version 2's conditionals: "if the mug
@@ -59,6 +63,8 @@ def search_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[st
     from eb_habitat.skills import skill_id
     from eb_habitat.world import World
 
+    if any(part in template for part in GATHERING):
+        return gather_steps(objects, opened, goal, reverse, memory=True) or _LIMIT + 1
     w = World(objects, opened)
     inst = {o["name"]: o["type"] for o in objects}
     preds = [parse_predicate(g, inst) for g in goal]
@@ -101,6 +107,8 @@ def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goa
 
     if any(part in template for part in WITNESS_ELSEWHERE):
         return None
+    if any(part in template for part in GATHERING):
+        return gather_steps(objects, opened, goal, reverse)
     w = World(objects, opened)
     inst = {o["name"]: o["type"] for o in objects}
     preds = [parse_predicate(g, inst) for g in goal]
@@ -158,6 +166,66 @@ def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goa
                     continue
             break
     if pending or steps > _LIMIT:
+        return None
+    try:
+        return steps + len(expert_plan(w, [p for p in preds if p.name not in ("on", "inside")]))
+    except OracleError:
+        return None
+
+
+def gather_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[str], reverse: bool = False,
+                 memory: bool = False) -> int | None:
+    """Steps of a seeing agent in a quantified gathering (:data:`GATHERING`), or None when it cannot finish.
+
+    Every view tells by itself which objects qualify (their colour and type) and the destination is named, so the
+    agent needs no landmark; but it does not know how many objects qualify, so it walks every receptacle in
+    catalogue order (``reverse``: backward), opening closed ones, until the last one is delivered (the episode
+    ends on success). In each view it picks up a qualifying object if ``pick up`` takes one (else it moves on; None
+    if ``pick up`` would take another instance first), carries it to the destination, places it and walks back to
+    look again. Without memory (the benchmark's planner) it always walks back, since only the view can tell
+    whether another one is left there; with ``memory`` only when one is."""
+    from eb_habitat.goals import parse_predicate
+    from eb_habitat.oracle import OracleError, expert_plan
+    from eb_habitat.skills import skill_id
+    from eb_habitat.world import World
+
+    w = World(objects, opened)
+    inst = {o["name"]: o["type"] for o in objects}
+    preds = [parse_predicate(g, inst) for g in goal]
+    dest = {p.args[0]: p.args[1] for p in preds if p.name in ("on", "inside") and p.args[0] in inst}
+    pending = set(dest)
+    steps = 0
+
+    def do(kind: str, arg: str) -> bool:
+        nonlocal steps
+        steps += 1
+        return w.step(skill_id(kind, arg)).success
+
+    def go(key: str) -> None:
+        if w.agent_at != key:
+            do("navigate", key)
+        if not w.is_open(key):
+            do("open", key)
+
+    for here in _order(reverse):
+        if not pending:
+            break
+        go(here)
+        while pending:
+            todo = [n for n in pending if w.items[n].loc == here]
+            if not todo:
+                break
+            cand = w.pick_candidate(w.items[todo[0]].type)
+            if cand is None or cand.name not in pending:
+                return None  # ``pick up`` takes another instance first
+            do("pick", cand.type)
+            go(dest[cand.name])
+            if not do("place", dest[cand.name]):
+                return None
+            pending.discard(cand.name)
+            if pending and (not memory or any(w.items[n].loc == here for n in pending)):
+                go(here)
+    if pending:
         return None
     try:
         return steps + len(expert_plan(w, [p for p in preds if p.name not in ("on", "inside")]))

@@ -91,7 +91,7 @@ def _views(tasks: list[Task]) -> dict[str, tuple[float, float, int, int]]:
 def search_then_plan(task: Task) -> int:
     """:func:`eb_habitat.hard.search_steps` of a task (a seeing agent that looks before it acts)."""
     m = task.metadata
-    return search_steps(m["objects"], m["open"], m["goal"], task.instruction)
+    return search_steps(m["objects"], m["open"], m["goal"], task.instruction, m["template"])
 
 
 def stateless(task: Task) -> int | None:
