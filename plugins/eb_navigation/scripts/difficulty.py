@@ -30,14 +30,12 @@ import sys
 from collections import defaultdict
 
 import numpy as np
-
-from eb_scenekit.objects import CATALOGUE
-
 from eb_navigation.env import NavigationEnv, build_room
 from eb_navigation.geometry import AgentState
 from eb_navigation.instructions import colour_word, display_name
 from eb_navigation.tasks import SUBSETS, load_taskset, spec_of
 from eb_navigation.visibility import VIS_SIZE
+from eb_scenekit.objects import CATALOGUE
 
 MAX_STEPS = 20
 NOISE = tuple(round(0.1 * k, 1) for k in range(10))
