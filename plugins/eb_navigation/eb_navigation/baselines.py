@@ -317,13 +317,12 @@ SIDESTEP_RULE_AGENTS: dict[str, Callable[[], RuleAgent]] = {
        for k in (1, 2, 3, 4) for side, name, turn in ((2, "right", 4), (3, "left", 5))},
 }
 """Side-step-first agents: a blind guess that the target is ahead and a little to one side. The hard generator
-repairs every start that would lift one of them above its cap (:func:`eb_navigation.hard_set.repair`)."""
+never takes a start that would lift one of them above its cap (:mod:`eb_navigation.hard_set`)."""
 
 
 CHECK_AGENTS: dict[str, Callable[[], RuleAgent]] = {**HARD_RULE_AGENTS, **SIDESTEP_RULE_AGENTS, **REACTIVE_RULE_AGENTS}
-"""Every feedback-only agent a finished hard set is held to (the hard generator's first pass uses the cheaper
-:data:`HARD_RULE_AGENTS`; :func:`eb_navigation.hard_set.repair` and :func:`~eb_navigation.hard_set.seal` move the
-starts the rest would solve)."""
+"""Every feedback-only agent a hard set is held to: the hard generator (:mod:`eb_navigation.hard_set`) checks each
+candidate start against all of them (generated splits use the cheaper :data:`HARD_RULE_AGENTS`)."""
 
 
 def rule_agent_successes(free: FreeSpace, start: AgentState, target_xy: tuple[float, float],

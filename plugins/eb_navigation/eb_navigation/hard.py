@@ -15,10 +15,12 @@ and instructions. Per scene slot one room (seeds from :data:`SEED_BASE`, apart f
   in turn over the slots), so the direction must be found by looking, not assumed.
 
 No start sits in a pocket: from every start at least 1 m (4 moves) is clear straight ahead or to one side. Every
-start is checked on the geometry (:mod:`eb_navigation.baselines`) against all 10,948 blind constant-action
-policies and the feedback-only rule agents; a start that would lift any of them above ``cap`` tasks of its subset
-(default 3.4 % of the scenes, at least 1) is refused. A whole set is made by :mod:`eb_navigation.hard_set`
-(``generate_level``), whose last passes leave no start that any blind policy or feedback-only agent solves.
+candidate start is checked on the geometry (:mod:`eb_navigation.baselines`) against all 10,948 blind
+constant-action policies and the feedback-only rule agents; one that would lift any of them above ``cap`` tasks of
+its subset (5 % of the scenes) is never taken. Of the rest the shortest expert plan wins (:func:`_pick`): a low
+object on the straight way to the target or a baseline that solves the start costs it two actions of rank, and a
+start that shows a look-alike nearer the middle of the view than the target wins a tie. A whole set is made by
+:mod:`eb_navigation.hard_set` (``generate_level``).
 """
 
 from __future__ import annotations
@@ -43,7 +45,7 @@ from eb_navigation.room import ExtraSpec, NavObject, NavRoom, colour_distance, p
 from eb_navigation.tasks import SUBSETS
 
 __all__ = ["CHECK_AGENTS", "DIFFICULTIES", "HARD_TYPES", "LEVELS", "Level", "MIN_LOOKALIKE_GAP", "SEED_BASE", "Scene",
-           "Tally", "draw_scene", "free_run", "not_in_pocket", "scene_tasks"]
+           "Tally", "clear_corridor", "draw_scene", "free_run", "lookalike_first", "not_in_pocket", "scene_tasks"]
 
 DIFFICULTIES = ("classic", "medium", "hard")
 """The generator's difficulty knob: ``classic`` is the shipped classic generator (:mod:`eb_navigation.generate`)."""
@@ -63,6 +65,17 @@ HARD_TYPES: tuple[str, ...] = ("Vase", "WateringCan", "TeddyBear", "GarbageCan",
 FLOOR_CLUTTER: tuple[str, ...] = ("Box", "Basket", "BasketBall", "Chair", "SideTable", "LaundryHamper",
                                   "WateringCan", "Vase", "TeddyBear", "GarbageCan", "HousePlant", "Ottoman")
 _VIS_TRIES = 14
+"""Rendered checks per start at most (the best-ranked candidates first)."""
+_EVALUATE = 80
+"""Candidates per start checked against the blind baselines at most (the cheapest-ranked first)."""
+LOW_TOP = 0.5
+"""Metres: a floor object lower than this drops below the untilted view when the agent comes near it."""
+CORRIDOR_HALF_WIDTH = 0.25
+"""Metres either side of the straight way from a start toward the target (the agent's radius and 5 cm)."""
+CORRIDOR_COST = 2
+"""Actions a start's rank pays for a low object on its straight way to the target (:func:`clear_corridor`)."""
+SOLVED_COST = 2
+"""Actions a start's rank pays when some blind policy or feedback-only agent solves it (within the cap)."""
 
 
 @dataclass(frozen=True)
@@ -88,8 +101,10 @@ class Level:
 
 LEVELS: dict[str, Level] = {
     "medium": Level("medium", 12, (1, 2), (1, 1), 50, (2.5, 3.5), 15, 17, 100.0),
-    "hard": Level("hard", 20, (3, 5), (2, 3), 15, (2.5, 3.5), 16, 18, 60.0),
+    "hard": Level("hard", 20, (3, 5), (2, 3), 15, (2.0, 4.5), 14, 16, 60.0),
 }
+"""``hard`` keeps the expert's plan at 14 actions or fewer (long_horizon 16) of the 20-step budget, and the
+generator takes the shortest start that passes every rule (about 11 and 14 on average)."""
 
 
 # -- the room -----------------------------------------------------------------------------------------------------
@@ -228,9 +243,7 @@ class Tally:
 
 
 def _sector_ok(b: float, sector: str, min_bearing: float) -> bool:
-    if sector == "ahead":
-        return abs(b) <= 35.0
-    if sector == "wide":  # a repaired in-view start: the target may stand nearer the image's edge
+    if sector == "ahead":  # an in-view start: the target within 45 degrees of straight ahead
         return abs(b) <= 45.0
     if sector == "left":
         return min_bearing <= b <= 135.0
@@ -241,16 +254,43 @@ def _sector_ok(b: float, sector: str, min_bearing: float) -> bool:
     return abs(b) >= min_bearing  # "any"
 
 
-def _pick(room: NavRoom, target: NavObject, lo: float, hi: float, min_plan: int, max_plan: int, sector: str,
-          level: Level, tally: Tally, rng: np.random.Generator, accept: Any, limit: int = 48,
-          avoid: AgentState | None = None, agents: dict[str, Any] | None = None, strict: bool = False
-          ) -> _Start | None:
-    """An admissible start that ``accept`` (the rendered check) takes: candidates in random order, checked one by
-    one against the blind baselines; the first that no baseline solves wins, else the first admissible one
-    (``strict``: only a start that no blind policy and none of ``agents`` solves)."""
+def clear_corridor(room: NavRoom, s: AgentState, target: NavObject) -> bool:
+    """No floor object lower than :data:`LOW_TOP` (teddy bears, balls, boxes, look-alikes) comes within
+    :data:`CORRIDOR_HALF_WIDTH` of the straight way from ``s`` toward the target (up to 1 m short of it, where the
+    episode ends): such a thing drops below the untilted view as the agent comes near, and a bump names nothing."""
+    dx, dy = target.x - s.x, target.y - s.y
+    length = math.hypot(dx, dy)
+    if length <= 1.0:
+        return True
+    ux, uy = dx / length, dy / length
+    for o in room.objects:
+        if not o.on_floor or o.id == target.id or 2 * o.centre[2] >= LOW_TOP:
+            continue
+        t = min(max((o.x - s.x) * ux + (o.y - s.y) * uy, 0.0), length - 1.0)
+        if math.hypot(o.x - (s.x + t * ux), o.y - (s.y + t * uy)) - max(get_type(o.type).half_extents) \
+                < CORRIDOR_HALF_WIDTH:
+            return False
+    return True
+
+
+def lookalike_first(s: AgentState, target: NavObject, looks: list[NavObject]) -> bool:
+    """A look-alike stands nearer the middle of the view than the target (both within 45 degrees of straight
+    ahead): walking at the thing ahead goes to the wrong one, so the colour has to be read first."""
+    b = abs(bearing_to(s, (target.x, target.y)))
+    return any(abs(bearing_to(s, (o.x, o.y))) < min(b, 45.0) for o in looks)
+
+
+def _pick(room: NavRoom, target: NavObject, looks: list[NavObject], lo: float, hi: float, min_plan: int,
+          max_plan: int, sector: str, level: Level, tally: Tally, rng: np.random.Generator, accept: Any,
+          avoid: AgentState | None = None, agents: dict[str, Any] | None = None) -> _Start | None:
+    """The best admissible start that ``accept`` (the rendered check) takes. Candidates are ranked by the
+    expert's plan length, plus :data:`CORRIDOR_COST` when a low object stands on the straight way to the target
+    and :data:`SOLVED_COST` when any blind policy or rule agent (``agents``, default :data:`HARD_RULE_AGENTS`)
+    solves the start; ties go to a start that shows a look-alike nearer the middle of the view, then to fewer
+    solving baselines. A start that would lift a baseline above ``tally``'s cap is never taken."""
     free = room.free_space(room.extra_ids)
     xy = (target.x, target.y)
-    states = []
+    ranked = []
     for (i, j, h), n in sorted(plan_lengths(free, xy).items()):
         if not min_plan <= n <= max_plan:
             continue
@@ -258,26 +298,26 @@ def _pick(room: NavRoom, target: NavObject, lo: float, hi: float, min_plan: int,
             continue
         s = AgentState(i, j, h)
         if s != avoid and _sector_ok(bearing_to(s, xy), sector, level.lh_min_bearing) and not_in_pocket(free, s):
-            states.append((s, n))
-    fallback, tried = None, 0
-    for k in rng.permutation(len(states))[:limit]:
-        s, n = states[int(k)]
+            cheap = n + (0 if clear_corridor(room, s, target) else CORRIDOR_COST)
+            ranked.append((cheap, not lookalike_first(s, target, looks), float(rng.random()), s, n))
+    ranked.sort(key=lambda c: c[:3])
+    need = _VIS_TRIES if tally.cap is not None else 1
+    scored: list[tuple[tuple[float, ...], _Start]] = []
+    for cheap, far, tie, s, n in ranked[:_EVALUATE]:
+        if sum(key[0] <= cheap for key, _ in scored) >= need:
+            break  # enough starts that no later candidate can beat
         st = _Start(s, n, blind_successes(free, s, xy),
                     np.array(list(rule_agent_successes(free, s, xy, agents=agents or HARD_RULE_AGENTS).values()),
                              dtype=bool))
         if not tally.admits(st):
             continue
-        clean = not (st.blind.any() or st.rules.any())
-        if not clean and (strict or fallback is not None):
-            continue
-        tried += 1
-        if tried > _VIS_TRIES:
-            break
+        solvers = int(st.blind.sum() + st.rules.sum())
+        scored.append(((cheap + (SOLVED_COST if solvers else 0), far, solvers, tie), st))
+    scored.sort(key=lambda c: c[0])
+    for _key, st in scored[:_VIS_TRIES]:
         if accept(st):
-            if clean:
-                return st
-            fallback = st
-    return fallback
+            return st
+    return None
 
 
 def _visible(room: NavRoom, st: _Start, target_id: str, looks: list[str], level: Level, vis: Any | None) -> bool:
@@ -307,32 +347,31 @@ class Scene:
 
 def draw_scene(kind: str, seed: int, type_name: str, level: Level, rng: np.random.Generator,
                tallies: dict[str, Tally], vis: Any | None, sector: str,
-               parts: tuple[str, ...] = ("plain", "visual_appearance", "long_horizon"), strict: bool = False
-               ) -> Scene | None:
-    """The tasks of one room, or None when this room cannot give them (the caller draws another). ``strict``:
-    every start must be clean of all blind policies and of :data:`CHECK_AGENTS` (see :func:`seal`)."""
-    agents = CHECK_AGENTS if strict else None
+               parts: tuple[str, ...] = ("plain", "visual_appearance", "long_horizon"),
+               agents: dict[str, Any] | None = None) -> Scene | None:
+    """The tasks of one room, or None when this room cannot give them (the caller draws another). Each start is
+    the best-ranked admissible one (:func:`_pick`) checked against all blind policies and ``agents``."""
     made = _furnish(kind, seed, level, type_name, rng)
     if made is None:
         return None
     room, target_id, look_ids = made
     target = room.get(target_id)
+    looks = [room.get(i) for i in look_ids]
     lo, hi = level.distance
     starts: dict[str, _Start] = {}
     for part in parts:
         if part == "long_horizon":
             min_plan = starts["plain"].plan + 2 if "plain" in starts else 8
-            pick = _pick(room, target, lo, hi + 1.0, min_plan, level.lh_max_plan, sector, level, tallies[part], rng,
-                         lambda c: _hidden(room, c, target_id, vis), agents=agents, strict=strict)
+            pick = _pick(room, target, looks, lo, hi + 1.0, min_plan, level.lh_max_plan, sector, level,
+                         tallies[part], rng, lambda c: _hidden(room, c, target_id, vis), agents=agents)
         else:
             avoid = starts["plain"].state if part == "visual_appearance" and "plain" in starts else None
-            pick = _pick(room, target, lo, hi, 6, level.max_plan, "ahead", level, tallies[part], rng,
-                         lambda c: _visible(room, c, target_id, look_ids, level, vis), avoid=avoid, agents=agents,
-                         strict=strict)
+            pick = _pick(room, target, looks, lo, hi, 6, level.max_plan, "ahead", level, tallies[part], rng,
+                         lambda c: _visible(room, c, target_id, look_ids, level, vis), avoid=avoid, agents=agents)
         if pick is None:
             return None
         starts[part] = pick
-    return Scene(room, target, [room.get(i) for i in look_ids], starts)
+    return Scene(room, target, looks, starts)
 
 
 def _extra_dict(e: ExtraSpec) -> dict[str, Any]:

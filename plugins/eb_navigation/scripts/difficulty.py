@@ -2,6 +2,7 @@
 
     python plugins/eb_navigation/scripts/difficulty.py            # both shipped sets, every task
     python plugins/eb_navigation/scripts/difficulty.py --per-subset 12   # a quicker sample
+    python plugins/eb_navigation/scripts/difficulty.py --slack [--task-dir DIR]  # budget and blind play, geometry
 
 Per set and subset:
 
@@ -29,14 +30,12 @@ import sys
 from collections import defaultdict
 
 import numpy as np
-
-from eb_scenekit.objects import CATALOGUE
-
 from eb_navigation.env import NavigationEnv, build_room
 from eb_navigation.geometry import AgentState
 from eb_navigation.instructions import colour_word, display_name
 from eb_navigation.tasks import SUBSETS, load_taskset, spec_of
 from eb_navigation.visibility import VIS_SIZE
+from eb_scenekit.objects import CATALOGUE
 
 MAX_STEPS = 20
 NOISE = tuple(round(0.1 * k, 1) for k in range(10))
@@ -187,12 +186,60 @@ def measure(taskset: str, per_subset: int | None) -> list[dict[str, str]]:
     return rows
 
 
+def slack(taskset: str, task_dir: str | None = None) -> list[dict[str, str]]:
+    """Per subset, on the geometry (every task): the expert's plan, the starts with at least 7 of the 20 steps to
+    spare, the starts with a floor object lower than 0.5 m on the straight way to the target
+    (:func:`eb_navigation.hard.clear_corridor`), the in-view starts that show a look-alike nearer the middle of the
+    view than the target, and the most that any one of the 10,948 blind policies and of the feedback-only agents
+    of ``CHECK_AGENTS`` solves."""
+    from eb_navigation.baselines import BLIND_POLICIES, CHECK_AGENTS, blind_successes, rule_agent_successes
+    from eb_navigation.hard import clear_corridor, lookalike_first
+
+    specs = load_taskset(taskset, task_dir)
+    rooms: dict = {}
+    rows = []
+    for s in SUBSETS:
+        sub = [t for t in specs if t.subset == s]
+        plans = [t.oracle_steps for t in sub]
+        blind, agents, corridor, first = [], [], 0, 0
+        for t in sub:
+            key = (t.scene.kind, t.scene.seed, t.scene.clutter, t.extra_objects)
+            room = rooms.get(key) or rooms.setdefault(key, build_room(t))
+            free = room.free_space(room.extra_ids)
+            start = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
+            xy = t.target.position[:2]
+            blind.append(blind_successes(free, start, xy))
+            agents.append(list(rule_agent_successes(free, start, xy, agents=CHECK_AGENTS).values()))
+            target = room.get(t.target.id)
+            corridor += not clear_corridor(room, start, target)
+            looks = [o for o in room.objects if o.type == target.type and o.id != target.id]
+            first += s != "long_horizon" and lookalike_first(start, target, looks)
+        b, a = np.sum(blind, axis=0), np.sum(agents, axis=0)
+        names = list(CHECK_AGENTS)
+        rows.append({
+            "set": taskset if task_dir is None else task_dir, "subset": s,
+            "expert plan mean (max)": f"{np.mean(plans):.1f} ({max(plans)})",
+            ">= 7 steps of slack": f"{sum(p <= 13 for p in plans)} / {len(sub)}",
+            "low object on the straight way": f"{corridor} / {len(sub)}",
+            "look-alike nearer the middle": "-" if s == "long_horizon" else f"{first} / {len(sub)}",
+            "worst blind policy": f"{int(b.max())} / {len(sub)} (`{BLIND_POLICIES[int(np.argmax(b))].name}`)",
+            "blind policies solving any": f"{int((b > 0).sum())}",
+            "worst feedback-only agent": f"{int(a.max())} / {len(sub)} ({names[int(np.argmax(a))]})",
+        })
+    return rows
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--per-subset", type=int, default=None, help="tasks per subset (default: all)")
     ap.add_argument("--sets", default="classic,hard")
+    ap.add_argument("--slack", action="store_true", help="plan slack, corridor objects and blind play instead")
+    ap.add_argument("--task-dir", default=None, help="with --slack: a folder of per-subset files to measure")
     args = ap.parse_args(argv)
-    rows = [r for ts in args.sets.split(",") for r in measure(ts, args.per_subset)]
+    if args.slack:
+        rows = [r for ts in args.sets.split(",") for r in slack(ts, args.task_dir if ts == "hard" else None)]
+    else:
+        rows = [r for ts in args.sets.split(",") for r in measure(ts, args.per_subset)]
     cols = list(rows[0])
     print("| " + " | ".join(cols) + " |")
     print("|" + "---|" * len(cols))
