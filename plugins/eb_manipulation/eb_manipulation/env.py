@@ -159,6 +159,10 @@ class ManipulationEnv(Env):
             kw["turned_holes"] = True
         if self._scene is not None and uses_hard_examples(self._scene):
             kw["hard_examples"] = True
+            if not sizes:  # the rules speak of marked areas in every family: give the hard sets' size, not classic's
+                from eb_manipulation.hard import AREA_SIZE
+
+                kw["area_cm"] = (round(AREA_SIZE[0] * 100), round(AREA_SIZE[1] * 100))
         if self.fixed_numbers():
             kw["fixed_numbers"] = True
         return prompt_parts(family, example_set(self.params.detection_boxes, self.multi_view), self.multi_view,

@@ -470,3 +470,18 @@ def test_a_cube_released_turned_on_another_is_said_not_flush(env, hard):
     env.reset(task, 0)
     notes = [env.step(a).feedback for a in env.expert_plan() or []]
     assert not any("not flush" in n for n in notes)
+
+
+def test_every_hard_prompt_gives_the_hard_area_size(env, hard, tasks):
+    """The action rules speak of marked areas in every family; a hard stack or pick prompt gave classic's 22 x 12 cm
+    while the hard wipe prompts gave 14 x 9 (a calibration player found the two disagreeing)."""
+    from eb_manipulation.hard import AREA_SIZE
+
+    size = f"{round(AREA_SIZE[0] * 100)} cm long in the direction it is to be wiped and {round(AREA_SIZE[1] * 100)} cm"
+    for family in ("wipe", "stack", "pick", "sorter"):
+        task = next(t for t in hard if t.metadata["family"] == family)
+        env.reset(task, 0)
+        assert size in env.prompt_parts().action_rules, (family, task.id)
+    classic_stack = next(t for t in tasks.values() if t.metadata["family"] == "stack")
+    env.reset(classic_stack, 0)
+    assert "22 cm long" in env.prompt_parts().action_rules
