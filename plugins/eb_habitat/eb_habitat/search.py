@@ -86,6 +86,41 @@ def search_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[st
     return steps + len(expert_plan(w, preds))
 
 
+class _Walker:
+    """The world of a step bound, with the steps taken so far: ``do`` one skill, ``go`` to a receptacle (and open
+    it), ``finish`` with the expert's remaining non-placing goals (None when it has no plan for them)."""
+
+    def __init__(self, objects: list[dict[str, Any]], opened: list[str], goal: list[str]) -> None:
+        from eb_habitat.goals import parse_predicate
+        from eb_habitat.world import World
+
+        self.w = World(objects, opened)
+        inst = {o["name"]: o["type"] for o in objects}
+        self.preds = [parse_predicate(g, inst) for g in goal]
+        self.dest = {p.args[0]: p.args[1] for p in self.preds if p.name in ("on", "inside") and p.args[0] in inst}
+        self.steps = 0
+
+    def do(self, kind: str, arg: str) -> bool:
+        from eb_habitat.skills import skill_id
+
+        self.steps += 1
+        return self.w.step(skill_id(kind, arg)).success
+
+    def go(self, key: str) -> None:
+        if self.w.agent_at != key:
+            self.do("navigate", key)
+        if not self.w.is_open(key):
+            self.do("open", key)
+
+    def finish(self) -> int | None:
+        from eb_habitat.oracle import OracleError, expert_plan
+
+        try:
+            return self.steps + len(expert_plan(self.w, [p for p in self.preds if p.name not in ("on", "inside")]))
+        except OracleError:
+            return None
+
+
 def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[str], instruction: str,
                            template: str = "", reverse: bool = False) -> int | None:
     """Steps of a seeing agent **without memory**, or None when no such agent can solve the task.
@@ -100,39 +135,20 @@ def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goa
     again from the first receptacle. None when an object is told only by a witness on another receptacle
     (:data:`WITNESS_ELSEWHERE`), when ``pick up`` would take another instance, or when a whole walk finds nothing
     to act on."""
-    from eb_habitat.goals import parse_predicate
-    from eb_habitat.oracle import OracleError, expert_plan
-    from eb_habitat.skills import skill_id
-    from eb_habitat.world import World
-
     if any(part in template for part in WITNESS_ELSEWHERE):
         return None
     if any(part in template for part in GATHERING):
         return gather_steps(objects, opened, goal, reverse)
-    w = World(objects, opened)
-    inst = {o["name"]: o["type"] for o in objects}
-    preds = [parse_predicate(g, inst) for g in goal]
-    dest = {p.args[0]: p.args[1] for p in preds if p.name in ("on", "inside") and p.args[0] in inst}
+    walker = _Walker(objects, opened, goal)
+    w, preds, dest, do, go = walker.w, walker.preds, walker.dest, walker.do, walker.go
     if len(dest) != sum(p.name in ("on", "inside") for p in preds):
         return None  # a goal that accepts any instance of a type: not a hard-set goal
     pending = set(dest)
     gate = _deciding_place(objects, set(dest), instruction, template)
-    steps = 0
-
-    def do(kind: str, arg: str) -> bool:
-        nonlocal steps
-        steps += 1
-        return w.step(skill_id(kind, arg)).success
-
-    def go(key: str) -> None:
-        if w.agent_at != key:
-            do("navigate", key)
-        if not w.is_open(key):
-            do("open", key)
 
     order = _order(reverse)
     walk = 0  # the next receptacle of the current walk
-    while pending and steps <= _LIMIT:
+    while pending and walker.steps <= _LIMIT:
         held = w.held
         if held is not None and _named(dest[held], instruction) and gate in (None, w.agent_at):
             go(dest[held])
@@ -165,12 +181,9 @@ def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goa
                         break
                     continue
             break
-    if pending or steps > _LIMIT:
+    if pending or walker.steps > _LIMIT:
         return None
-    try:
-        return steps + len(expert_plan(w, [p for p in preds if p.name not in ("on", "inside")]))
-    except OracleError:
-        return None
+    return walker.finish()
 
 
 def gather_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[str], reverse: bool = False,
@@ -184,28 +197,9 @@ def gather_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[st
     if ``pick up`` would take another instance first), carries it to the destination, places it and walks back to
     look again. Without memory (the benchmark's planner) it always walks back, since only the view can tell
     whether another one is left there; with ``memory`` only when one is."""
-    from eb_habitat.goals import parse_predicate
-    from eb_habitat.oracle import OracleError, expert_plan
-    from eb_habitat.skills import skill_id
-    from eb_habitat.world import World
-
-    w = World(objects, opened)
-    inst = {o["name"]: o["type"] for o in objects}
-    preds = [parse_predicate(g, inst) for g in goal]
-    dest = {p.args[0]: p.args[1] for p in preds if p.name in ("on", "inside") and p.args[0] in inst}
+    walker = _Walker(objects, opened, goal)
+    w, dest, do, go = walker.w, walker.dest, walker.do, walker.go
     pending = set(dest)
-    steps = 0
-
-    def do(kind: str, arg: str) -> bool:
-        nonlocal steps
-        steps += 1
-        return w.step(skill_id(kind, arg)).success
-
-    def go(key: str) -> None:
-        if w.agent_at != key:
-            do("navigate", key)
-        if not w.is_open(key):
-            do("open", key)
 
     for here in _order(reverse):
         if not pending:
@@ -227,10 +221,7 @@ def gather_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[st
                 go(here)
     if pending:
         return None
-    try:
-        return steps + len(expert_plan(w, [p for p in preds if p.name not in ("on", "inside")]))
-    except OracleError:
-        return None
+    return walker.finish()
 
 
 def first_met(objects: list[dict[str, Any]], goal: list[str], reverse: bool = False) -> bool:
