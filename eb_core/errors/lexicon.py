@@ -84,6 +84,16 @@ SHAPES: dict[str, str] = {"cube": "cube", "block": "cube", "box": "cube", "star"
 #: Single words too generic to judge: naming them is never a hallucination (a "box" may be any boxy thing).
 GENERIC = frozenset(["object", "objects", "item", "items", "thing", "things", "box", "unit", "piece", "stand", "furniture", "shape", "something", "stuff", "surface", "top", "side", "edge", "corner", "wall", "floor", "ceiling", "window", "door", "doorway", "room", "kitchen", "bathroom", "bedroom", "hallway", "area", "space", "light", "shadow", "frame", "handle", "leg", "legs", "rug", "carpet", "mat", "runner", "curtain", "curtains", "tile", "tiles", "panel", "base", "structure", "block", "body", "container", "decoration", "decor", "cover", "lid", "shelfs", "can", "control", "bar", "paper", "maker", "machine", "holder", "hanger"])
 
+#: Things that furniture draws as a part of itself: naming one on a piece of furniture in view is no hallucination,
+#: even where the world also has the thing as an object type (a bed's pillows; ALFRED has Pillow objects too).
+PARTS: dict[str, frozenset[str]] = {
+    "pillow": frozenset({"bed", "sofa", "armchair"}),
+    "cushion": frozenset({"sofa", "armchair", "chair", "bed", "ottoman"}),
+    "knob": frozenset({"drawer", "dresser", "cabinet", "stove", "stove burner", "side table", "desk", "tv stand"}),
+    "burner": frozenset({"stove", "stove burner"}),
+    "faucet": frozenset({"sink", "sink basin", "bathtub", "bathtub basin"}),
+}
+
 #: Colour words and the family each belongs to (a person calls silver "light grey" and rose "pink").
 COLOUR_FAMILIES: dict[str, set[str]] = {
     "red": {"red", "maroon", "rose", "crimson", "scarlet", "dark red", "burgundy"},

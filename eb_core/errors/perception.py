@@ -27,6 +27,7 @@ from typing import Any
 from eb_core.errors.lexicon import (
     COLOURS,
     GENERIC,
+    PARTS,
     SHAPES,
     SYNONYMS,
     colour_families,
@@ -244,6 +245,8 @@ def _judge(m: _Mention, seen: _Seen, scene: set[str], world: set[str]) -> tuple[
         return ("wrong" if why else "correct"), why, in_view
     if _same_kind(m.terms, scene) or not m.terms & world:
         return "unjudged", None, sorted(m.terms & scene)  # remembered or at the edge; or a thing this world lacks
+    if any(PARTS.get(t, frozenset()) & seen.terms for t in m.terms):
+        return "unjudged", None, []  # a part of a thing in view (the pillows of the bed)
     return "wrong", ABSENT, sorted(m.terms & world)
 
 

@@ -198,6 +198,19 @@ def test_a_description_naming_an_object_absent_from_the_scene_is_a_hallucination
     assert cats(remembered) == [] and remembered["steps"][0]["perception"]["unjudged"] == ["mug"]
 
 
+def test_a_part_that_furniture_in_view_draws_is_no_hallucination():
+    """"A red alarm clock near the pillows" with a bed in view: the bed draws its pillows, so naming them is no
+    hallucination, even where the world has Pillow objects elsewhere (a calibration player's ALFRED play); the same
+    word with no bed, sofa or armchair in view still is."""
+    bed = [{"name": "Bed", "type": "Bed"}, {"name": "AlarmClock_5", "type": "AlarmClock"}]
+    said = "A small red alarm clock near the pillows on the bed."
+    p = perception_check(said, bed, vocabulary=["Pillow"])
+    assert p["hallucinated"] == [] and "pillow" not in p["wrong"]
+    desk = [{"name": "Desk", "type": "Desk"}, {"name": "AlarmClock_5", "type": "AlarmClock"}]
+    p = perception_check("A small red alarm clock near the pillows on the desk.", desk, vocabulary=["Pillow"])
+    assert p["hallucinated"] == ["pillow"]
+
+
 def test_every_category_is_documented():
     from pathlib import Path
 
