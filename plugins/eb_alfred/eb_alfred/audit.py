@@ -23,7 +23,14 @@ import re
 from typing import Any
 
 from eb_alfred.catalog import COLORS, TYPES
-from eb_alfred.instructions import noun, object_relations, plural, prep, receptacle_relations
+from eb_alfred.instructions import (
+    noun,
+    object_relations,
+    plural,
+    prep,
+    receptacle_relations,
+    shape_before_colour,
+)
 from eb_alfred.world import VERBS, World
 
 __all__ = ["MIN_AREA", "Views", "attribute_problems", "candidate_phrases", "phrase_problems", "probes", "use_phrase",
@@ -67,7 +74,7 @@ def candidate_phrases(world: World, goal: dict[str, Any], role: str) -> list[tup
             out += [(use_phrase(use, v), [x]) for use in TYPES[xt].uses]  # common_sense: "the red handled cup..."
     if o.color and o.shape and all((world.objects[y].color, world.objects[y].shape) != (o.color, o.shape)
                                    for y in world.of_type(xt) if y != x):
-        out.append((f"the {o.shape} {o.color} {noun(xt)}", [x]))  # the hard set: "the round white plate"
+        out.append((f"the {shape_before_colour(o.shape)} {o.color} {noun(xt)}", [x]))  # hard: "the round white plate"
     if TYPES[xt].pickupable:
         out += object_relations(world, x)
     else:
@@ -130,7 +137,9 @@ def _named_attributes(instruction: str, xt: str) -> dict[str, str]:
     for attr, values in (("color", TYPES[xt].colors), ("shape", TYPES[xt].shapes)):
         between = f"(?:(?:{colors}) )?" if attr == "shape" else ""  # "the round white plate"
         for v in values:
-            if re.search(rf"\b{re.escape(v)} {between}({re.escape(noun(xt))}|{re.escape(plural(xt))})\b", low):
+            said = {v, shape_before_colour(v)} if attr == "shape" else {v}
+            if any(re.search(rf"\b{re.escape(w)} {between}({re.escape(noun(xt))}|{re.escape(plural(xt))})\b", low)
+                   for w in said):
                 out[attr] = v
     return out
 

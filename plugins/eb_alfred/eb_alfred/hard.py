@@ -59,6 +59,7 @@ from eb_alfred.instructions import (
     plural,
     prep,
     receptacle_relations,
+    shape_before_colour,
 )
 from eb_alfred.oracle import expert_plan
 from eb_alfred.scenes import _renumber, make_scene
@@ -247,7 +248,7 @@ def _single_out_by_both_looks(rng: random.Random, mine: list[dict[str, Any]], xt
             o.update(color=rng.choice(other_c), shape=shape)
         else:
             o.update(color=rng.choice(other_c), shape=rng.choice(other_s))
-    return "color+shape", f"{shape} {color}", [target]
+    return "color+shape", f"{shape_before_colour(shape)} {color}", [target]
 
 
 def _single_out_by_looks(rng: random.Random, mine: list[dict[str, Any]], xt: str, n_targets: int,

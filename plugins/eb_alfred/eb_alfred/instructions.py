@@ -28,6 +28,16 @@ def noun(type_name: str) -> str:
     return TYPES[type_name].noun
 
 
+#: Shape words that read as a shade when a colour follows ("the deep green bowl" is taken for a dark green one):
+#: before a colour they are written unambiguously. A calibration player lost a hard task to "deep green".
+_SHAPE_BEFORE_COLOUR = {"deep": "deep-sided"}
+
+
+def shape_before_colour(shape: str) -> str:
+    """The shape word as written before a colour word: ``deep`` -> ``deep-sided``, others unchanged."""
+    return _SHAPE_BEFORE_COLOUR.get(shape, shape)
+
+
 def plural(type_name: str) -> str:
     n = noun(type_name)
     special = {"loaf of bread": "loaves of bread", "head of lettuce": "heads of lettuce", "CD": "CDs",
