@@ -183,7 +183,7 @@ def _import_litellm() -> Any:
     # Must be set before the first import: otherwise litellm downloads its price map at import time.
     os.environ["LITELLM_LOCAL_MODEL_COST_MAP"] = "True"
     # litellm's typed dicts trip a pydantic warning (at import and at the first call): not ours to fix.
-    warnings.filterwarnings("ignore", message=r"Item .* is using the `ReadOnly` qualifier", category=UserWarning)
+    warnings.filterwarnings("ignore", message=r"Items? .* (is|are) using the `ReadOnly` qualifier", category=UserWarning)
     try:
         import litellm
     except ModuleNotFoundError as exc:
