@@ -3,6 +3,8 @@
 
     python benchmarks/env_step.py [--n 30] [--envs navigation,habitat,alfred,manipulation]
     python benchmarks/env_step.py --resets [--n 12]     # reset time per world, rendered (goal: median <= 0.25 s)
+    python benchmarks/env_step.py --resets --envs manipulation --taskset hard --param tag_layout=clear,corner
+                                                        # one row group per param value: the ratio is its cost
     python benchmarks/env_step.py --quick               # a few seconds (what tests/benchmarks runs)
 
 Each env is measured in its own fresh process (so peak RSS is that env's), by the plugin's own
@@ -13,7 +15,10 @@ Each env is measured in its own fresh process (so peak RSS is that env's), by th
 generated train split and resets them (generation + reset, as ``gymnasium.make(..., split="train")`` does), and
 ``again`` resets the first test task again (a group of rollouts from one task). Each row gives the median and
 worst wall time and the median CPU time (all threads of the process, the renderer's included: the figure that
-other load on the machine changes least); the load average is printed beside them.
+other load on the machine changes least); the load average is printed beside them. ``--taskset hard`` times the
+hard set's tasks (and train tasks of its difficulty); ``--param key=v1,v2`` sets an env parameter (e.g.
+manipulation's ``tag_layout``) and measures once per value, in the same run, then prints each value's median
+test reset as a ratio of the first value's.
 """
 
 from __future__ import annotations
@@ -41,8 +46,8 @@ CLASSES = {"navigation": "NavigationEnv", "alfred": "AlfredEnv", "habitat": "Hab
 _RESETS = """
 import json, statistics, time
 from {pkg}.env import {cls} as Env
-env = Env(resolution={res}, render=True)
-tasks = Env.load_tasks()
+env = Env(resolution={res}, render=True, **{params!r})
+tasks = Env.load_tasks(taskset={taskset!r})
 step = max(1, len(tasks) // {n})
 def timed(make):
     wall, cpu = [], []
@@ -55,15 +60,17 @@ def timed(make):
 out = {{}}
 w0 = time.perf_counter(); env.reset(tasks[-1], 0); out["first_s"] = time.perf_counter() - w0
 out["test"] = timed(lambda i: env.reset(tasks[(i * step + 1) % len(tasks)], 0))
-out["train"] = timed(lambda i: env.reset(Env.split_tasks("train", 500_000 + 7 * i, 1)[0], 0))
+out["train"] = timed(lambda i: env.reset(Env.split_tasks("train", 500_000 + 7 * i, 1, taskset={taskset!r})[0], 0))
 out["again"] = timed(lambda i: env.reset(tasks[1], 0))
 env.close()
 print("RESULT " + json.dumps(out))
 """
 
 
-def measure_resets(env: str, n: int, resolution: int = 500) -> dict:
-    code = _RESETS.format(pkg=PACKAGES[env], cls=CLASSES[env], n=n, res=resolution)
+def measure_resets(env: str, n: int, resolution: int = 500, taskset: str = "classic",
+                   params: dict | None = None) -> dict:
+    code = _RESETS.format(pkg=PACKAGES[env], cls=CLASSES[env], n=n, res=resolution, taskset=taskset,
+                          params=dict(params or {}))
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=1800)
     for line in out.stdout.splitlines():
         if line.startswith("RESULT "):
@@ -71,22 +78,43 @@ def measure_resets(env: str, n: int, resolution: int = 500) -> dict:
     raise RuntimeError(f"{env}: reset benchmark failed: {_last_error(out.stderr or out.stdout)}")
 
 
-def reset_table(envs: list[str], n: int) -> None:
+def parse_param(text: str | None) -> tuple[str, list[str]] | None:
+    """``key=v1,v2`` -> ("key", ["v1", "v2"]); None for no option. A malformed value is one clear error."""
+    if text is None:
+        return None
+    key, sep, values = text.partition("=")
+    if not sep or not key or not values:
+        raise SystemExit(f"--param {text!r}: expected KEY=VALUE[,VALUE...], e.g. --param tag_layout=clear,corner")
+    return key, values.split(",")
+
+
+def reset_table(envs: list[str], n: int, taskset: str = "classic",
+                param: tuple[str, list[str]] | None = None) -> None:
     import os
 
-    print(f"{'env':<13} {'kind':<6} {'median s':>9} {'max s':>7} {'cpu median s':>13}   (n={n} each, 500 px, rendered)")
+    print(f"{'env':<13} {'kind':<6} {'median s':>9} {'max s':>7} {'cpu median s':>13}   (n={n} each, 500 px, "
+          f"rendered, taskset={taskset})")
+    variants: list[dict] = [{param[0]: v} for v in param[1]] if param else [{}]
     for env in envs:
-        load = os.getloadavg()[0]
-        try:
-            r = measure_resets(env, n)
-        except Exception as exc:  # one broken world must not hide the others' numbers
-            print(f"{env:<13} error: {exc}")
-            continue
-        for kind in ("test", "train", "again"):
-            m = r[kind]
-            print(f"{env:<13} {kind:<6} {m['median_s']:9.3f} {m['max_s']:7.3f} {m['cpu_median_s']:13.3f}")
-        print(f"{env:<13} first reset of the process {r['first_s']:.3f} s; load average {load:.1f} -> "
-              f"{os.getloadavg()[0]:.1f}")
+        first: float | None = None
+        for params in variants:
+            label = env + "".join(f" {k}={v}" for k, v in params.items())
+            load = os.getloadavg()[0]
+            try:
+                r = measure_resets(env, n, taskset=taskset, params=params)
+            except Exception as exc:  # one broken world must not hide the others' numbers
+                print(f"{label}: error: {exc}")
+                continue
+            if params:
+                print(label)
+            for kind in ("test", "train", "again"):
+                m = r[kind]
+                print(f"{env:<13} {kind:<6} {m['median_s']:9.3f} {m['max_s']:7.3f} {m['cpu_median_s']:13.3f}")
+            print(f"{env:<13} first reset of the process {r['first_s']:.3f} s; load average {load:.1f} -> "
+                  f"{os.getloadavg()[0]:.1f}")
+            if params:
+                first = first or r["test"]["cpu_median_s"]
+                print(f"{env:<13} test reset CPU time x{r['test']['cpu_median_s'] / first:.2f} of the first value's")
     print("goal: median reset <= 0.25 s in every world (issue 19)")
 
 
@@ -112,13 +140,17 @@ def main(argv: list[str] | None = None) -> int:
                     "per kind (default 12)")
     ap.add_argument("--envs", default=",".join(PACKAGES))
     ap.add_argument("--resets", action="store_true", help="time env.reset (test, train, same task again) instead")
+    ap.add_argument("--taskset", default="classic", help="with --resets: the shipped task set to reset "
+                    "(classic or hard)")
+    ap.add_argument("--param", default=None, metavar="KEY=V1[,V2...]", help="with --resets: an env parameter; "
+                    "each value is measured in the same run")
     ap.add_argument("--quick", action="store_true", help="a few seconds: 3 steps of navigation only (checks that "
                     "the benchmark runs; its figures mean little)")
     args = ap.parse_args(argv)
     if args.quick:
         args.n, args.envs = args.n or 3, "navigation" if args.envs == ",".join(PACKAGES) else args.envs
     if args.resets:
-        reset_table(args.envs.split(","), args.n or 12)
+        reset_table(args.envs.split(","), args.n or 12, args.taskset, parse_param(args.param))
         return 0
     print(f"{'env':<13} {'step ms':>8} {'raw render ms':>14} {'ratio':>6} {'reset ms':>9} {'peak RSS MB':>12}")
     for env in args.envs.split(","):

@@ -48,6 +48,19 @@ def test_env_step_quick_alfred():
     assert len(row.split()) == 6, row
 
 
+def test_env_step_resets_per_param_value_on_the_hard_set():
+    """``--resets --taskset hard --param k=a,b`` resets the hard set's tasks once per value, in one run, and prints
+    each value's rows and its ratio to the first; a malformed --param is one error line, not a traceback."""
+    out = quick("env_step.py", "--resets", "--n", "1", "--envs", "manipulation", "--taskset", "hard",
+                "--param", "tag_layout=corner,clear")
+    assert "taskset=hard" in out
+    assert "manipulation tag_layout=corner" in out and "manipulation tag_layout=clear" in out
+    assert len(re.findall(r"test reset CPU time x[0-9.]+ of the first value's", out)) == 2
+    r = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "env_step.py"), "--resets", "--param", "oops"],
+                       capture_output=True, text=True, timeout=60, cwd=ROOT)
+    assert r.returncode != 0 and "expected KEY=VALUE" in r.stderr and "Traceback" not in r.stderr
+
+
 def test_expert_labels_quick():
     out = quick("expert_labels.py")
     assert "labels off:" in out and "labels on :" in out and "cost ratio on/off" in out
