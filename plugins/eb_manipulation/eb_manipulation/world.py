@@ -550,10 +550,30 @@ class World:
     # --- success ----------------------------------------------------------------------------------------
     def evaluate(self) -> tuple[bool, float]:
         """(task solved, progress in [0, 1]) from the physical state; never solved once an object the instruction
-        says to leave alone was disturbed."""
-        if self.disturbed is not None:
-            return False, 0.0
-        return self._physical()
+        says to leave alone was disturbed.
+
+        Progress is the share of the goal's conditions that hold. With leave-alone objects (the hard set) the
+        leave-alone rule counts as one more condition, which holds only with all the others (as ALFRED's
+        look-alike gate): a sorter with one of its two shapes through stands at 1/3, whether or not something was
+        disturbed on the way; only success reaches 1. Without them (the classic set) it is the physical check's.
+        """
+        solved, progress = self._physical()
+        if not self.scene.goal.keep_still:
+            return solved, progress
+        if solved and self.disturbed is None:
+            return True, 1.0
+        n = self._physical_conditions()
+        return False, progress * n / (n + 1)
+
+    def _physical_conditions(self) -> int:
+        """How many conditions the physical check stands for: one per shape to sort, one per cube on another,
+        one for a pick or a wipe."""
+        g = self.scene.goal
+        if g.family == "sorter":
+            return len(g.sorted_ids)
+        if g.family == "stack":
+            return max(len(g.order) - 1, 1)
+        return 1
 
     def _physical(self) -> tuple[bool, float]:
         """The family's physical success check alone (without the leave-alone conditions)."""
@@ -562,8 +582,11 @@ class World:
             ok = self.held != g.target and self.in_container(g.target_id, g.container_id)
             return ok, 1.0 if ok else 0.0
         if g.family == "sorter":
-            ok = all(self.held != t and self.in_matching_hole(t) for t in g.sorted_ids)
-            return ok, 1.0 if ok else 0.0
+            # progress: the share of the shapes to sort already through their own holes (the hard set sorts two;
+            # one through and one left on the lid is half the task, not none of it)
+            through = sum(self.held != t and self.in_matching_hole(t) for t in g.sorted_ids)
+            ok = through == len(g.sorted_ids)
+            return ok, 1.0 if ok else through / len(g.sorted_ids)
         if g.family == "stack":
             done = self._stacked_in_order(g.order)
             n = max(len(g.order) - 1, 1)

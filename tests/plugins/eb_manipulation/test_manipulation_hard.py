@@ -236,7 +236,11 @@ def test_a_hard_sorter_task_allows_one_hole_try(env, hard):
         plan = env.expert_plan()
         if not plan:
             break
-        assert not env.step(plan[0]).task_success
+        r = env.step(plan[0])
+        assert not r.task_success
+        # what went through still counts as progress (one of three conditions per shape), never all of it
+        through = sum(world.held != t and world.in_matching_hole(t) for t in scene.goal.sorted_ids)
+        assert r.progress == pytest.approx(through / 3)
 
 
 def _turned_sorter_task(hard):
@@ -485,3 +489,28 @@ def test_every_hard_prompt_gives_the_hard_area_size(env, hard, tasks):
     classic_stack = next(t for t in tasks.values() if t.metadata["family"] == "stack")
     env.reset(classic_stack, 0)
     assert "22 cm long" in env.prompt_parts().action_rules
+
+
+def test_a_hard_sorter_counts_each_shape_through_as_progress(env, hard):
+    """A hard sorter sorts two shapes, and leaving the lid clear is a third condition that holds only with them
+    (as ALFRED's look-alike gate): once the first shape is through its hole, the step reports progress 1/3 and no
+    success; the expert's last step reports 1.0 and success. (Progress was 0 until both.)"""
+    from eb_manipulation.oracle import expert_plan, state_of_world
+
+    task = next(t for t in hard if t.metadata["family"] == "sorter")
+    env.reset(task, 0)
+    world, scene = env._world, env._scene
+    seen = []
+    for _ in range(15):
+        plan = expert_plan(scene, state_of_world(world))
+        if not plan:
+            break
+        r = env.step(list(plan[0]))
+        through = [world.held != t and world.in_matching_hole(t) for t in scene.goal.sorted_ids]
+        seen.append((sum(through), r.progress, r.task_success))
+        if r.task_success:
+            break
+    assert seen and seen[-1] == (2, 1.0, True), seen
+    halfway = [s for s in seen if s[0] == 1]
+    assert halfway and all(p == pytest.approx(1 / 3) and not ok for _, p, ok in halfway), seen
+    assert all(p == 0.0 for n, p, _ in seen if n == 0), seen
