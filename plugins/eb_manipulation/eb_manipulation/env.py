@@ -165,6 +165,8 @@ class ManipulationEnv(Env):
                 kw["area_cm"] = (round(AREA_SIZE[0] * 100), round(AREA_SIZE[1] * 100))
         if self.fixed_numbers():
             kw["fixed_numbers"] = True
+        if self._scene is not None and any(o.kind == "sponge" and o.height is not None for o in self._scene.objects):
+            kw["sponge_look"] = True
         return prompt_parts(family, example_set(self.params.detection_boxes, self.multi_view), self.multi_view,
                             **kw)
 

@@ -123,12 +123,17 @@ _FEEDBACK_RENUMBERED = ("- Feedback names objects by their numbers in the list f
 FEEDBACK_FIXED = "- Feedback names objects by their numbers, which stay the same for the whole episode."
 
 
+#: Added after the wiping rule in scenes with the hard set's sponge (as tall as a cube, listed at a shape's height).
+SPONGE_LOOK = " The sponge is the yellow block with a green scouring layer on top."
+
+
 def action_rules(area_cm: tuple[int, int] = CLASSIC_AREA, turned_holes: bool = False,
-                 fixed_numbers: bool = False) -> str:
+                 fixed_numbers: bool = False, sponge_look: bool = False) -> str:
     """The action rules, with the size of this scene's marked areas (long side along the wiping direction), for a
-    sorter whose hole outlines are turned the rule that a shape must be turned to match, and with
-    ``fixed_numbers`` that objects keep their numbers for the whole episode."""
-    text = _ACTION_RULES.replace("{area_size}", AREA_SIZE.format(long=area_cm[0], short=area_cm[1]))
+    sorter whose hole outlines are turned the rule that a shape must be turned to match, with ``fixed_numbers``
+    that objects keep their numbers for the whole episode, and with ``sponge_look`` what the sponge looks like."""
+    text = _ACTION_RULES.replace("{area_size}", AREA_SIZE.format(long=area_cm[0], short=area_cm[1])
+                                 + (SPONGE_LOOK if sponge_look else ""))
     if fixed_numbers:
         text = text.replace(_LIST_RENUMBERED, LIST_FIXED).replace(_FEEDBACK_RENUMBERED, FEEDBACK_FIXED)
         text = text.replace("(object 1 is the leftmost in the front image)",
@@ -190,14 +195,17 @@ def _visual(family: str, hard: bool = False) -> tuple[VisualExample, ...]:
 
 def prompt_parts(family: str, which: ExampleSet = "baseline", multi_view: bool = False,
                  visual: bool = True, area_cm: tuple[int, int] = CLASSIC_AREA,
-                 turned_holes: bool = False, hard_examples: bool = False, fixed_numbers: bool = False) -> PromptParts:
+                 turned_holes: bool = False, hard_examples: bool = False, fixed_numbers: bool = False,
+                 sponge_look: bool = False) -> PromptParts:
     """Prompt parts for an episode of ``family`` (pick, stack, sorter or wipe) under an example set;
     ``area_cm``: (length, width) of the scene's marked areas in cm; ``turned_holes``: the sorter's hole outlines
     are turned (hard set), so a shape must be turned to match; ``hard_examples``: the examples come from the hard
-    sets (:func:`uses_hard_examples`); ``fixed_numbers``: objects keep their numbers for the episode."""
+    sets (:func:`uses_hard_examples`); ``fixed_numbers``: objects keep their numbers for the episode;
+    ``sponge_look``: the rules say what the sponge looks like (the hard set's sponge, as tall as a cube)."""
     sets = _doc(hard_examples)["examples"].get(family, {})
     return PromptParts(
-        role=ROLE, action_rules=action_rules(area_cm, turned_holes, fixed_numbers), guidelines=GUIDELINES,
+        role=ROLE, action_rules=action_rules(area_cm, turned_holes, fixed_numbers, sponge_look),
+        guidelines=GUIDELINES,
         output_notes=OUTPUT_NOTES,
         examples=tuple(sets.get(which, ())), examples_language_only=tuple(sets.get("language_only", ())),
         visual_examples=_visual(family, hard_examples) if visual else (), text_before_images=True,

@@ -220,13 +220,19 @@ def build_scene(scene: SceneSpec, resolution: int = 500, visual: bool = True) ->
         elif obj.kind == "sponge":
             sx, sy, sz = (s / 2 for s in SPONGE.dims(obj))
             z = TABLE_TOP + sz + 0.001
-            top = 0.006
+            # a yellow foam block with a green scouring layer: under it in the classic set (as it always was), on
+            # top in the hard set, where the sponge is as tall as a cube and the green top is what the front
+            # camera sees (what tells it from a yellow block; the rules say so). Both parts have the same density
+            # and friction, so the layer's side changes nothing but the image.
+            layer = 0.006 if obj.height is None else 0.009
+            up = obj.height is not None
+            foam_z, layer_z = (-layer / 2, sz - layer / 2) if up else (layer / 2, -sz + layer / 2)
             bodies.append(
                 f'<body name="{obj.id}" pos="{_fmt((*pos_xy, z))}" quat="{_fmt(quat)}">'
                 f'<freejoint name="{obj.id}:joint"/>'
-                f'<geom name="{obj.id}#0" type="box" size="{sx} {sy} {sz - top / 2}" pos="0 0 {top / 2}" {world} '
+                f'<geom name="{obj.id}#0" type="box" size="{sx} {sy} {sz - layer / 2}" pos="0 0 {foam_z}" {world} '
                 f'rgba="0.98 0.84 0.20 1" friction="1.2 0.02 0.001" density="150" solref="0.004 1"/>'
-                f'<geom name="{obj.id}#1" type="box" size="{sx} {sy} {top / 2}" pos="0 0 {-sz + top / 2}" {world} '
+                f'<geom name="{obj.id}#1" type="box" size="{sx} {sy} {layer / 2}" pos="0 0 {layer_z}" {world} '
                 f'rgba="0.10 0.55 0.20 1" friction="1.2 0.02 0.001" density="150" solref="0.004 1"/>'
                 f"</body>")
             free.append(obj.id)

@@ -514,3 +514,31 @@ def test_a_hard_sorter_counts_each_shape_through_as_progress(env, hard):
     halfway = [s for s in seen if s[0] == 1]
     assert halfway and all(p == pytest.approx(1 / 3) and not ok for _, p, ok in halfway), seen
     assert all(p == 0.0 for n, p, _ in seen if n == 0), seen
+
+
+def _sponge_layer_share(env, task) -> float:
+    """Share of the sponge's pixels in the front image that show its green scouring layer (real segmentation)."""
+    env.reset(task, 0)
+    world, model = env._world, env._world.model
+    seg = env._renderer.segmentation(world.data, "front")
+    foam, layer = (model.geom(f"sponge#{k}").id for k in (0, 1))
+    return float((seg == layer).sum() / max(1, ((seg == foam) | (seg == layer)).sum()))
+
+
+def test_the_hard_sponge_shows_its_green_top_and_the_rules_say_so(hard, tasks):
+    """The hard sponge is as tall as a cube and listed at a shape's height, so nothing but its look tells it from
+    the shapes: its green scouring layer is on top, where the front camera sees it (a calibration player took a black
+    cylinder for it when the layer was a thin line underneath), and the hard rules say what it looks like. The
+    classic sponge and rules are as before."""
+    from eb_manipulation.prompts import SPONGE_LOOK
+
+    env = ManipulationEnv(resolution=500)  # rendered: the fixture's env is geometry-only
+    try:
+        wipe = next(t for t in hard if t.metadata["family"] == "wipe")
+        assert _sponge_layer_share(env, wipe) > 0.4
+        assert SPONGE_LOOK.strip() in env.prompt_parts().action_rules
+        classic = next(t for t in tasks.values() if t.metadata["family"] == "wipe")
+        assert _sponge_layer_share(env, classic) < 0.2
+        assert SPONGE_LOOK.strip() not in env.prompt_parts().action_rules
+    finally:
+        env.close()
