@@ -66,11 +66,10 @@ DIFFICULTIES = ("classic", "medium", "hard")
 
 HARD_VERSION = "5"
 
-#: The generator version each subset's random draws are keyed on (version 3 when absent): version 5 changes base,
-#: common_sense, complex_instruction and visual_appearance; long_horizon keeps version 4's draws and
-#: spatial_relationship version 3's.
+#: The generator version each subset's random draws are keyed on (version 3 when absent): version 5 changes every
+#: subset but long_horizon, which keeps version 4's draws.
 DRAW_VERSION: dict[str, str] = {"long_horizon": "4", "complex_instruction": "5", "base": "5", "common_sense": "5",
-                                "visual_appearance": "5"}
+                                "visual_appearance": "5", "spatial_relationship": "5"}
 
 SURFACES = [r.key for r in RECEPTACLES if r.kind == "surface"]
 CONTAINERS = [r.key for r in RECEPTACLES if r.kind == "container"]
@@ -764,6 +763,12 @@ _SKIP = (
 )
 
 
+SPATIAL_COUNT_SHARE = 0.5
+"""Share of spatial_relationship draws (version 5) whose destination is told by a count ("bring it to the furniture
+that holds exactly two bowls", beside decoys with one more or one fewer) instead of by its name: a relation and a
+count, each judged in one view."""
+
+
 def _row(rng: random.Random, scene: Scene, src: str, keys: list[str], colors: list[str], first: int
          ) -> list[dict[str, Any]]:
     out = []
@@ -805,28 +810,46 @@ def _spatial(rng: random.Random, level: Level) -> HardDraft:
         row = _row(rng, scene, src, keys, colors, first)
         ends.append(row[2] if side == "right" else row[0])
     target, lc = ends[chosen], lcolors[chosen]
-    dest = rng.choice([k for k in SURFACES if k not in rows and scene.has_room(k)])
+    counted: list[str] = []
+    if rng.random() < SPATIAL_COUNT_SHARE:  # version 5: the destination told by a count, not by its name
+        in_rows = {o["type"] for o in scene.objects}
+        fits = [k for k in VARIED if k not in in_rows and target["type"] not in (k, *CONFUSERS.get(k, ()))
+                and not in_rows & {*CONFUSERS.get(k, ()), *SHAPE_TWINS.get(k, ())}]
+        if not fits:
+            raise _Reject("no type left to count")
+        cy = rng.choice(fits)
+        n = 3 if rng.random() < 0.15 else 2
+        counted = _groups(rng, scene, cy, [(n, 0), *count_decoys(rng, cy, n)],
+                          [k for k in SURFACES if k not in rows])
+        dest = counted[0]
+    else:
+        dest = rng.choice([k for k in SURFACES if k not in rows and scene.has_room(k)])
     # the target's own look-alikes elsewhere: its type alone does not find it
     for _ in range(level.k - 2 + rng.randrange(2)):
-        places = [k for k in SURFACES + scene.open if k != dest and scene.has_room(k)
+        places = [k for k in SURFACES + scene.open if k != dest and k not in counted and scene.has_room(k)
                   and target["type"] not in scene.types_at(k)]
         if places:
             colors = [c for c in allowed_colors(target["type"]) if c != target["color"]] or [target["color"]]
             scene.add(rng, target["type"], at=rng.choice(places), color=rng.choice(colors))
-    _clutter(rng, scene, level, {y}, avoid=(dest,))
+    if counted:
+        _clutter(rng, scene, level, {y, cy, *CONFUSERS.get(cy, ())}, avoid=tuple(counted))
+        where = f"furniture that holds exactly {_NUMBERS[n]} {_plural(cy)}"
+        t_name, pt = where, f"onto the {where}"
+    else:
+        _clutter(rng, scene, level, {y}, avoid=(dest,))
+        t_name, pt = receptacle(dest).name, f"{receptacle(dest).preposition} the {receptacle(dest).name}"
     if not scene.has_room(dest):
         raise _Reject("destination full")
-    t = receptacle(dest)
     fmt = dict(lc=lc, l=object_type(y).name, side=side, w=object_type(w).name,
                a_w=f"a pair of {object_type(w).name}" if w == "scissors" else f"a {object_type(w).name}",
-               t=t.name, pt=f"{t.preposition} the {t.name}")
+               t=t_name, pt=pt)
     if rng.random() < 0.7:
         i = rng.randrange(len(_HOP2))
         text, template = _HOP2[i].format(**fmt), f"hard.spatial.two_hops.{i}"
     else:
         i = rng.randrange(len(_SKIP))
         text, template = _SKIP[i].format(**fmt), f"hard.spatial.two_places.{i}"
-    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, dest)], template)
+    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, dest)], template + (".count" if counted else ""))
 
 
 # -- visual appearance -------------------------------------------------------------------------------------------

@@ -439,13 +439,17 @@ def test_counting_conditionals_the_count_beside_the_landmark_decides() -> None:
 
 
 def test_counting_destinations_hold_exactly_the_number_and_decoys_do_not() -> None:
-    """"The furniture that holds exactly two cups": the destination holds exactly that many of the type and
-    nothing else (nothing hides what is counted), two decoy surfaces hold one more or one fewer (or one fewer
-    beside an object of the look-alike type: a mug among cups), and no other receptacle holds the type."""
+    """"The furniture that holds exactly two cups" (base; spatial_relationship since version 5): the destination
+    holds exactly that many of the type and nothing else (nothing hides what is counted), two decoy surfaces hold
+    one more or one fewer (or one fewer beside an object of the look-alike type: a mug among cups), and no other
+    receptacle holds the type. Version 5 (base): in some tasks the destination holds two and one of the look-alike
+    type (two cups and a mug), with decoys of one cup and one mug, three cups, or one cup and two mugs."""
     from eb_habitat.hard import CONFUSERS
 
     count_tasks = [t for t in BY_SUBSET["base"] if ".base.count." in t.metadata["template"]]
-    assert len(count_tasks) >= 15
+    spatial = [t for t in BY_SUBSET["spatial_relationship"] if t.metadata["template"].endswith(".count")]
+    assert len(count_tasks) >= 15 and len(spatial) >= 15  # version 5: a relation, then a count (spatial)
+    count_tasks += spatial
     among_twins = 0
     for t in count_tasks:
         spec = spec_of(t)
