@@ -164,7 +164,7 @@ def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goa
                 return None
             pending.discard(held)
             back = origin.get(held)
-            if IN_THE_WAY in template and any(w.items[n].loc == back for n in pending):
+            if back is not None and IN_THE_WAY in template and any(w.items[n].loc == back for n in pending):
                 walk = order.index(back)  # it moved a look-alike out of the way there: the object is right there
             continue
         if walk >= len(order):
