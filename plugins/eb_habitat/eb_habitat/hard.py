@@ -26,7 +26,8 @@ changes is the scenes and the words:
 * **in the way** (version 5): the object may have a look-alike to its left on its surface, which ``pick up``
   would take first; every such instruction says that one must first go to a named receptacle (:func:`one_move`),
   and in about 40 % of the tasks one stands there; counts among shape twins (two cups and a mug) in base, and a
-  counted destination in spatial_relationship.
+  counted destination in spatial_relationship; in long_horizon a gathering of one type also holds objects of its
+  look-alike type in a colour that qualifies (:func:`_gather_twins`).
 
 * **counting in one view** (version 3): a destination told by a count ("the one place that has exactly two
   bowls", beside decoys with one more or one fewer; base) or a conditional on the count beside a landmark
@@ -71,9 +72,9 @@ DIFFICULTIES = ("classic", "medium", "hard")
 
 HARD_VERSION = "5"
 
-#: The generator version each subset's random draws are keyed on (version 3 when absent): version 5 changes every
-#: subset but long_horizon, which keeps version 4's draws.
-DRAW_VERSION: dict[str, str] = {"long_horizon": "4", "complex_instruction": "5", "base": "5", "common_sense": "5",
+#: The generator version each subset's random draws are keyed on (version 3 when absent): version 5 redraws
+#: every subset.
+DRAW_VERSION: dict[str, str] = {"long_horizon": "5", "complex_instruction": "5", "base": "5", "common_sense": "5",
                                 "visual_appearance": "5", "spatial_relationship": "5"}
 
 SURFACES = [r.key for r in RECEPTACLES if r.kind == "surface"]
@@ -956,6 +957,29 @@ _EVERY_EXCEPT = (
 )
 
 
+def _gather_twins(rng: random.Random, scene: Scene, group: tuple[str, ...], sources: list[str], dest: str,
+                  c: str, negate: bool) -> tuple[str, ...]:
+    """Version 5 (long_horizon): for a one-type group, one or two objects of its look-alike type in a colour that
+    qualifies (a red cup for "every red mug"; for "every mug that is not yellow", a cup in another colour), the
+    first on a surface with qualifying objects, so the type is judged as well as the colour, in the same view.
+    Returns the look-alike type (empty when the group has none outside itself)."""
+    twin = CONFUSERS.get(group[0], ("",))[0] if len(group) == 1 else ""
+    if not twin or twin in group:
+        return ()
+    colors = [h for h in allowed_colors(twin) if (h != c) == negate]
+    if not colors:
+        return ()
+    places = [s for s in sources if scene.has_room(s)]
+    lone = [k for k in SURFACES if k != dest and k not in sources and scene.has_room(k)
+            and twin not in scene.types_at(k)]
+    if not places:
+        raise _Reject("no room for the look-alike type beside the qualifying objects")
+    scene.add(rng, twin, at=rng.choice(places), color=c if c in colors else rng.choice(colors))
+    if lone and rng.random() < 0.5:
+        scene.add(rng, twin, at=rng.choice(lone), color=rng.choice(colors))
+    return (twin,)
+
+
 def _gather(rng: random.Random, level: Level, complex_form: bool = False) -> HardDraft:
     """"Bring every red toy to the coffee table" / "Put all the cups that are not blue on the sofa": 2-4
     qualifying objects (the number is never said) on 2-3 surfaces, each the leftmost of its type there but for
@@ -1020,7 +1044,8 @@ def _gather(rng: random.Random, level: Level, complex_form: bool = False) -> Har
         raise _Reject("no surface left for a lone look-alike")
     for item, at in zip(alone, rng.sample(lone, len(alone))):
         _lay(rng, scene, at, [item], keep_free=keep_free)
-    _clutter(rng, scene, level, set(group), avoid=(dest,))
+    twins = () if complex_form else _gather_twins(rng, scene, group, sources, dest, c, negate)
+    _clutter(rng, scene, level, {*group, *twins}, avoid=(dest,))
     movers = [o for o in scene.objects if o["type"] in group and (o["color"] != c) == negate]
     r = receptacle(dest)
     one, many, gloss = GATHER_GROUPS[group]

@@ -208,6 +208,30 @@ def test_long_horizon_gathers_every_object_of_a_colour_without_saying_how_many()
     assert 0.2 * 50 <= negated <= 0.5 * 50
 
 
+def test_gatherings_of_one_type_hold_its_look_alike_type_in_a_colour_that_qualifies() -> None:
+    """Version 5 (long_horizon): "every red mug" has a red cup on a surface with a qualifying mug ("every mug that
+    is not yellow": a cup of another colour), so the type is judged beside the colour, in one view; the
+    look-alike type is never a mover."""
+    from eb_habitat.catalog import allowed_colors
+    from eb_habitat.hard import CONFUSERS
+
+    seen = 0
+    for t in BY_SUBSET["long_horizon"]:
+        movers, rest, color = _gathering(t)
+        types = {o.type for o in movers} | {o.type for o in rest}
+        if len(types) != 1 or CONFUSERS[next(iter(types))][0] in types:
+            continue
+        twin = CONFUSERS[next(iter(types))][0]
+        negated = ".gather_not." in t.metadata["template"]
+        if not any((c != color) == negated for c in allowed_colors(twin)):
+            continue  # no plate is orange: "every orange bowl" has no look-alike that could qualify
+        twins = [o for o in spec_of(t).objects if o.type == twin]
+        assert twins and all((o.color != color) == negated for o in twins), t.id
+        assert any(o.at in {m.at for m in movers} for o in twins), t.id
+        seen += 1
+    assert seen >= 15
+
+
 def test_untouched_and_once_take_a_name_not_a_type() -> None:
     with pytest.raises(PredicateError, match="instance name"):
         parse_predicate("(untouched ?mug)")
