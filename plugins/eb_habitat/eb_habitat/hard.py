@@ -23,6 +23,12 @@ changes is the scenes and the words:
   gathering (long_horizon, version 4: "bring every red toy to the coffee table", "put all the cups that are not
   blue on the sofa"; the number is never said).
 
+* **in the way** (version 5): the object may have a look-alike to its left on its surface, which ``pick up``
+  would take first; every such instruction says that one must first go to a named receptacle (:func:`one_move`),
+  and in about 40 % of the tasks one stands there; counts among shape twins (two cups and a mug) in base, and a
+  counted destination in spatial_relationship; in long_horizon a gathering of one type also holds objects of its
+  look-alike type in a colour that qualifies (:func:`_gather_twins`).
+
 * **counting in one view** (version 3): a destination told by a count ("the one place that has exactly two
   bowls", beside decoys with one more or one fewer; base) or a conditional on the count beside a landmark
   (complex_instruction), every judgement made in the view where the agent acts.
@@ -64,11 +70,12 @@ __all__ = ["DIFFICULTIES", "HARD_BUILDERS", "LEVELS", "Level", "generate_subset"
 DIFFICULTIES = ("classic", "medium", "hard")
 """Generator levels: ``classic`` is :mod:`eb_habitat.generate`, the others are drawn here."""
 
-HARD_VERSION = "4"
+HARD_VERSION = "5"
 
-#: The generator version each subset's random draws are keyed on: version 4 changes long_horizon and
-#: complex_instruction, so the other subsets keep version 3's draws (and files) unchanged.
-DRAW_VERSION: dict[str, str] = {"long_horizon": "4", "complex_instruction": "4"}
+#: The generator version each subset's random draws are keyed on (version 3 when absent): version 5 redraws
+#: every subset.
+DRAW_VERSION: dict[str, str] = {"long_horizon": "5", "complex_instruction": "5", "base": "5", "common_sense": "5",
+                                "visual_appearance": "5", "spatial_relationship": "5"}
 
 SURFACES = [r.key for r in RECEPTACLES if r.kind == "surface"]
 CONTAINERS = [r.key for r in RECEPTACLES if r.kind == "container"]
@@ -162,6 +169,76 @@ _NOTHING_ELSE = (
 def _rule(rng: random.Random, n: int = 1) -> str:
     return rng.choice(_NOTHING_ELSE).format(it="it" if n == 1 else "each of them",
                                             its="its" if n == 1 else "their")
+
+
+# -- in the way (version 5) ---------------------------------------------------------------------------------------
+
+IN_THE_WAY_SHARE = 0.8
+"""Share of the tasks with an "in the way" clause whose object really has a look-alike to its left (which must be
+moved to the named receptacle first); in the rest its near-hue look-alike stands to its right and nothing else
+may move."""
+
+#: The clause: ``{same}`` is the object's look-alike without naming its type (common_sense and visual_appearance
+#: never name it), ``{pa}`` the named receptacle with its preposition.
+_IN_THE_WAY = (
+    "If {same} stands anywhere to its left on the same piece of furniture, first move that one to the {t}.",
+    "Check the furniture it stands on: {same} to its left would be in the way, so if there is one, put that one "
+    "{pa} before anything else.",
+    "Should {same} stand somewhere left of it on that furniture, that one has to go to the {t} first.",
+    "Anything of its kind (the same thing in another colour) standing to its left on the same furniture must "
+    "first be moved to the {t}; if nothing of its kind stands there, no such move is needed.",
+)
+
+_NOTHING_ELSE_IN_THE_WAY = (
+    "Apart from that, pick up nothing else, and pick up each object only once.",
+    "Pick up nothing else, and each object only once.",
+    "Touch nothing else (picking up any other object spoils the task) and pick up each object just once.",
+)
+
+
+def _same_kind(x: str, named: bool) -> str:
+    return f"another {object_type(x).name}" if named else "another thing of exactly its kind in another colour"
+
+
+def in_the_way(rng: random.Random, scene: Scene, target: dict[str, Any]) -> dict[str, Any] | None:
+    """In :data:`IN_THE_WAY_SHARE` of the draws, put the look-alike that stands beside ``target`` on its surface
+    (its near hue, :func:`near_pair`) to its LEFT: ``pick up`` takes the leftmost of a kind, so that look-alike must
+    be moved first. Returns it (it joins the objects to move), or None (the look-alike, if any, stays right of the
+    object and must stay untouched)."""
+    beside = [o for o in scene.objects if o["type"] == target["type"] and o["at"] == target["at"] and o is not target]
+    if len(beside) != 1 or receptacle(target["at"]).kind != "surface" or rng.random() >= IN_THE_WAY_SHARE:
+        return None
+    blocker = beside[0]
+    if blocker["slot"] > target["slot"]:
+        blocker["slot"], target["slot"] = target["slot"], blocker["slot"]
+    return blocker
+
+
+def aside_place(rng: random.Random, scene: Scene, avoid: tuple[str, ...]) -> str:
+    """The named receptacle a blocking look-alike goes to: a surface with a free slot, not in ``avoid`` (the
+    object's own surface, its destination, the landmarks' and counted groups' surfaces)."""
+    fits = [k for k in SURFACES if k not in avoid and scene.has_room(k)]
+    if not fits:
+        raise _Reject("no free surface for the look-alike in the way")
+    return rng.choice(fits)
+
+
+def one_move(rng: random.Random, text: str, scene: Scene, target: dict[str, Any], dest: str, template: str,
+             avoid: tuple[str, ...] = (), named: bool = True) -> HardDraft:
+    """A one-object draft with the "in the way" clause (version 5): the object may have a look-alike to its left
+    (:func:`in_the_way`) that must go to a named receptacle first; the clause stands in every such task (also when
+    the object lies in a container, where nothing of its kind stands beside it), so its presence tells nothing, and
+    it replaces the "nothing else" sentence, so every task states exactly what may move. ``avoid``: receptacles the
+    look-alike must not be sent to (landmarks', counted groups'); ``named``: the instruction names the type."""
+    blocker = in_the_way(rng, scene, target)
+    aside = aside_place(rng, scene, (target["at"], dest, *avoid))
+    t = receptacle(aside)
+    clause = rng.randrange(len(_IN_THE_WAY))
+    way = _IN_THE_WAY[clause].format(same=_same_kind(target["type"], named), t=t.name,
+                                     pa=f"{t.preposition} the {t.name}")
+    moves = [(blocker, aside), (target, dest)] if blocker is not None else [(target, dest)]
+    return HardDraft(f"{text} {way} {rng.choice(_NOTHING_ELSE_IN_THE_WAY)}", scene, moves,
+                     f"{template}.in_the_way.{clause}")
 
 
 # -- scene building ---------------------------------------------------------------------------------------------
@@ -398,11 +475,22 @@ def _groups(rng: random.Random, scene: Scene, y: str, counts: list[tuple[int, in
         at = rng.choice(fits)
         for color in _colors(rng, y, n):
             _put(scene, y, at, color)
-        for _ in range(twins):
-            _put(scene, CONFUSERS[y][0], at, rng.choice(allowed_colors(CONFUSERS[y][0])))
+        twin = CONFUSERS[y][0] if twins else ""
+        for _ in range(twins):  # not black: a black mug's handle barely shows on a dark surface
+            _put(scene, twin, at, rng.choice([c for c in allowed_colors(twin) if c != "black"]))
         _shuffle_slots(rng, scene, at)
         out.append(at)
     return out
+
+
+TWIN_COUNT_SHARE = 0.6
+"""Share of the two-object counts (version 5) where the destination also holds one object of the counted type's
+look-alike type (two cups and a mug), so the count is made among shape twins in one view."""
+
+#: The decoys of a count among twins, as (counted type, look-alike type): one cup and one mug (two drinking
+#: vessels: a hasty count of "two cups" takes it), three cups (one more), one cup and two mugs (as many vessels as
+#: the destination, one cup fewer).
+TWIN_COUNT_DECOYS = [(1, 1), (3, 0), (1, 2)]
 
 
 def count_decoys(rng: random.Random, y: str, n: int) -> list[tuple[int, int]]:
@@ -450,11 +538,17 @@ def _counted_destination(rng: random.Random, level: Level, x: str
                          ) -> tuple[Scene, dict[str, Any], str, str, int]:
     """A scene where the destination is the one surface with exactly ``n`` objects of a counted type ``y`` (2, or
     3 on a four-seat surface), beside two decoy groups (:func:`count_decoys`); nothing else lies on the three, so
-    nothing hides what is counted. Returns (scene, target, destination, y, n)."""
+    nothing hides what is counted. In :data:`TWIN_COUNT_SHARE` of the counts of two (version 5) the destination
+    also holds one object of the look-alike type (two cups and a mug) and the decoys come from
+    :data:`TWIN_COUNT_DECOYS`. Returns (scene, target, destination, y, n)."""
     scene = _new_scene(rng)
     y = _counted_type(rng, x)
     n = 3 if rng.random() < 0.15 else 2
-    places = _groups(rng, scene, y, [(n, 0), *count_decoys(rng, y, n)], SURFACES)
+    if n == 2 and CONFUSERS.get(y) and rng.random() < TWIN_COUNT_SHARE:
+        groups = [(2, 1), *rng.sample(TWIN_COUNT_DECOYS, 2)]
+    else:
+        groups = [(n, 0), *count_decoys(rng, y, n)]
+    places = _groups(rng, scene, y, groups, SURFACES)
     xs = _spread(rng, scene, x, _colors(rng, x, level.k), [k for k in _visible_places(scene) if k not in places])
     target = rng.choice(xs)
     if not near_pair(rng, scene, target, [o for o in xs if o is not target]) and rng.random() < 0.7:
@@ -468,7 +562,8 @@ def _base_count(rng: random.Random, level: Level) -> HardDraft:
     scene, target, dest, y, n = _counted_destination(rng, level, x)
     i = rng.randrange(len(_BASE_COUNT))
     text = _BASE_COUNT[i].format(c=target["color"], o=object_type(x).name, n=_NUMBERS[n], ys=_plural(y))
-    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, dest)], f"hard.base.count.{i}")
+    groups = tuple(k for k in SURFACES if any(o["type"] == y and o["at"] == k for o in scene.objects))
+    return one_move(rng, text, scene, target, dest, f"hard.base.count.{i}", avoid=groups)
 
 
 def _base(rng: random.Random, level: Level) -> HardDraft:
@@ -480,7 +575,7 @@ def _base(rng: random.Random, level: Level) -> HardDraft:
     _clutter(rng, scene, level, {x, y}, keep_free=_places_of([lm, *lms]))
     i = rng.randrange(len(_BASE))
     text = _BASE[i].format(c=target["color"], o=object_type(x).name, lc=lm["color"], l=object_type(y).name)
-    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.base.{i}")
+    return one_move(rng, text, scene, target, lm["at"], f"hard.base.{i}", avoid=_places_of([lm, *lms]))
 
 
 # -- common sense ------------------------------------------------------------------------------------------------
@@ -523,7 +618,8 @@ def _common_sense(rng: random.Random, level: Level) -> HardDraft:
     _clutter(rng, scene, level, {x, y, *CONFUSERS[x]}, keep_free=_places_of([lm, *lms]))
     i = rng.randrange(len(_CS))
     text = _CS[i].format(c=target["color"], u=USES[x], lc=lm["color"], lu=USES[y])
-    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.common_sense.{i}")
+    return one_move(rng, text, scene, target, lm["at"], f"hard.common_sense.{i}", avoid=_places_of([lm, *lms]),
+                    named=False)
 
 
 # -- complex instructions ----------------------------------------------------------------------------------------
@@ -646,7 +742,7 @@ def _complex(rng: random.Random, level: Level) -> HardDraft:
         i = rng.randrange(len(_NEGATION))
         na, nb = (o["color"] for o in rng.sample(others, 2))
         text, template = _NEGATION[i].format(na=na, nb=nb, **w), f"hard.complex.negation.{i}"
-    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], template)
+    return one_move(rng, text, scene, target, lm["at"], template, avoid=_places_of([lm, *lms]))
 
 
 # -- spatial relationships ---------------------------------------------------------------------------------------
@@ -671,6 +767,12 @@ _SKIP = (
     "The second object to the {side} of the {lc} {l} goes {pt}.",
     "Move the object that is two positions {side} of the {lc} {l} to the {t}.",
 )
+
+
+SPATIAL_COUNT_SHARE = 0.5
+"""Share of spatial_relationship draws (version 5) whose destination is told by a count ("bring it to the furniture
+that holds exactly two bowls", beside decoys with one more or one fewer) instead of by its name: a relation and a
+count, each judged in one view."""
 
 
 def _row(rng: random.Random, scene: Scene, src: str, keys: list[str], colors: list[str], first: int
@@ -714,28 +816,46 @@ def _spatial(rng: random.Random, level: Level) -> HardDraft:
         row = _row(rng, scene, src, keys, colors, first)
         ends.append(row[2] if side == "right" else row[0])
     target, lc = ends[chosen], lcolors[chosen]
-    dest = rng.choice([k for k in SURFACES if k not in rows and scene.has_room(k)])
+    counted: list[str] = []
+    if rng.random() < SPATIAL_COUNT_SHARE:  # version 5: the destination told by a count, not by its name
+        in_rows = {o["type"] for o in scene.objects}
+        fits = [k for k in VARIED if k not in in_rows and target["type"] not in (k, *CONFUSERS.get(k, ()))
+                and not in_rows & {*CONFUSERS.get(k, ()), *SHAPE_TWINS.get(k, ())}]
+        if not fits:
+            raise _Reject("no type left to count")
+        cy = rng.choice(fits)
+        n = 3 if rng.random() < 0.15 else 2
+        counted = _groups(rng, scene, cy, [(n, 0), *count_decoys(rng, cy, n)],
+                          [k for k in SURFACES if k not in rows])
+        dest = counted[0]
+    else:
+        dest = rng.choice([k for k in SURFACES if k not in rows and scene.has_room(k)])
     # the target's own look-alikes elsewhere: its type alone does not find it
     for _ in range(level.k - 2 + rng.randrange(2)):
-        places = [k for k in SURFACES + scene.open if k != dest and scene.has_room(k)
+        places = [k for k in SURFACES + scene.open if k != dest and k not in counted and scene.has_room(k)
                   and target["type"] not in scene.types_at(k)]
         if places:
             colors = [c for c in allowed_colors(target["type"]) if c != target["color"]] or [target["color"]]
             scene.add(rng, target["type"], at=rng.choice(places), color=rng.choice(colors))
-    _clutter(rng, scene, level, {y}, avoid=(dest,))
+    if counted:
+        _clutter(rng, scene, level, {y, cy, *CONFUSERS.get(cy, ())}, avoid=tuple(counted))
+        where = f"furniture that holds exactly {_NUMBERS[n]} {_plural(cy)}"
+        t_name, pt = where, f"onto the {where}"
+    else:
+        _clutter(rng, scene, level, {y}, avoid=(dest,))
+        t_name, pt = receptacle(dest).name, f"{receptacle(dest).preposition} the {receptacle(dest).name}"
     if not scene.has_room(dest):
         raise _Reject("destination full")
-    t = receptacle(dest)
     fmt = dict(lc=lc, l=object_type(y).name, side=side, w=object_type(w).name,
                a_w=f"a pair of {object_type(w).name}" if w == "scissors" else f"a {object_type(w).name}",
-               t=t.name, pt=f"{t.preposition} the {t.name}")
+               t=t_name, pt=pt)
     if rng.random() < 0.7:
         i = rng.randrange(len(_HOP2))
         text, template = _HOP2[i].format(**fmt), f"hard.spatial.two_hops.{i}"
     else:
         i = rng.randrange(len(_SKIP))
         text, template = _SKIP[i].format(**fmt), f"hard.spatial.two_places.{i}"
-    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, dest)], template)
+    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, dest)], template + (".count" if counted else ""))
 
 
 # -- visual appearance -------------------------------------------------------------------------------------------
@@ -764,7 +884,8 @@ def _visual(rng: random.Random, level: Level) -> HardDraft:
     _clutter(rng, scene, level, {x, y, *CONFUSERS[x]}, keep_free=_places_of([lm, *lms]))
     i = rng.randrange(len(_LOOK_FRAMES))
     text = _LOOK_FRAMES[i].format(look=LOOKS[x].format(c=target["color"]), llook=LOOKS[y].format(c=lm["color"]))
-    return HardDraft(f"{text} {_rule(rng)}", scene, [(target, lm["at"])], f"hard.visual.looks.{i}")
+    return one_move(rng, text, scene, target, lm["at"], f"hard.visual.looks.{i}", avoid=_places_of([lm, *lms]),
+                    named=False)
 
 
 # -- long horizon: quantified gathering (version 4) ---------------------------------------------------------------
@@ -836,6 +957,29 @@ _EVERY_EXCEPT = (
 )
 
 
+def _gather_twins(rng: random.Random, scene: Scene, group: tuple[str, ...], sources: list[str], dest: str,
+                  c: str, negate: bool) -> tuple[str, ...]:
+    """Version 5 (long_horizon): for a one-type group, one or two objects of its look-alike type in a colour that
+    qualifies (a red cup for "every red mug"; for "every mug that is not yellow", a cup in another colour), the
+    first on a surface with qualifying objects, so the type is judged as well as the colour, in the same view.
+    Returns the look-alike type (empty when the group has none outside itself)."""
+    twin = CONFUSERS.get(group[0], ("",))[0] if len(group) == 1 else ""
+    if not twin or twin in group:
+        return ()
+    colors = [h for h in allowed_colors(twin) if (h != c) == negate]
+    if not colors:
+        return ()
+    places = [s for s in sources if scene.has_room(s)]
+    lone = [k for k in SURFACES if k != dest and k not in sources and scene.has_room(k)
+            and twin not in scene.types_at(k)]
+    if not places:
+        raise _Reject("no room for the look-alike type beside the qualifying objects")
+    scene.add(rng, twin, at=rng.choice(places), color=c if c in colors else rng.choice(colors))
+    if lone and rng.random() < 0.5:
+        scene.add(rng, twin, at=rng.choice(lone), color=rng.choice(colors))
+    return (twin,)
+
+
 def _gather(rng: random.Random, level: Level, complex_form: bool = False) -> HardDraft:
     """"Bring every red toy to the coffee table" / "Put all the cups that are not blue on the sofa": 2-4
     qualifying objects (the number is never said) on 2-3 surfaces, each the leftmost of its type there but for
@@ -900,7 +1044,8 @@ def _gather(rng: random.Random, level: Level, complex_form: bool = False) -> Har
         raise _Reject("no surface left for a lone look-alike")
     for item, at in zip(alone, rng.sample(lone, len(alone))):
         _lay(rng, scene, at, [item], keep_free=keep_free)
-    _clutter(rng, scene, level, set(group), avoid=(dest,))
+    twins = () if complex_form else _gather_twins(rng, scene, group, sources, dest, c, negate)
+    _clutter(rng, scene, level, {*group, *twins}, avoid=(dest,))
     movers = [o for o in scene.objects if o["type"] in group and (o["color"] != c) == negate]
     r = receptacle(dest)
     one, many, gloss = GATHER_GROUPS[group]

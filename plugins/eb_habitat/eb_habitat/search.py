@@ -17,7 +17,8 @@ from typing import Any
 
 from eb_habitat.catalog import RECEPTACLES, object_type, receptacle
 
-__all__ = ["GATHERING", "WITNESS_ELSEWHERE", "first_met", "gather_steps", "stateless_search_steps", "search_steps"]
+__all__ = ["GATHERING", "IN_THE_WAY", "WITNESS_ELSEWHERE", "first_met", "gather_steps", "stateless_search_steps",
+           "search_steps"]
 
 GATHERING = (".gather.", ".gather_not.")
 """Template parts of quantified gatherings ("bring every red toy to the coffee table"): the instruction never says
@@ -27,6 +28,11 @@ WITNESS_ELSEWHERE = (".if_beside.",)
 """Template parts whose object is told by a witness on another receptacle (version 2's conditionals: "if the mug
 beside the red bowl is yellow, bring the orange mug there"): the view that tells which object to move is not the
 view where it can be picked up, so no agent without memory can act on it."""
+
+IN_THE_WAY = ".in_the_way."
+"""Template part of version 5's "in the way" clause ("if another mug stands to its left on that furniture, first
+move that one to the sofa"): the view that shows the object shows the look-alike left of it, so one plan moves the
+look-alike to the named receptacle and walks straight back for the object."""
 
 _LIMIT = 60
 """A walk longer than this is not worth following: the caller's bound is far below."""
@@ -132,9 +138,10 @@ def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goa
     the instruction names is known from the text (it walks straight there), a landmark's receptacle only in the
     view that shows the landmark, and in a counting conditional the named receptacle only once it holds the object
     at the landmark whose count decides. It cannot know what it passed, so after every pick it starts its walk
-    again from the first receptacle. None when an object is told only by a witness on another receptacle
-    (:data:`WITNESS_ELSEWHERE`), when ``pick up`` would take another instance, or when a whole walk finds nothing
-    to act on."""
+    again from the first receptacle -- except after moving a look-alike out of the way (:data:`IN_THE_WAY`): the
+    view that showed it showed the object right of it, so the same plan walks straight back there. None when an
+    object is told only by a witness on another receptacle (:data:`WITNESS_ELSEWHERE`), when ``pick up`` would
+    take another instance, or when a whole walk finds nothing to act on."""
     if any(part in template for part in WITNESS_ELSEWHERE):
         return None
     if any(part in template for part in GATHERING):
@@ -148,6 +155,7 @@ def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goa
 
     order = _order(reverse)
     walk = 0  # the next receptacle of the current walk
+    origin: dict[str, str] = {}  # where each picked object came from
     while pending and walker.steps <= _LIMIT:
         held = w.held
         if held is not None and _named(dest[held], instruction) and gate in (None, w.agent_at):
@@ -155,6 +163,9 @@ def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goa
             if not do("place", dest[held]):
                 return None
             pending.discard(held)
+            back = origin.get(held)
+            if back is not None and IN_THE_WAY in template and any(w.items[n].loc == back for n in pending):
+                walk = order.index(back)  # it moved a look-alike out of the way there: the object is right there
             continue
         if walk >= len(order):
             return None  # a whole walk without anything to act on
@@ -176,6 +187,7 @@ def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goa
                     if cand is None:
                         return None  # the object is not the one ``pick up`` takes
                     do("pick", cand.type)
+                    origin[cand.name] = here
                     walk = 0  # it cannot know what it passed: the walk starts again
                     if _named(dest[cand.name], instruction) and gate in (None, here):
                         break

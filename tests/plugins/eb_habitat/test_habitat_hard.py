@@ -73,24 +73,91 @@ def test_every_hard_goal_protects_every_other_object_and_picks_the_mover_once() 
         assert all(not any(p.name in ("untouched", "once") for p in group) for group in spec.subgoal_predicates())
 
 
-def test_look_alikes_have_colours_of_their_own_and_a_near_hue_one_stands_right_of_the_object() -> None:
+def _object_and_blocker(t: Task) -> tuple[object, object | None, str | None]:
+    """(the object a one-object task moves, the look-alike in its way or None, where that one must go)."""
+    spec = spec_of(t)
+    moves = [g[1:-1].split()[1:] for g in spec.goal if g.startswith(("(on ", "(inside "))]
+    names = {o.name: o for o in spec.objects}
+    if len(moves) == 1:
+        return names[moves[0][0]], None, None
+    (blocker, aside), (mover, _) = moves
+    return names[mover], names[blocker], aside
+
+
+def test_look_alikes_have_colours_of_their_own_and_a_near_hue_one_stands_beside_the_object() -> None:
     """Five instances in five colours; in most tasks one of them, in a near hue (yellow beside orange), stands on
-    the object's own surface to its right, so ``pick up`` (the leftmost) still takes the object."""
+    the object's own surface: to its right (``pick up``, the leftmost, still takes the object), or to its left,
+    in the way, when the goal moves it first (version 5)."""
     paired = 0
     tasks = BY_SUBSET["base"] + BY_SUBSET["visual_appearance"]
     for t in tasks:
         spec = spec_of(t)
-        mover = next(o for o in spec.objects if o.name == spec.goal[0].split()[1])
+        mover, blocker, _ = _object_and_blocker(t)
         twins = [o for o in spec.objects if o.type == mover.type]
         assert len(twins) == len({o.color for o in twins}) == 5, t.id
         assert all(o.color in HARD_COLORS[o.type] for o in twins), t.id
-        beside = [o for o in twins if o.at == mover.at and o is not mover]
-        assert all(o.slot > mover.slot for o in beside), t.id  # the object is the leftmost of its kind there
+        beside = [o for o in twins if o.at == mover.at and o.name != mover.name]
         assert len(beside) <= 1, t.id
-        if beside:
+        if beside:  # left of the object only when the goal moves it out of the way
+            assert (beside[0] == blocker) == (beside[0].slot < mover.slot), t.id
             assert beside[0].color in near_hues(mover.type, mover.color), t.id
             paired += 1
-    assert paired >= 0.6 * len(tasks)
+    assert paired >= 0.55 * len(tasks)  # 58 of 100 at seed 0
+
+
+IN_THE_WAY_SUBSETS = ("base", "common_sense", "visual_appearance")
+
+
+def test_in_the_way_the_look_alike_left_of_the_object_goes_to_the_named_receptacle_first() -> None:
+    """Version 5: every one-object task of base, common_sense, visual_appearance and complex_instruction's stories
+    and negations says that a look-alike left of the object (the same type in another colour) must first go to
+    a named receptacle. In 30-65 % of a subset one stands there (its near hue) and the goal moves it there, once;
+    in the rest nothing of the type stands left of the object, and the goal moves the object alone. The clause
+    never names the look-alike's colour, and the object is not the leftmost of its kind exactly when one is in
+    the way."""
+    from eb_habitat.catalog import RECEPTACLES
+
+    for subset in (*IN_THE_WAY_SUBSETS, "complex_instruction"):
+        tasks = [t for t in BY_SUBSET[subset] if ".in_the_way." in t.metadata["template"]]
+        if subset != "complex_instruction":
+            assert len(tasks) == 50, subset
+        else:
+            assert {t.metadata["template"].split(".")[2] for t in tasks} == {"story", "negation"}
+            assert len(tasks) >= 15
+        blocked = 0
+        for t in tasks:
+            spec = spec_of(t)
+            mover, blocker, aside = _object_and_blocker(t)
+            left = [o for o in spec.objects if o.type == mover.type and o.at == mover.at and o.slot < mover.slot]
+            clause = next(c for c in re.split(r"(?<=\.) ", t.instruction) if re.search("to its left|left of it", c))
+            named = [r.key for r in RECEPTACLES if f"the {r.name.lower()}" in clause.lower()]
+            assert named, t.id
+            if blocker is None:
+                assert not left, t.id
+                continue
+            blocked += 1
+            assert left == [blocker] and aside == named[-1] and f"(once {blocker.name})" in spec.goal, t.id
+            assert not re.search(rf"\b{blocker.color}\b", clause), t.id
+        assert 0.3 * len(tasks) <= blocked <= 0.65 * len(tasks), (subset, blocked)
+
+
+def test_a_stateless_agent_walks_straight_back_after_moving_a_look_alike_out_of_the_way() -> None:
+    """The view that shows the look-alike in the way shows the object right of it, so one plan moves the
+    look-alike to the named receptacle and walks back for the object: the bound is shorter than a walk that
+    starts again from the first receptacle, which it would be without the clause's template."""
+    from eb_habitat.search import stateless_search_steps
+
+    shorter = 0
+    for t in BY_SUBSET["base"]:
+        if _object_and_blocker(t)[1] is None:
+            continue
+        m = t.metadata
+        args = (m["objects"], m["open"], m["goal"], t.instruction)
+        back = stateless_search_steps(*args, m["template"])
+        restart = stateless_search_steps(*args, m["template"].replace(".in_the_way.", ".way."))
+        assert back is not None and restart is not None and back <= restart, t.id
+        shorter += back < restart
+    assert shorter >= 10
 
 
 def _gathering(t: Task) -> tuple[list, list, str]:
@@ -141,6 +208,30 @@ def test_long_horizon_gathers_every_object_of_a_colour_without_saying_how_many()
     assert 0.2 * 50 <= negated <= 0.5 * 50
 
 
+def test_gatherings_of_one_type_hold_its_look_alike_type_in_a_colour_that_qualifies() -> None:
+    """Version 5 (long_horizon): "every red mug" has a red cup on a surface with a qualifying mug ("every mug that
+    is not yellow": a cup of another colour), so the type is judged beside the colour, in one view; the
+    look-alike type is never a mover."""
+    from eb_habitat.catalog import allowed_colors
+    from eb_habitat.hard import CONFUSERS
+
+    seen = 0
+    for t in BY_SUBSET["long_horizon"]:
+        movers, rest, color = _gathering(t)
+        types = {o.type for o in movers} | {o.type for o in rest}
+        if len(types) != 1 or CONFUSERS[next(iter(types))][0] in types:
+            continue
+        twin = CONFUSERS[next(iter(types))][0]
+        negated = ".gather_not." in t.metadata["template"]
+        if not any((c != color) == negated for c in allowed_colors(twin)):
+            continue  # no plate is orange: "every orange bowl" has no look-alike that could qualify
+        twins = [o for o in spec_of(t).objects if o.type == twin]
+        assert twins and all((o.color != color) == negated for o in twins), t.id
+        assert any(o.at in {m.at for m in movers} for o in twins), t.id
+        seen += 1
+    assert seen >= 15
+
+
 def test_untouched_and_once_take_a_name_not_a_type() -> None:
     with pytest.raises(PredicateError, match="instance name"):
         parse_predicate("(untouched ?mug)")
@@ -182,7 +273,7 @@ def test_a_wrong_pick_is_final_even_when_put_back() -> None:
 
 
 def test_the_object_cannot_be_tried_at_one_receptacle_after_another() -> None:
-    task = BY_SUBSET["base"][1]
+    task = next(t for t in BY_SUBSET["base"] if _object_and_blocker(t)[1] is None)
     spec = spec_of(task)
     mover = next(o for o in spec.objects if o.name == spec.goal[0].split()[1])
     dest = spec.goal[0].split()[2].rstrip(")")
@@ -372,25 +463,39 @@ def test_counting_conditionals_the_count_beside_the_landmark_decides() -> None:
 
 
 def test_counting_destinations_hold_exactly_the_number_and_decoys_do_not() -> None:
-    """"The furniture that holds exactly two cups": the destination holds exactly that many of the type and
-    nothing else (nothing hides what is counted), two decoy surfaces hold one more or one fewer (or one fewer
-    beside an object of the look-alike type: a mug among cups), and no other receptacle holds the type."""
+    """"The furniture that holds exactly two cups" (base; spatial_relationship since version 5): the destination
+    holds exactly that many of the type and nothing else (nothing hides what is counted), two decoy surfaces hold
+    one more or one fewer (or one fewer beside an object of the look-alike type: a mug among cups), and no other
+    receptacle holds the type. Version 5 (base): in some tasks the destination holds two and one of the look-alike
+    type (two cups and a mug), with decoys of one cup and one mug, three cups, or one cup and two mugs."""
     from eb_habitat.hard import CONFUSERS
 
     count_tasks = [t for t in BY_SUBSET["base"] if ".base.count." in t.metadata["template"]]
-    assert len(count_tasks) >= 15
+    spatial = [t for t in BY_SUBSET["spatial_relationship"] if t.metadata["template"].endswith(".count")]
+    assert len(count_tasks) >= 15 and len(spatial) >= 15  # version 5: a relation, then a count (spatial)
+    count_tasks += spatial
+    among_twins = 0
     for t in count_tasks:
         spec = spec_of(t)
         kind, n = _counted(t)
-        dest = spec.goal[0].split()[2].rstrip(")")
-        assert [o.type for o in spec.objects if o.at == dest] == [kind] * n, t.id
+        dest = _object_and_blocker(t)[0]
+        dest = next(g for g in spec.goal if g.startswith(f"(on {dest.name} "))[1:-1].split()[2]
+        here = sorted(o.type for o in spec.objects if o.at == dest)
         decoys = {o.at for o in spec.objects if o.type == kind} - {dest}
         assert len(decoys) == 2, t.id
+        if here != [kind] * n:  # version 5: two of the type and one of its look-alike type (two cups, a mug)
+            assert n == 2 and sorted(here) == sorted([kind, kind, CONFUSERS[kind][0]]), t.id
+            among_twins += 1
         for at in decoys:
-            here = [o.type for o in spec.objects if o.at == at]
-            twins = [k for k in here if k in CONFUSERS[kind]]
-            assert here.count(kind) in (n - 1, n + 1) and len(here) == here.count(kind) + len(twins), t.id
-            assert len(twins) <= 1 and (not twins or here.count(kind) == n - 1), t.id
+            there = [o.type for o in spec.objects if o.at == at]
+            twins = [k for k in there if k in CONFUSERS[kind]]
+            assert there.count(kind) != n and len(there) == there.count(kind) + len(twins), t.id
+            if here == [kind] * n:
+                assert there.count(kind) in (n - 1, n + 1), t.id
+                assert len(twins) <= 1 and (not twins or there.count(kind) == n - 1), t.id
+            else:
+                assert (there.count(kind), len(twins)) in ((1, 1), (3, 0), (1, 2)), t.id
+    assert among_twins >= 5
 
 
 def test_every_hard_task_is_within_the_stateless_bound() -> None:
