@@ -103,12 +103,12 @@ _NOT_NAMED = {"Drawer": ("white",)}
 #: model's size (a model that called it a plate was labelled as hallucinating).
 _LEFT_OUT = ("TennisRacket",)
 #: Subsets whose candidates with an object type of one look only (colour or shape) are refused with this
-#: probability, so that most targets need two words judged at each candidate ("the round white plate"; of
-#: mug, plate, bowl, vase, statue and book). Spatial_awareness tells its look-alikes apart by place, and
-#: long_horizon's types follow its recipes (a sliced apple, a heated egg).
+#: probability (levels with ``two_looks``), so that most targets need two words judged at each candidate ("the
+#: round white plate"; of mug, plate, bowl, vase, statue and book). Spatial_awareness tells its look-alikes apart
+#: by place, and long_horizon's types follow its recipes (a sliced apple, a heated egg).
 _BOTH_FIRST = {"base": 0.7, "common_sense": 0.7, "complex_instruction": 0.7, "visual_appearance": 0.7}
 #: Subsets whose destination is always named by colour and a neighbour ("the brown drawer just to the left of
-#: the sink"); a candidate whose destination has no neighbour to name is refused.
+#: the sink"; levels with ``two_looks``); a candidate whose destination has no neighbour to name is refused.
 _NEIGHBOUR_ALWAYS = ("base", "complex_instruction", "visual_appearance")
 #: Furniture that can be a destination or hold the object in spatial tasks.
 _HOSTS = ("Cabinet", "Drawer", "Shelf", "SideTable", "CounterTop", "Dresser", "TowelHolder")
@@ -311,7 +311,7 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     if drawn is None:
         return None
     scene, goal, xt, rt = drawn
-    if subset in _BOTH_FIRST and not _has_both_looks(xt) and rng.random() < _BOTH_FIRST[subset]:
+    if cfg["two_looks"] and subset in _BOTH_FIRST and not _has_both_looks(xt) and rng.random() < _BOTH_FIRST[subset]:
         return None  # most targets of these subsets are of a type named by colour and shape together
     picked = _hard_targets(rng, subset, scene, goal, cfg, xt, rt, pick_two)
     if picked is None:
@@ -322,7 +322,7 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
         two_looks=cfg["two_looks"] and subset != "common_sense")
     if not MIN_ACTIONS <= len(scene_actions(world)) <= MAX_ACTIONS:
         return None
-    if subset in _NEIGHBOUR_ALWAYS and dest_rel is None:
+    if cfg["two_looks"] and subset in _NEIGHBOUR_ALWAYS and dest_rel is None:
         return None  # the destination needs its colour and its neighbour judged
     if pick_two:
         look = {"color": targets[0]["color"], "shape": targets[0]["shape"]} if attr == "color+shape" else {
