@@ -74,7 +74,9 @@ def candidate_phrases(world: World, goal: dict[str, Any], role: str) -> list[tup
             out += [(use_phrase(use, v), [x]) for use in TYPES[xt].uses]  # common_sense: "the red handled cup..."
     if o.color and o.shape and all((world.objects[y].color, world.objects[y].shape) != (o.color, o.shape)
                                    for y in world.of_type(xt) if y != x):
-        out.append((f"the {shape_before_colour(o.shape)} {o.color} {noun(xt)}", [x]))  # hard: "the round white plate"
+        both = f"{shape_before_colour(o.shape)} {o.color}"
+        out.append((f"the {both} {noun(xt)}", [x]))  # hard: "the round white plate"
+        out += [(use_phrase(use, both), [x]) for use in TYPES[xt].uses]  # hard common_sense: "the tall red ..."
     if TYPES[xt].pickupable:
         out += object_relations(world, x)
     else:
@@ -121,6 +123,12 @@ def phrase_problems(instruction: str, goal: dict[str, Any], world: World) -> lis
                                 f"the instruction does not single it out")
         else:
             t = ref["type"]
+            if ref.get("color") and ref.get("shape"):  # hard pick-two: "two round white plates"
+                words = {"color": ref["color"], "shape": ref["shape"]}
+                said = f"{shape_before_colour(ref['shape'])} {ref['color']}"
+                if not re.search(rf"\b{re.escape(said)} ({re.escape(plural(t))}|{re.escape(noun(t))})\b", low):
+                    problems.append(f"goal.{role} needs {words}, but the instruction does not say '{said}'")
+                continue
             for attr in ("color", "shape"):
                 v = ref.get(attr)
                 if v and not re.search(rf"\b{re.escape(v)} {re.escape(plural(t))}\b", low) and \

@@ -31,6 +31,9 @@ CLASSIC_SHA256 = {
 }
 MIN_BOTH_LOOKS = 40
 MIN_BY_NEIGHBOUR = 80
+MIN_BOTH_LOOKS_ALL = 60
+MIN_BOTH_COMMON_SENSE = 5
+MIN_BOTH_PICK_TWO = 10
 CLASSIC_DIGEST = "5e2c7c66fe0204a0c42c99888ed7900add1b5e991d8d7117c4ae705b1c16eaf5"
 
 
@@ -188,13 +191,14 @@ def test_hard_oracle_open_and_closed_loop_on_a_sample(subset: str) -> None:
 
 
 def test_hard_blind_players_stay_under_5_percent_per_subset() -> None:
-    """Three seeded episodes of each blind player per task (300 per subset): one episode a task scattered too
-    widely around the 2-4 % rate (12/100 in long_horizon for one draw, 2-3 % over 12 draws)."""
+    """Six seeded episodes of each blind player per task (600 per subset): one episode a task scattered too
+    widely around the 2-4 % rate (12/100 in long_horizon for one draw, 2-3 % over 12 draws), and three did for
+    the third regeneration (18/300 in spatial_awareness, 3.8 % over six and over twelve)."""
     by: dict[str, list[bool]] = {s: [] for s in SUBSETS}
     rnd = []
     for t in _hard():
         scene, goal = t.metadata["scene"], t.metadata["goal"]
-        for k in range(3):
+        for k in range(6):
             rng = random.Random(f"{t.id}/{k}")
             by[t.subset] += [guess_episode(scene, goal, rng), sweep_episode(scene, goal, rng)]
             if t.subset in ("base", "long_horizon") and k == 0:
@@ -400,3 +404,91 @@ def test_a_relation_is_judged_in_the_view_of_the_thing_it_singles_out() -> None:
         assert len(got) == 1 and "garbage can" in got[0] and case["goal"]["receptacle"]["instance"] in got[0]
     finally:
         renderer.close()
+
+
+# ------------------------------------------------------------------------------------------ session 8: finer looks
+def _object_type(w: World, goal: dict) -> str:
+    ref = goal["object"]
+    return w.objects[ref["instance"]].type if "instance" in ref else ref["type"]
+
+
+def test_every_look_alike_of_a_two_look_target_is_a_near_miss() -> None:
+    """A stateless player decides at each candidate's own view; when the target is named by colour and shape,
+    every look-alike has exactly one of the two (none can be ruled out by one word), pick-two targets and
+    common_sense included ("two round white plates", "the tall red handled cup for hot coffee")."""
+    from eb_alfred.audit import _targets
+    from eb_alfred.instructions import shape_before_colour
+
+    both: Counter[str] = Counter()
+    for t in _hard():
+        w, goal = World.from_scene(t.metadata["scene"]), t.metadata["goal"]
+        xt = _object_type(w, goal)
+        targets = _targets(goal, w)
+        c, s = w.objects[targets[0]].color, w.objects[targets[0]].shape
+        if not (c and s) or not re.search(rf"\b{shape_before_colour(s)} {c}\b", t.instruction.lower()):
+            continue  # not named by both looks
+        if "instance" not in goal["object"]:
+            assert goal["object"].get("color") == c and goal["object"].get("shape") == s, t.id
+        others = [w.objects[n] for n in w.of_type(xt) if n not in targets]
+        assert all((o.color == c) != (o.shape == s) for o in others), t.id  # exactly one word shared
+        assert sum(o.color == c for o in others) >= 2 and sum(o.shape == s for o in others) >= 2, t.id
+        both[t.subset] += 1
+        both["pick_two"] += "instance" not in goal["object"]
+    assert both["common_sense"] >= MIN_BOTH_COMMON_SENSE and both["pick_two"] >= MIN_BOTH_PICK_TWO, both
+    assert sum(both[s] for s in SUBSETS) >= MIN_BOTH_LOOKS_ALL, both
+
+
+def test_a_colour_and_neighbour_destination_shares_its_colour_with_most_of_its_type() -> None:
+    """"the brown drawer just to the right of the sink": most drawers are brown (3 of 4 or 5, 4 of 6), so the
+    colour rules out one or two and the neighbour must be judged at nearly every candidate."""
+    from eb_alfred.hard import _same_colour
+    from eb_alfred.instructions import noun
+
+    seen = 0
+    for t in _hard():
+        w, goal, text = World.from_scene(t.metadata["scene"]), t.metadata["goal"], t.instruction.lower()
+        d = w.objects[goal["receptacle"]["instance"]]
+        if d.color and f"the {d.color} {noun(d.type)} just to the " in text:
+            dests = [w.objects[n] for n in w.of_type(d.type) if w.objects[n].parent is None]
+            same = sum(x.color == d.color for x in dests)
+            assert same == _same_colour(len(dests)) and same < len(dests), t.id
+            seen += 1
+    assert seen >= MIN_BY_NEIGHBOUR
+    assert [_same_colour(n) for n in (4, 5, 6)] == [3, 3, 4]
+
+
+def test_no_render_fault_touches_a_hard_task() -> None:
+    """Known faults at the model's size: a tennis racket lying flat reads as a white plate with a red rim (none
+    in hard rooms); a white thing inside a cabinet or drawer renders grey in its shade (no white look-alike
+    inside closed furniture); a white drawer's front is light grey and striped (no drawer is named white)."""
+    from eb_alfred.hard import shadowed_white
+
+    for t in _hard():
+        w, goal = World.from_scene(t.metadata["scene"]), t.metadata["goal"]
+        assert not w.of_type("TennisRacket"), t.id
+        assert shadowed_white(w, _object_type(w, goal)) == [], t.id
+        assert "white drawer" not in t.instruction.lower(), t.id
+    w = World.from_scene(_hard()[0].metadata["scene"])
+    xt = _object_type(w, _hard()[0].metadata["goal"])
+    from eb_alfred.catalog import TYPES
+
+    box = next(n for n, o in w.objects.items() if TYPES[o.type].openable and not o.is_open and o.parent is None
+               and o.type in ("Cabinet", "Drawer"))
+    x = w.of_type(xt)[0]
+    w.objects[x].parent, w.objects[x].color = box, "white"
+    assert shadowed_white(w, xt) == [x]
+
+
+def test_a_pick_two_goal_with_both_looks_needs_both_words_in_the_instruction() -> None:
+    from eb_alfred.audit import phrase_problems
+
+    task = next(t for t in _hard() if "instance" not in t.metadata["goal"]["object"]
+                and {"color", "shape"} <= set(t.metadata["goal"]["object"]))
+    w, goal = World.from_scene(task.metadata["scene"]), task.metadata["goal"]
+    assert phrase_problems(task.instruction, goal, w) == []
+    c, s = goal["object"]["color"], goal["object"]["shape"]
+    from eb_alfred.instructions import shape_before_colour
+
+    said = f"{shape_before_colour(s)} {c}"
+    assert said in task.instruction
+    assert phrase_problems(task.instruction.replace(said, c), goal, w)  # the shape word left out
