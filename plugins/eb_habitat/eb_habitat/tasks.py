@@ -19,7 +19,6 @@ problem raises :class:`TaskFileError` with ONE line naming the file, the task an
 from __future__ import annotations
 
 from pathlib import Path
-
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler, model_serializer

@@ -728,3 +728,21 @@ def test_the_handle_is_drawn_on_the_side_the_file_says_and_is_in_view() -> None:
             break
     renderer.close()
     assert checked == 6
+
+
+def test_no_handle_pair_stands_on_furniture_of_its_colour() -> None:
+    """A blue handle on the blue sofa barely shows at 500 px: the clash table is exactly the receptacles whose
+    furniture has a mug colour, and no shipped pair stands on one in its colour."""
+    from eb_habitat.catalog import RECEPTACLES
+    from eb_habitat.hard import HANDLE_CLASHES, HANDLE_COLORS
+    from eb_habitat.render import LAYOUTS
+
+    surfaces = [r.key for r in RECEPTACLES if r.kind == "surface"]
+    clashes = {(a, k): lay.furniture[k].color for a, lay in enumerate(LAYOUTS) for k in surfaces
+               if k in lay.furniture and lay.furniture[k].color in HANDLE_COLORS}
+    assert clashes == HANDLE_CLASHES
+    for t in HARD:
+        spec = spec_of(t)
+        for o in spec.objects:
+            if o.handle is not None:
+                assert HANDLE_CLASHES.get((spec.apartment, o.at)) != o.color, t.id
