@@ -70,7 +70,7 @@ __all__ = ["DIFFICULTIES", "HARD_BUILDERS", "LEVELS", "Level", "generate_subset"
 DIFFICULTIES = ("classic", "medium", "hard")
 """Generator levels: ``classic`` is :mod:`eb_habitat.generate`, the others are drawn here."""
 
-HARD_VERSION = "5"
+HARD_VERSION = "6"
 
 #: The generator version each subset's random draws are keyed on (version 3 when absent): version 5 redraws
 #: every subset.
@@ -185,7 +185,7 @@ _IN_THE_WAY = (
     "Check the furniture it stands on: {same} to its left would be in the way, so if there is one, put that one "
     "{pa} before anything else.",
     "Should {same} stand somewhere left of it on that furniture, that one has to go to the {t} first.",
-    "Anything of its kind (the same thing in another colour) standing to its left on the same furniture must "
+    "Anything of its kind (the same thing, in any colour) standing to its left on the same furniture must "
     "first be moved to the {t}; if nothing of its kind stands there, no such move is needed.",
 )
 
@@ -197,7 +197,7 @@ _NOTHING_ELSE_IN_THE_WAY = (
 
 
 def _same_kind(x: str, named: bool) -> str:
-    return f"another {object_type(x).name}" if named else "another thing of exactly its kind in another colour"
+    return f"another {object_type(x).name}" if named else "another thing of exactly its kind (in any colour)"
 
 
 def in_the_way(rng: random.Random, scene: Scene, target: dict[str, Any]) -> dict[str, Any] | None:
@@ -239,6 +239,63 @@ def one_move(rng: random.Random, text: str, scene: Scene, target: dict[str, Any]
     moves = [(blocker, aside), (target, dest)] if blocker is not None else [(target, dest)]
     return HardDraft(f"{text} {way} {rng.choice(_NOTHING_ELSE_IN_THE_WAY)}", scene, moves,
                      f"{template}.in_the_way.{clause}")
+
+
+# -- the handle's side (version 6) ----------------------------------------------------------------------------
+
+HANDLE_SHARE = 0.5
+"""Share of the draws of base, common_sense, complex_instruction (stories and negations) and visual_appearance whose
+object is a mug told from a same-colour twin beside it by the side its handle points to."""
+
+HANDLE_COLORS = ("red", "blue", "yellow", "green", "orange", "purple")
+"""Mug colours whose handle reads on every surface at 500 px (a black handle vanishes on dark wood, a white one on a
+white counter)."""
+
+_OTHER_SIDE = {"left": "right", "right": "left"}
+
+#: (apartment, receptacle) whose furniture has a mug colour (``render.LAYOUTS``; pinned by a test): a handle in
+#: that colour barely stands out from it (a blue handle on the blue sofa), so no mug pair of that colour goes there.
+HANDLE_CLASHES: dict[tuple[int, str], str] = {(1, "sofa"): "blue", (2, "sofa"): "green"}
+
+
+def handle_pair(rng: random.Random, scene: Scene, target: dict[str, Any]) -> str | None:
+    """When the object is a mug: the mug beside it on its surface (its near-hue look-alike, :func:`near_pair`)
+    takes its colour, and the two handles point to opposite sides (``handle``, drawn in profile by the renderer),
+    so only the handle tells them apart, in one view; :func:`in_the_way` may then put the twin left of it. Returns
+    the object's side, or None for other types. Raises :class:`_Reject` when there is no twin beside the mug or
+    another mug of its colour lies elsewhere (the instruction names colour and side only)."""
+    if target["type"] != "mug":
+        return None
+    beside = [o for o in scene.objects if o["type"] == "mug" and o["at"] == target["at"] and o is not target]
+    if len(beside) != 1 or receptacle(target["at"]).kind != "surface":
+        raise _Reject("no twin beside the mug")
+    if target["color"] not in HANDLE_COLORS:
+        fits = [c for c in HANDLE_COLORS if not any(o["type"] == "mug" and o["color"] == c for o in scene.objects)]
+        if not fits:
+            raise _Reject("no free colour for the mug")
+        target["color"] = rng.choice(fits)
+    if HANDLE_CLASHES.get((scene.apartment, target["at"])) == target["color"]:
+        raise _Reject("the mug's colour is the furniture's")
+    twin = beside[0]
+    if any(o["type"] == "mug" and o["color"] == target["color"] and o is not target and o is not twin
+           for o in scene.objects):
+        raise _Reject("another mug of the colour elsewhere")
+    side = rng.choice(("left", "right"))
+    twin["color"], twin["handle"], target["handle"] = target["color"], _OTHER_SIDE[side], side
+    return side
+
+
+def handle_words(side: str | None, looks: bool = False) -> str:
+    """What the instruction adds after the object's name (or, ``looks``, after its look, which already says it has
+    a handle)."""
+    if side is None:
+        return ""
+    return f" pointing to the {side} as you face it" if looks else f" whose handle points to the {side} as you face it"
+
+
+def _with_handle(template: str, side: str | None, name: str = "{o}") -> str:
+    """``template`` with the handle's side after every "{c} <name>"."""
+    return template.replace("{c} " + name, "{c} " + name + handle_words(side).replace("{", "{{"))
 
 
 # -- scene building ---------------------------------------------------------------------------------------------
@@ -428,8 +485,9 @@ def _places_of(objs: list[dict[str, Any]]) -> tuple[str, ...]:
 
 
 def _two_types(rng: random.Random) -> tuple[str, str]:
-    """The target's and the landmark's type: mostly types with a near-hue pair (:data:`PAIRED`)."""
-    x = rng.choice(PAIRED if rng.random() < 0.85 else VARIED)
+    """The target's and the landmark's type: a mug in :data:`HANDLE_SHARE` of the draws (version 6: its handle
+    tells it from its twin, :func:`handle_pair`), otherwise mostly types with a near-hue pair (:data:`PAIRED`)."""
+    x = "mug" if rng.random() < HANDLE_SHARE else rng.choice(PAIRED if rng.random() < 0.85 else VARIED)
     y = rng.choice([k for k in (PAIRED if rng.random() < 0.85 else VARIED) if k != x])
     return x, y
 
@@ -558,10 +616,12 @@ def _counted_destination(rng: random.Random, level: Level, x: str
 
 
 def _base_count(rng: random.Random, level: Level) -> HardDraft:
-    x = rng.choice(PAIRED)
+    x = "mug" if rng.random() < HANDLE_SHARE else rng.choice(PAIRED)
     scene, target, dest, y, n = _counted_destination(rng, level, x)
+    side = handle_pair(rng, scene, target)
     i = rng.randrange(len(_BASE_COUNT))
-    text = _BASE_COUNT[i].format(c=target["color"], o=object_type(x).name, n=_NUMBERS[n], ys=_plural(y))
+    text = _with_handle(_BASE_COUNT[i], side).format(c=target["color"], o=object_type(x).name, n=_NUMBERS[n],
+                                                     ys=_plural(y))
     groups = tuple(k for k in SURFACES if any(o["type"] == y and o["at"] == k for o in scene.objects))
     return one_move(rng, text, scene, target, dest, f"hard.base.count.{i}", avoid=groups)
 
@@ -572,9 +632,11 @@ def _base(rng: random.Random, level: Level) -> HardDraft:
     scene = _new_scene(rng)
     x, y = _two_types(rng)
     target, _, lm, lms = _target_and_landmark(rng, scene, level, x, y)
+    side = handle_pair(rng, scene, target)
     _clutter(rng, scene, level, {x, y}, keep_free=_places_of([lm, *lms]))
     i = rng.randrange(len(_BASE))
-    text = _BASE[i].format(c=target["color"], o=object_type(x).name, lc=lm["color"], l=object_type(y).name)
+    text = _with_handle(_BASE[i], side).format(c=target["color"], o=object_type(x).name, lc=lm["color"],
+                                               l=object_type(y).name)
     return one_move(rng, text, scene, target, lm["at"], f"hard.base.{i}", avoid=_places_of([lm, *lms]))
 
 
@@ -614,10 +676,11 @@ def _common_sense(rng: random.Random, level: Level) -> HardDraft:
     scene = _new_scene(rng)
     x, y = _two_types(rng)
     target, _, lm, lms = _target_and_landmark(rng, scene, level, x, y)
+    side = handle_pair(rng, scene, target)
     _confusers(rng, scene, target, _places_of([lm, *lms]))
     _clutter(rng, scene, level, {x, y, *CONFUSERS[x]}, keep_free=_places_of([lm, *lms]))
     i = rng.randrange(len(_CS))
-    text = _CS[i].format(c=target["color"], u=USES[x], lc=lm["color"], lu=USES[y])
+    text = _with_handle(_CS[i], side, "{u}").format(c=target["color"], u=USES[x], lc=lm["color"], lu=USES[y])
     return one_move(rng, text, scene, target, lm["at"], f"hard.common_sense.{i}", avoid=_places_of([lm, *lms]),
                     named=False)
 
@@ -733,15 +796,16 @@ def _complex(rng: random.Random, level: Level) -> HardDraft:
     scene = _new_scene(rng)
     x, y = _two_types(rng)
     target, others, lm, lms = _target_and_landmark(rng, scene, level, x, y)
+    side = handle_pair(rng, scene, target)
     _clutter(rng, scene, level, {x, y}, keep_free=_places_of([lm, *lms]))
     w = dict(c=target["color"], o=object_type(x).name, os=_plural(x), lc=lm["color"], l=object_type(y).name)
     if rng.random() < 0.5:
         i = rng.randrange(len(_STORY))
-        text, template = _STORY[i].format(**w), f"hard.complex.story.{i}"
+        text, template = _with_handle(_STORY[i], side).format(**w), f"hard.complex.story.{i}"
     else:
         i = rng.randrange(len(_NEGATION))
-        na, nb = (o["color"] for o in rng.sample(others, 2))
-        text, template = _NEGATION[i].format(na=na, nb=nb, **w), f"hard.complex.negation.{i}"
+        na, nb = (o["color"] for o in rng.sample([o for o in others if o["color"] != target["color"]], 2))
+        text, template = _with_handle(_NEGATION[i], side).format(na=na, nb=nb, **w), f"hard.complex.negation.{i}"
     return one_move(rng, text, scene, target, lm["at"], template, avoid=_places_of([lm, *lms]))
 
 
@@ -880,10 +944,12 @@ def _visual(rng: random.Random, level: Level) -> HardDraft:
     scene = _new_scene(rng)
     x, y = _two_types(rng)
     target, _, lm, lms = _target_and_landmark(rng, scene, level, x, y)
+    side = handle_pair(rng, scene, target)
     _confusers(rng, scene, target, _places_of([lm, *lms]))
     _clutter(rng, scene, level, {x, y, *CONFUSERS[x]}, keep_free=_places_of([lm, *lms]))
     i = rng.randrange(len(_LOOK_FRAMES))
-    text = _LOOK_FRAMES[i].format(look=LOOKS[x].format(c=target["color"]), llook=LOOKS[y].format(c=lm["color"]))
+    look = LOOKS[x].format(c=target["color"]) + handle_words(side, looks=True)
+    text = _LOOK_FRAMES[i].format(look=look, llook=LOOKS[y].format(c=lm["color"]))
     return one_move(rng, text, scene, target, lm["at"], f"hard.visual.looks.{i}", avoid=_places_of([lm, *lms]),
                     named=False)
 

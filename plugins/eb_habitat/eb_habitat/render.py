@@ -216,6 +216,12 @@ _YAW = {"skillet": 90.0, "toy_airplane": 60.0, "spatula": 70.0, "pitcher": -60.0
         "banana": 20.0, "hammer": 15.0, "bleach_bottle": -20.0}
 
 
+#: Turn (degrees) of a mug whose handle must point to one side as the agent faces it (hard sets, version 6): the kit
+#: mug's handle sticks out along its local +y, which is the camera's right when the mug faces the camera, so 0
+#: shows it in profile to the right and 180 to the left (each side reads in full, never hidden behind the body).
+HANDLE_YAW = {"right": 0.0, "left": 180.0}
+
+
 def _rot(yaw_deg: float, x: float, y: float) -> tuple[float, float]:
     c, s = math.cos(math.radians(yaw_deg)), math.sin(math.radians(yaw_deg))
     return c * x - s * y, s * x + c * y
@@ -382,7 +388,9 @@ class ApartmentRenderer:
         eye = np.array([target[0] + ex, target[1] + ey, eye_h])
         return eye, target
 
-    def _object_yaw(self, view_yaw: float, type_key: str) -> float:
+    def _object_yaw(self, view_yaw: float, type_key: str, handle: str | None = None) -> float:
+        if handle is not None:
+            return view_yaw + 180.0 + HANDLE_YAW[handle]
         return view_yaw + 180.0 + _YAW.get(type_key, 0.0)
 
     def pose(self, world: World) -> None:
@@ -412,7 +420,7 @@ class ApartmentRenderer:
                 pos = self.slot_position(it.loc, it.slot)
                 g = _GEOMETRY[it.loc]
                 _, fyaw = self._furniture[g.instance]
-                oyaw = self._object_yaw(fyaw + g.view_dir + 180.0, it.type)
+                oyaw = self._object_yaw(fyaw + g.view_dir + 180.0, it.type, it.handle)
                 quat = _yaw_quat(oyaw)
                 if g.lay_tall:
                     pos, quat = _lying(it.type, pos, fyaw + g.view_dir, quat)

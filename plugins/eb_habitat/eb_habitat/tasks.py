@@ -19,8 +19,9 @@ problem raises :class:`TaskFileError` with ONE line naming the file, the task an
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler, model_serializer
 
 from eb_core.env import Task
 from eb_core.taskfile import TaskFileError as _CoreTaskFileError
@@ -69,6 +70,16 @@ class ObjectSpec(BaseModel):
     """Receptacle key where it starts."""
     slot: int = Field(ge=0)
     """Position on that receptacle, 0 = leftmost."""
+    handle: Literal["left", "right"] | None = None
+    """Hard sets (version 6), mugs only: the side (as the agent faces the receptacle) the handle points to. None:
+    the type's usual turn. Left out of the file and of dumps when None, so classic files and digests are unchanged."""
+
+    @model_serializer(mode="wrap")
+    def _drop_unset_handle(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        out = handler(self)
+        if out.get("handle") is None:
+            out.pop("handle", None)
+        return out
 
 
 class TaskSpec(BaseModel):
@@ -139,6 +150,8 @@ def _semantic_problem(entry: _TaskEntry) -> tuple[str, str] | None:
             r = receptacle(o.at)
         except KeyError as exc:
             return f + ".at", exc.args[0]
+        if o.handle is not None and (o.type != "mug" or r.kind != "surface"):
+            return f + ".handle", f"only a mug on a surface has a handle's side, not a {t.name} at the {r.name}"
         if o.slot >= r.capacity:
             return f + ".slot", f"slot {o.slot} but the {r.name} has {r.capacity} slot(s)"
         if (o.at, o.slot) in slots:

@@ -30,6 +30,8 @@ class Item:
     """Receptacle key, or :data:`HAND`."""
     slot: int = 0
     """Position on the receptacle, 0 = leftmost as seen by the agent standing at it."""
+    handle: str | None = None
+    """Where a mug's handle points as the agent faces it (``left``/``right``; hard sets), None: the usual turn."""
 
 
 def item_label(item: Item) -> str:
@@ -67,7 +69,7 @@ class World:
     def __init__(self, objects: list[dict], opened: list[str] | tuple[str, ...] = (), agent_at: str | None = None):
         self.items: dict[str, Item] = {}
         for o in objects:
-            self.items[o["name"]] = Item(o["name"], o["type"], o["color"], o["at"], int(o["slot"]))
+            self.items[o["name"]] = Item(o["name"], o["type"], o["color"], o["at"], int(o["slot"]), o.get("handle"))
         self.opened: set[str] = set(opened)
         self.agent_at: str | None = agent_at
         self.held: str | None = None
