@@ -4,9 +4,11 @@ Scene slot by slot (all draws seeded by ``seed``): a room, its target and look-a
 (:func:`eb_navigation.hard.draw_scene`). Every start is checked on the geometry against all 10,948 blind
 constant-action policies and the feedback-only agents of :data:`~eb_navigation.baselines.CHECK_AGENTS` (the core
 audit's feedback policies among them), and one that would lift any of them above ``cap`` tasks of its subset (5 %
-of the scenes: 3 of 60) is never taken. Among the rest the generator takes the shortest expert plan, preferring a
-start with no low object on its straight way, one that no blind policy or agent solves, and one that shows a
-look-alike nearer the middle of the view than the target. A slot whose room gives no such starts draws another
+of the scenes: 3 of 60) is never taken, nor is one with a floor object lower than 0.5 m on its straight way to the
+target (:func:`eb_navigation.hard.clear_corridor`), nor an in-view start whose first image leaves out something on
+that way (:func:`eb_navigation.hard.way_seen`). Among the rest the generator takes the shortest expert plan,
+preferring one that no blind policy or agent solves, and one that shows a look-alike nearer the middle of the view
+than the target. A slot whose room gives no such starts draws another
 room (after 40 rooms the next target type, after 120 the next room kind).
 """
 
