@@ -3,7 +3,8 @@
 Same protocol as the classic set (8 actions, 20 steps, success within 1 m of the target's centre); other scenes
 and instructions. Per scene slot one room (seeds from :data:`SEED_BASE`, apart from every other task source) with:
 
-* more small things on the furniture (the kit's ``clutter``) and a few extra things standing on the floor;
+* more small things on the furniture (the kit's ``clutter``) and a few extra things standing on the floor (the
+  low ones along the walls);
 * a small target standing on the floor (a vase, a watering can, a teddy bear, a bin, a potted plant, a footstool,
   a laundry hamper) and look-alikes of the same type in clearly different colours at least
   :data:`MIN_LOOKALIKE_GAP` metres away: walking up to a look-alike never succeeds, and only the colour named in
@@ -14,12 +15,16 @@ and instructions. Per scene slot one room (seeds from :data:`SEED_BASE`, apart f
 * long_horizon: a start with the target out of view in a random direction (to the left, to the right or behind,
   in turn over the slots), so the direction must be found by looking, not assumed.
 
-No start sits in a pocket: from every start at least 1 m (4 moves) is clear straight ahead or to one side. Every
-candidate start is checked on the geometry (:mod:`eb_navigation.baselines`) against all 10,948 blind
+No start sits in a pocket: from every start at least 1 m (4 moves) is clear straight ahead or to one side. No
+start has a floor object lower than :data:`LOW_TOP` on its straight way to the target (:func:`clear_corridor`):
+such a thing leaves the untilted view as the agent comes near, and an agent that keeps no memory of earlier images
+walks into it; the low extra floor things stand along the walls (:data:`WALL_BAND`) so that enough starts keep a
+clear way. At an in-view start every floor object on the way ahead shows in the first image (:func:`way_seen`).
+Every candidate start is checked on the geometry (:mod:`eb_navigation.baselines`) against all 10,948 blind
 constant-action policies and the feedback-only rule agents; one that would lift any of them above ``cap`` tasks of
-its subset (5 % of the scenes) is never taken. Of the rest the shortest expert plan wins (:func:`_pick`): a low
-object on the straight way to the target or a baseline that solves the start costs it two actions of rank, and a
-start that shows a look-alike nearer the middle of the view than the target wins a tie. A whole set is made by
+its subset (5 % of the scenes) is never taken. Of the rest the shortest expert plan wins (:func:`_pick`): a
+baseline that solves the start costs it two actions of rank, and a start that shows a look-alike nearer the middle
+of the view than the target wins a tie. A whole set is made by
 :mod:`eb_navigation.hard_set` (``generate_level``).
 """
 
@@ -44,8 +49,10 @@ from eb_navigation.hard_words import HARD_COMMON_SENSE, HARD_SHAPES, hard_instru
 from eb_navigation.room import ExtraSpec, NavObject, NavRoom, colour_distance, probe
 from eb_navigation.tasks import SUBSETS
 
-__all__ = ["CHECK_AGENTS", "DIFFICULTIES", "HARD_TYPES", "LEVELS", "Level", "MIN_LOOKALIKE_GAP", "SEED_BASE", "Scene",
-           "Tally", "clear_corridor", "draw_scene", "free_run", "lookalike_first", "not_in_pocket", "scene_tasks"]
+__all__ = ["CHECK_AGENTS", "DIFFICULTIES", "HARD_TYPES", "LEVELS", "Level", "LOW_TOP", "MIN_LOOKALIKE_GAP",
+           "MIN_WAY_PIXELS", "SEED_BASE", "Scene", "WALL_BAND",
+           "Tally", "clear_corridor", "draw_scene", "free_run", "lookalike_first", "not_in_pocket", "scene_tasks",
+           "way_objects", "way_seen"]
 
 DIFFICULTIES = ("classic", "medium", "hard")
 """The generator's difficulty knob: ``classic`` is the shipped classic generator (:mod:`eb_navigation.generate`)."""
@@ -69,11 +76,17 @@ _VIS_TRIES = 14
 _EVALUATE = 80
 """Candidates per start checked against the blind baselines at most (the cheapest-ranked first)."""
 LOW_TOP = 0.5
-"""Metres: a floor object lower than this drops below the untilted view when the agent comes near it."""
-CORRIDOR_HALF_WIDTH = 0.25
-"""Metres either side of the straight way from a start toward the target (the agent's radius and 5 cm)."""
-CORRIDOR_COST = 2
-"""Actions a start's rank pays for a low object on its straight way to the target (:func:`clear_corridor`)."""
+"""Metres: a floor object lower than this drops below the untilted view when the agent comes near it (the camera
+at 1.5 m looks 50 degrees down at most: a 0.45 m vase leaves the image within about 0.9 m)."""
+CORRIDOR_HALF_WIDTH = 0.3
+"""Metres either side of the straight way from a start toward the target (the agent's radius and 10 cm)."""
+WALL_BAND = 0.35
+"""Metres: the extra floor things lower than :data:`LOW_TOP` (not the target, not its look-alikes) stand at most
+this far from a wall, so that short starts with no low thing on the way survive; the taller ones (chairs, side
+tables, hampers, plants), which the first image shows, still stand anywhere and block the blind walks."""
+MIN_WAY_PIXELS = 20
+"""Pixels (of 128 x 128) that every floor object on the straight way shows in the first image of an in-view start
+(:func:`way_seen`): what the agent may bump into first is in the picture it gets."""
 SOLVED_COST = 2
 """Actions a start's rank pays when some blind policy or feedback-only agent solves it (within the cap)."""
 
@@ -118,8 +131,10 @@ def _door_probe(room: NavRoom) -> Any:
 
 
 def _floor_spot(room: NavRoom, type_name: str, rng: np.random.Generator, taken: list, door: Any,
-                far_from: list[tuple[float, float]], gap: float) -> tuple[float, float, float] | None:
-    """A floor pose for ``type_name`` clear of everything on the floor (with room to walk past) and the door."""
+                far_from: list[tuple[float, float]], gap: float, wall: float | None = None
+                ) -> tuple[float, float, float] | None:
+    """A floor pose for ``type_name`` clear of everything on the floor (with room to walk past) and the door;
+    with ``wall``, at most that many metres from a wall (pushed into the band along the wall of one side)."""
     t = get_type(type_name)
     hx, hy = room.size[0] / 2, room.size[1] / 2
     r = max(t.half_extents) + 0.05
@@ -127,6 +142,12 @@ def _floor_spot(room: NavRoom, type_name: str, rng: np.random.Generator, taken: 
         x = round(float(rng.uniform(-hx + r, hx - r)), 3)
         y = round(float(rng.uniform(-hy + r, hy - r)), 3)
         yaw = float(int(rng.integers(4)) * 90 + round(float(rng.uniform(-20, 20))))
+        if wall is not None:
+            depth = float(rng.uniform(0.0, wall))
+            if rng.random() < 0.5:
+                x = round(math.copysign(hx - r - depth, x), 3)
+            else:
+                y = round(math.copysign(hy - r - depth, y), 3)
         if any(math.hypot(x - a, y - b) < gap for a, b in far_from):
             continue
         cand = probe(type_name, x, y, yaw)
@@ -182,7 +203,8 @@ def _furnish(kind: str, seed: int, level: Level, type_name: str, rng: np.random.
     pool = [t for t in FLOOR_CLUTTER if t != type_name]
     for n in range(int(rng.integers(level.floor_clutter[0], level.floor_clutter[1] + 1))):
         typ = pool[int(rng.integers(len(pool)))]
-        pose = _floor_spot(plain, typ, rng, taken, door, [], 0.0)
+        low = get_type(typ).height < LOW_TOP  # a low thing along a wall, a taller (seen) one anywhere
+        pose = _floor_spot(plain, typ, rng, taken, door, [], 0.0, wall=WALL_BAND if low else None)
         if pose is None:
             continue
         cols = get_type(typ).colors
@@ -254,23 +276,41 @@ def _sector_ok(b: float, sector: str, min_bearing: float) -> bool:
     return abs(b) >= min_bearing  # "any"
 
 
-def clear_corridor(room: NavRoom, s: AgentState, target: NavObject) -> bool:
-    """No floor object lower than :data:`LOW_TOP` (teddy bears, balls, boxes, look-alikes) comes within
-    :data:`CORRIDOR_HALF_WIDTH` of the straight way from ``s`` toward the target (up to 1 m short of it, where the
-    episode ends): such a thing drops below the untilted view as the agent comes near, and a bump names nothing."""
+def way_objects(room: NavRoom, s: AgentState, target: NavObject, ahead: bool = False) -> list[NavObject]:
+    """The floor objects (not the target) whose footprint comes within :data:`CORRIDOR_HALF_WIDTH` of the straight
+    way from ``s`` toward the target, up to 1 m short of it (where the episode ends); with ``ahead``, only those
+    whose nearest point of the way lies ahead of the start (not the furniture beside or behind it)."""
     dx, dy = target.x - s.x, target.y - s.y
     length = math.hypot(dx, dy)
     if length <= 1.0:
-        return True
+        return []
     ux, uy = dx / length, dy / length
+    out = []
     for o in room.objects:
-        if not o.on_floor or o.id == target.id or 2 * o.centre[2] >= LOW_TOP:
+        if not o.on_floor or o.id == target.id:
             continue
         t = min(max((o.x - s.x) * ux + (o.y - s.y) * uy, 0.0), length - 1.0)
+        if ahead and t <= 0.0:
+            continue
         if math.hypot(o.x - (s.x + t * ux), o.y - (s.y + t * uy)) - max(get_type(o.type).half_extents) \
                 < CORRIDOR_HALF_WIDTH:
-            return False
-    return True
+            out.append(o)
+    return out
+
+
+def clear_corridor(room: NavRoom, s: AgentState, target: NavObject) -> bool:
+    """No floor object lower than :data:`LOW_TOP` (teddy bears, balls, boxes, ottomans, look-alikes) stands on the
+    straight way from ``s`` toward the target (:func:`way_objects`). Such a thing drops below the untilted view as
+    the agent comes near, even when the first image shows it, and a stateless agent, which keeps no memory of
+    earlier images, then walks into it; a bump names nothing. The generator refuses such a start."""
+    return not any(2 * o.centre[2] < LOW_TOP for o in way_objects(room, s, target))
+
+
+def way_seen(room: NavRoom, s: AgentState, target: NavObject, vis: Any | None) -> bool:
+    """Every floor object on the straight way ahead of the start shows at least :data:`MIN_WAY_PIXELS` in the
+    first image: nothing the agent would walk into is out of the picture (the rendered check of in-view starts)."""
+    return vis is None or all(vis.pixels(room, s, o.id) >= MIN_WAY_PIXELS
+                              for o in way_objects(room, s, target, ahead=True))
 
 
 def lookalike_first(s: AgentState, target: NavObject, looks: list[NavObject]) -> bool:
@@ -283,11 +323,12 @@ def lookalike_first(s: AgentState, target: NavObject, looks: list[NavObject]) ->
 def _pick(room: NavRoom, target: NavObject, looks: list[NavObject], lo: float, hi: float, min_plan: int,
           max_plan: int, sector: str, level: Level, tally: Tally, rng: np.random.Generator, accept: Any,
           avoid: AgentState | None = None, agents: dict[str, Any] | None = None) -> _Start | None:
-    """The best admissible start that ``accept`` (the rendered check) takes. Candidates are ranked by the
-    expert's plan length, plus :data:`CORRIDOR_COST` when a low object stands on the straight way to the target
-    and :data:`SOLVED_COST` when any blind policy or rule agent (``agents``, default :data:`HARD_RULE_AGENTS`)
-    solves the start; ties go to a start that shows a look-alike nearer the middle of the view, then to fewer
-    solving baselines. A start that would lift a baseline above ``tally``'s cap is never taken."""
+    """The best admissible start that ``accept`` (the rendered check) takes. A start with a low object on its
+    straight way to the target (:func:`clear_corridor`) is never a candidate. Candidates are ranked by the
+    expert's plan length, plus :data:`SOLVED_COST` when any blind policy or rule agent (``agents``, default
+    :data:`HARD_RULE_AGENTS`) solves the start; ties go to a start that shows a look-alike nearer the middle of the
+    view, then to fewer solving baselines. A start that would lift a baseline above ``tally``'s cap is never
+    taken."""
     free = room.free_space(room.extra_ids)
     xy = (target.x, target.y)
     ranked = []
@@ -297,9 +338,9 @@ def _pick(room: NavRoom, target: NavObject, looks: list[NavObject], lo: float, h
         if not lo - 1e-9 <= math.hypot(i * STEP - xy[0], j * STEP - xy[1]) <= hi + 1e-9:
             continue
         s = AgentState(i, j, h)
-        if s != avoid and _sector_ok(bearing_to(s, xy), sector, level.lh_min_bearing) and not_in_pocket(free, s):
-            cheap = n + (0 if clear_corridor(room, s, target) else CORRIDOR_COST)
-            ranked.append((cheap, not lookalike_first(s, target, looks), float(rng.random()), s, n))
+        if s != avoid and _sector_ok(bearing_to(s, xy), sector, level.lh_min_bearing) and not_in_pocket(free, s) \
+                and clear_corridor(room, s, target):
+            ranked.append((n, not lookalike_first(s, target, looks), float(rng.random()), s, n))
     ranked.sort(key=lambda c: c[:3])
     need = _VIS_TRIES if tally.cap is not None else 1
     scored: list[tuple[tuple[float, ...], _Start]] = []
@@ -325,7 +366,9 @@ def _visible(room: NavRoom, st: _Start, target_id: str, looks: list[str], level:
         return True
     if vis.pixels(room, st.state, target_id) < level.min_target_pixels:
         return False
-    return any(vis.pixels(room, st.state, d) >= MIN_LOOKALIKE_PIXELS for d in looks)
+    if not any(vis.pixels(room, st.state, d) >= MIN_LOOKALIKE_PIXELS for d in looks):
+        return False
+    return way_seen(room, st.state, room.get(target_id), vis)
 
 
 def _hidden(room: NavRoom, st: _Start, target_id: str, vis: Any | None) -> bool:

@@ -4,9 +4,12 @@ Scene slot by slot (all draws seeded by ``seed``): a room, its target and look-a
 (:func:`eb_navigation.hard.draw_scene`). Every start is checked on the geometry against all 10,948 blind
 constant-action policies and the feedback-only agents of :data:`~eb_navigation.baselines.CHECK_AGENTS` (the core
 audit's feedback policies among them), and one that would lift any of them above ``cap`` tasks of its subset (5 %
-of the scenes: 3 of 60) is never taken. Among the rest the generator takes the shortest expert plan, preferring a
-start with no low object on its straight way, one that no blind policy or agent solves, and one that shows a
-look-alike nearer the middle of the view than the target. A slot whose room gives no such starts draws another
+of the scenes: 3 of 60; and one of the 20 slots that ``eb audit --quick`` plays: :data:`AUDIT_SAMPLE`) is never
+taken, nor is one with a floor object lower than 0.5 m on its straight way to the
+target (:func:`eb_navigation.hard.clear_corridor`), nor an in-view start whose first image leaves out something on
+that way (:func:`eb_navigation.hard.way_seen`). Among the rest the generator takes the shortest expert plan,
+preferring one that no blind policy or agent solves, and one that shows a look-alike nearer the middle of the view
+than the target. A slot whose room gives no such starts draws another
 room (after 40 rooms the next target type, after 120 the next room kind).
 """
 
@@ -23,10 +26,35 @@ from eb_navigation.hard import DIFFICULTIES, HARD_TYPES, LEVELS, SEED_BASE, Tall
 from eb_navigation.room import KINDS
 from eb_navigation.tasks import SUBSETS
 
-__all__ = ["MAX_RATE", "generate_level"]
+__all__ = ["AUDIT_SAMPLE", "MAX_RATE", "audit_sample", "generate_level"]
 
 MAX_RATE = 0.05
 """The most any one blind policy or feedback-only agent may solve of a subset (the issue's rule, 5 %)."""
+AUDIT_SAMPLE = 20
+"""Tasks per subset that ``eb audit --quick`` plays (``eb_core.audit.setup``: ``quick_per_subset``, evenly spaced
+over the subset's order). The same rule holds on them: at most 5 % of them (one) solved by any one policy or
+agent, so that the solved tasks (which the first slots take, while the tallies are empty) do not crowd into the
+audit's sample."""
+
+
+class _Joint(Tally):
+    """The subset's tally and the audit sample's tally at once: a start must pass both caps, and counts in both."""
+
+    def __init__(self, *parts: Tally) -> None:
+        super().__init__(min(t.cap for t in parts if t.cap is not None))
+        self.parts = parts
+
+    def admits(self, st: Any) -> bool:
+        return all(t.admits(st) for t in self.parts)
+
+    def add(self, st: Any) -> None:
+        for t in self.parts:
+            t.add(st)
+
+
+def audit_sample(scenes: int, k: int = AUDIT_SAMPLE) -> set[int]:
+    """The slots ``eb audit --quick`` plays of a ``scenes``-task subset (all of them when there are no more)."""
+    return set(range(scenes)) if scenes <= k else {(i * scenes) // k for i in range(k)}
 
 
 _SECTORS = ("left", "behind", "right")
@@ -47,6 +75,9 @@ def generate_level(level: str = "hard", seed: int = 0, scenes: int = 60, out: st
     cap = max(1, int(MAX_RATE * scenes + 1e-9)) if cap is None else int(cap)
     rng = np.random.default_rng([int(seed), 0x4A4D, DIFFICULTIES.index(level)])
     tallies = {p: Tally(cap) for p in ("plain", "visual_appearance", "long_horizon")}
+    sample_cap = max(1, int(MAX_RATE * min(scenes, AUDIT_SAMPLE) + 1e-9))
+    sampled = {p: Tally(sample_cap) for p in tallies}
+    in_sample = audit_sample(scenes)
     wording: dict[str, dict[str, int]] = {}
     tasks: list[dict[str, Any]] = []
     vis = Visibility()
@@ -55,6 +86,7 @@ def generate_level(level: str = "hard", seed: int = 0, scenes: int = 60, out: st
             kind = KINDS[slot % 3]  # kitchens, living rooms, bedrooms (bathrooms are too small for the clutter)
             type_name = HARD_TYPES[(slot // 3) % len(HARD_TYPES)]
             sector = _SECTORS[slot % len(_SECTORS)]
+            use = {p: _Joint(t, sampled[p]) if slot in in_sample else t for p, t in tallies.items()}
             sc = None
             for attempt in range(400):
                 if attempt and attempt % 40 == 0:  # this type runs dry here: the next one
@@ -62,13 +94,13 @@ def generate_level(level: str = "hard", seed: int = 0, scenes: int = 60, out: st
                 if attempt and attempt % 120 == 0:
                     kind = KINDS[(KINDS.index(kind) + 1) % 3]
                 room_seed = SEED_BASE + int(rng.integers(0, 100_000))
-                sc = draw_scene(kind, room_seed, type_name, lv, rng, tallies, vis, sector, agents=CHECK_AGENTS)
+                sc = draw_scene(kind, room_seed, type_name, lv, rng, use, vis, sector, agents=CHECK_AGENTS)
                 if sc is not None:
                     break
             if sc is None:
                 raise RuntimeError(f"could not make a {level} {kind} scene for slot {slot}; try another seed")
             for part, st in sc.starts.items():
-                tallies[part].add(st)
+                use[part].add(st)
             tasks.extend(scene_tasks(sc, slot, rng, wording))
             if progress:
                 print(f"{level} slot {slot + 1}/{scenes}: {kind} seed {sc.room.seed}, {sc.target.colour} "

@@ -86,7 +86,7 @@ _COMPLEX = (
     "The cat knocked over the {other_colour} {name} last night, but that is sorted now. Make your way to the "
     "{colour} {name} and wait for me.",
     "Someone said the {other_colour} {name} was the one I meant. It is not: walk to the {colour} {name}.",
-    "There is one {name} in {other_colour} and one in {colour}. The {colour} one is where I need you; go there.",
+    "Of the {name}s here, not the {other_colour} one: the {colour} one is where I need you; go there.",
 )
 
 _VISUAL = (
