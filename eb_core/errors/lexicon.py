@@ -14,6 +14,8 @@ __all__ = [
     "COLOURS",
     "COLOUR_FAMILIES",
     "GENERIC",
+    "LOOKALIKES",
+    "PARTS",
     "SHAPES",
     "SYNONYMS",
     "colour_families",
@@ -92,6 +94,14 @@ PARTS: dict[str, frozenset[str]] = {
     "knob": frozenset({"drawer", "dresser", "cabinet", "stove", "stove burner", "side table", "desk", "tv stand"}),
     "burner": frozenset({"stove", "stove burner"}),
     "faucet": frozenset({"sink", "sink basin", "bathtub", "bathtub basin"}),
+}
+
+#: Object types a world draws so alike at the model's image size that a careful person may name one for the other:
+#: naming one while the other is in view (and the named one is nowhere in the scene) is not judged. ALFRED draws
+#: its watering can as a red pot with a spout and a top handle: a calibration player called it "a red kettle".
+LOOKALIKES: dict[str, frozenset[str]] = {
+    "kettle": frozenset({"watering can"}),
+    "watering can": frozenset({"kettle"}),
 }
 
 #: Colour words and the family each belongs to (a person calls silver "light grey" and rose "pink").

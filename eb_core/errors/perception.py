@@ -27,6 +27,7 @@ from typing import Any
 from eb_core.errors.lexicon import (
     COLOURS,
     GENERIC,
+    LOOKALIKES,
     PARTS,
     SHAPES,
     SYNONYMS,
@@ -46,7 +47,7 @@ ABSENT = "nowhere in the scene"
 #: A clause with one of these words makes no claim about what the image shows now.
 _NOT_A_CLAIM = re.compile(
     r"\b(no|not|never|nor|without|cannot|can't|isn't|aren't|don't|doesn't|won't|none|nothing|neither|"
-    r"longer|anymore|invisible|hidden|behind me|earlier|previously|before|remember\w*|recall\w*|was|were|had|"
+    r"anymore|invisible|hidden|behind me|earlier|previously|before|remember\w*|recall\w*|was|were|had|"
     r"gone|out of view|off[- ]screen|outside|probably|possibly|maybe|might|perhaps|likely|presumably|"
     r"expect\w*|should|would|could|may|seems?|looks? like|need|needs|want|wants|search\w*|look for|"
     r"looking for|find|locate|reach|unsure|unclear|if)\b")
@@ -62,6 +63,7 @@ class _Mention:
     shape: str | None = None
     ref: str | None = None  # "object k"
     start: int = 0
+    compared: bool = False  # "plate-like": what another thing looks like, not a claim
 
 
 @dataclass
@@ -145,8 +147,40 @@ def _phrases(known: set[str], visible: Sequence[dict[str, Any]]) -> dict[tuple[s
     return table
 
 
+#: Words after which a colour word no longer describes the next object named ("a blue item, bread": the item is
+#: blue, not the bread); "and"/"or" only when no colour comes just before ("red and white mug" is one mug).
+_COLOUR_STOPS = frozenset(["and", "or", "with", "of", "beside", "near", "next", "behind", "on", "in", "at", "from",
+                           "holding", "between", "than", "plus"]) | (GENERIC - {"light"})
+
+#: Words that make a name a comparison, not a claim: "almost plate-like", "shaped like a cup", "resembling a kettle".
+_LIKE_AFTER = frozenset(["like", "shaped", "looking", "style", "ish"])
+_LIKE_BEFORE = frozenset(["like", "resembling", "resembles", "resemble", "resembled"])
+
+
+def _colour_start(raw: list[str], lo: int, i: int) -> int:
+    """Where the colour words of a name at ``i`` may start: not before ``lo`` nor before a stop word."""
+    start = max(lo, i - 3)
+    for j in range(i - 1, start - 1, -1):
+        w = raw[j]
+        if w in _COLOUR_STOPS and not (w in ("and", "or") and j > 0 and raw[j - 1] in COLOURS):
+            return j + 1
+    return start
+
+
+def _compared(raw: list[str], i: int, n: int) -> bool:
+    """Whether the name ``raw[i:i + n]`` only says what another thing looks like ("a plate-like bowl")."""
+    after = raw[i + n:i + n + 2]
+    before = [w for w in raw[max(0, i - 2):i] if w not in ("a", "an", "the")]
+    # "plate-like", "plate-shaped" compare; in "a bowl shaped like a plate" the bowl is the thing named
+    return ((bool(after) and after[0] in _LIKE_AFTER and after[1:] != ["like"])
+            or bool(before and before[-1] in _LIKE_BEFORE))
+
+
 def _clause_mentions(clause: str, table: dict[tuple[str, ...], set[str]], longest: int) -> list[_Mention]:
-    raw = words(clause)
+    # a comma ends a list item: a colour word before it belongs to that item ("a blue item, bread")
+    pieces = [words(p) for p in re.split(r"[,:]", clause)]
+    raw = [w for p in pieces for w in p]
+    piece_start = [sum(len(p) for p in pieces[:k]) for k, p in enumerate(pieces) for _ in p]
     sing = [singular(w) for w in raw]
     out: list[_Mention] = []
     i = 0
@@ -160,8 +194,11 @@ def _clause_mentions(clause: str, table: dict[tuple[str, ...], set[str]], longes
             if n == 1 and raw[i] in COLOURS and i + 1 < len(sing) and starts_phrase(i + 1):
                 continue  # "an orange bowl": the colour of the bowl, not an orange
             if key in table:
-                cols = [w for w in raw[max(last_end, i - 3):i] if w in COLOURS or w in ("light", "dark")]
-                out.append(_Mention(" ".join(raw[i:i + n]), set(table[key]), cols, start=i))
+                lo = _colour_start(raw, max(last_end, piece_start[i]), i)
+                cols = [w for w in raw[lo:i] if w in COLOURS or w in ("light", "dark")]
+                m = _Mention(" ".join(raw[i:i + n]), set(table[key]), cols, start=i)
+                m.compared = _compared(raw, i, n)
+                out.append(m)
                 i += n
                 last_end = i
                 break
@@ -247,6 +284,8 @@ def _judge(m: _Mention, seen: _Seen, scene: set[str], world: set[str]) -> tuple[
         return "unjudged", None, sorted(m.terms & scene)  # remembered or at the edge; or a thing this world lacks
     if any(PARTS.get(t, frozenset()) & seen.terms for t in m.terms):
         return "unjudged", None, []  # a part of a thing in view (the pillows of the bed)
+    if any(LOOKALIKES.get(t, frozenset()) & seen.terms for t in m.terms):
+        return "unjudged", None, []  # a thing the render draws like one in view (a red watering can: a kettle)
     return "wrong", ABSENT, sorted(m.terms & world)
 
 
@@ -326,6 +365,8 @@ def perception_check(description: str | None, visible: Sequence[dict[str, Any]],
         return None
     # "a trash can/pot", "white/light grey": a person hedging between two names; the first one is the claim
     text = re.sub(r"([A-Za-z-]+)/[A-Za-z-]+", r"\1", str(description))
+    # coordinates ("object 6 [58, 45, 17] black block") are no words, and their commas split no list
+    text = re.sub(r"\[[^\[\]]*\]", " ", text)
     seen = _seen(visible)
     scene_terms = {term_of(t) for t in scene} | seen.terms
     known = {t for t in {term_of(v) for v in vocabulary} | scene_terms if t}
@@ -342,7 +383,7 @@ def perception_check(description: str | None, visible: Sequence[dict[str, Any]],
         for m in ms:
             if _hidden_instance(m, colour_sets.get(frozenset(m.terms), ()), seen):
                 m.colours = []
-            if not claim:
+            if not claim or m.compared:
                 out.unjudged.add(m.words)
                 continue
             out.add(m, *_judge(m, seen, scene_terms, known))

@@ -4,7 +4,10 @@ A world is deterministic given the task and the episode's seed, so resetting it 
 actions ``steps.jsonl`` recorded reproduces every observation the model was sent. From each one the labeller
 takes ``Observation.visible_objects`` (the world's segmentation-pixel count, edge objects included) instead of the
 list stored at the time, and from each step the ``path_distance`` a world reports. A replay that disagrees with the
-record (an action's success differs) stops there and keeps the stored lists for the rest of the episode.
+record (an action's success differs) stops there and keeps the stored lists for the rest of the episode. An
+episode whose task has changed since the run (a regenerated task set: the id's instruction is no longer the
+recorded one) is not replayed at all: the world would show another scene, and every label would be judged
+against objects the model never saw.
 """
 
 from __future__ import annotations
@@ -93,16 +96,22 @@ def replay_run(run_dir: str | Path, records: Sequence[Any], steps: dict[tuple[st
     env = env_cls(resolution=int(env_cfg.get("resolution") or 500), multi_view=bool(env_cfg.get("multi_view")),
                   **env_params)
     out = dict(steps)
-    diverged = []
+    diverged, changed = [], []
     try:
         for r in records:
             if r.status != "ok" or r.task_id not in by_id or not steps.get(r.key):
+                continue
+            if r.instruction and by_id[r.task_id].instruction != r.instruction:
+                changed.append(r.task_id)  # the task set was regenerated since the run: another scene
                 continue
             out[r.key], whole = replay_episode(env, by_id[r.task_id], r.seed, steps[r.key])
             if not whole:
                 diverged.append(r.task_id)
     finally:
         env.close()
+    if changed:
+        print(f"eb: the task set has changed since {root} was run ({', '.join(changed)}: another instruction); "
+              "their labels use the stored visible_objects", file=sys.stderr)
     if diverged:
         print(f"eb: replay of {root} differs from the record in {', '.join(diverged)}; their later steps keep the "
               "stored visible_objects", file=sys.stderr)

@@ -44,7 +44,8 @@ def test_a_search_across_receptacles_is_no_repetition_and_the_same_failure_from_
     reps = [x for s in lab["steps"] for x in s["labels"] if x["category"] == "repetition"]
     assert [x["env_step"] for x in reps] == [2, 3] and reps[0]["evidence"]["failed_before_at"] == 1
     # another action failing in between changes nothing in the world: still the same state
-    mixed = [act(1, "open the fridge", ok=False), act(2, "pick up the plum", ok=False), act(3, "open the fridge", ok=False)]
+    mixed = [act(1, "open the fridge", ok=False), act(2, "pick up the plum", ok=False),
+             act(3, "open the fridge", ok=False)]
     assert cats(label_episode([step(1, mixed)])).count("repetition") == 1
 
 
@@ -89,7 +90,8 @@ def test_colour_families_synonyms_and_world_names():
     assert rose["hallucinated"] == [] and rose["correct"] == ["object 1", "object 2"]
     shape = perception_check("object 1 is a navy star.", [{"name": "object 1", "type": "navy cube"},
                                                           {"name": "object 2", "type": "rose star"}])
-    assert shape["misperceived"] == ["object 1"] and shape["wrong"] == ["object 1"] and "star" in shape["evidence"][0]["why"]
+    assert shape["misperceived"] == ["object 1"] and shape["wrong"] == ["object 1"]
+    assert "star" in shape["evidence"][0]["why"]
     # world names: the mustard bottle is "a yellow squeeze bottle"; "an orange bowl" names a bowl, not an orange
     mustard = [{"name": "mustard_bottle_1", "type": "mustard bottle", "colour": "yellow",
                 "aliases": ["a yellow squeeze bottle"]}, {"name": "Bowl_1", "type": "Bowl", "colours": ["orange"],
@@ -115,7 +117,8 @@ def test_remembered_denied_and_hedged_objects_are_not_claims():
     assert p["hallucinated"] == [] and p["unjudged"] == ["bed"]
     # nowhere in the scene: a hallucination
     p = perception_check("A sofa and a bed.", view, vocabulary=world)
-    assert p["hallucinated"] == ["bed"] and p["misperceived"] == [] and p["evidence"][-1]["why"] == "nowhere in the scene"
+    assert p["hallucinated"] == ["bed"] and p["misperceived"] == []
+    assert p["evidence"][-1]["why"] == "nowhere in the scene"
 
 
 def test_runs_without_a_description_get_no_perception_score():
@@ -148,3 +151,70 @@ def test_every_label_carries_its_evidence():
                                       feedback="the fridge is locked")])])
     ev = lab["steps"][0]["labels"][0]["evidence"]
     assert ev == {"action": "open the fridge", "reason": "precondition", "state": "the fridge is locked"}
+
+
+# The calibration players of session 8 played hard tasks well, yet these excerpts of their descriptions fired
+# labels (docs/error_analysis.md, "Labels on good play"); each test below fails without its fix.
+
+def test_a_thing_said_to_look_like_another_names_no_object():
+    """ALFRED complex_instruction_22: "a green bowl that looks shallow and wide-rimmed, almost plate-like" says what
+    the bowl looks like; no plate is claimed."""
+    view = [{"name": "Bowl_6", "type": "Bowl", "colours": ["green"], "pixels": 900, "aliases": ["bowl"]},
+            {"name": "Cup", "type": "Cup", "colours": ["grey"], "pixels": 300, "aliases": ["cup"]}]
+    for said in ("behind a grey cup, is a green bowl that looks shallow and wide-rimmed, almost plate-like.",
+                 "A green bowl shaped like a plate, behind a grey cup.",
+                 "A green bowl resembling a plate, behind a grey cup."):
+        p = perception_check(said, view, vocabulary=["Plate"])
+        assert p["hallucinated"] == [] and p["correct"] == ["bowl", "cup"], said
+    p = perception_check("A green bowl and a plate behind a grey cup.", view, vocabulary=["Plate"])
+    assert p["hallucinated"] == ["plate"]  # a plate named outright is still judged
+
+
+def test_a_colour_word_belongs_to_its_own_list_item():
+    """ALFRED long_horizon_00: "a small round fruit, a blue item, bread and a green bottle": the item is blue, not
+    the bread; a colour said of the bread itself is still judged."""
+    view = [{"name": "Bread", "type": "Bread", "colours": ["brown"], "pixels": 62, "aliases": ["loaf of bread"]},
+            {"name": "Plate_3", "type": "Plate", "colours": ["blue"], "pixels": 33, "aliases": ["plate"]},
+            {"name": "GlassBottle", "type": "GlassBottle", "colours": ["green", "red"], "pixels": 42,
+             "aliases": ["glass bottle"]}]
+    said = "a grey counter with a small round fruit, a blue item, bread and a green bottle"
+    p = perception_check(said, view)
+    assert p["wrong"] == [] and "bread" in p["correct"]
+    assert perception_check("a blue item and bread", view)["wrong"] == []  # "and" after a noun ends the item too
+    bad = perception_check("a small round fruit, blue bread and a green bottle", view)
+    assert bad["misperceived"] == ["bread"] and "said blue" in bad["evidence"][0]["why"]
+    both = perception_check("a red and brown loaf of bread", view)  # "red and brown": two colours of one thing
+    assert both["wrong"] == [] and both["evidence"][0]["words"] == "red brown loaf of bread"
+
+
+def test_a_thing_the_render_draws_like_another_in_view_is_no_hallucination():
+    """ALFRED visual_appearance_29: the red watering can (a red pot with a spout and a top handle at 500 px) was
+    called "a red kettle"; with no watering can in view, a kettle is still a hallucination."""
+    can = [{"name": "SideTable_2", "type": "SideTable", "colours": ["grey"], "pixels": 496, "aliases": ["side table"]},
+           {"name": "WateringCan", "type": "WateringCan", "colours": ["red"], "pixels": 98,
+            "aliases": ["watering can"]}]
+    said = "a small grey side table with a red kettle"
+    assert perception_check(said, can, vocabulary=["Kettle"])["hallucinated"] == []
+    assert perception_check(said, can[:1], vocabulary=["Kettle"])["hallucinated"] == ["kettle"]
+
+
+def test_object_k_with_its_coordinates_is_judged_and_the_wrong_shape_fires():
+    """Manipulation: "object 6 [58, 45, 17] black rounded block, the sponge, its top longer along x than along y"
+    was not judged (the coordinates' commas cut the claim; "longer" read as "no longer"), yet the player had taken
+    this black cylinder for the sponge and failed: a right label."""
+    view = [{"name": "object 6", "type": "black cylinder"}, {"name": "object 8", "type": "sponge"},
+            {"name": "object 9", "type": "yellow marked area"}]
+    said = ("object 6 [58, 45, 17] black rounded block, the sponge, its top longer along x than along y; "
+            "object 8 [58, 60, 17] yellow cube; object 9 [45, 75, 15] yellow marked area, arrow pointing right.")
+    p = perception_check(said, view)
+    assert p["misperceived"] == ["object 6"] and "object 6 is a black cylinder" in p["evidence"][0]["why"]
+    assert p["evidence"][0]["words"] == "black object 6"
+
+
+def test_a_wrong_shape_for_object_k_keeps_firing():
+    """Manipulation complex_pick_08: "object 4 is a red cube" for the red triangle (a triangular prism, its
+    triangular face plain when looked at closely): the model said something false, and the label stays."""
+    pick = [{"name": "object 4", "type": "red triangle"}, {"name": "object 7", "type": "olive cube"}]
+    p = perception_check("object 4 is a red cube; object 7 is a small olive cube at [33, 54, 17] (object list), "
+                         "roughly axis-aligned.", pick)
+    assert p["misperceived"] == ["object 4"] and p["correct"] == ["object 7"]

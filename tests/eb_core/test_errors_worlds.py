@@ -90,3 +90,34 @@ def test_a_hard_taskset_run_can_be_relabelled_from_replayed_images(tmp_path, mon
     assert relabelled["episodes"] == 1 and relabelled["success_rate"] == 1.0
     assert relabelled["error_analysis"]["categories"]  # labelled ...
     assert "replay" not in capsys.readouterr().err  # ... from a replay that ran and matched the record
+
+
+def test_a_task_changed_since_the_run_is_not_replayed(tmp_path, monkeypatch, capsys):
+    """A hard task set regenerated after a run (session 8: EB-Habitat v6 after the players' v5 runs) gives the
+    same id another scene: replaying it judged the descriptions against objects the model never saw (a "rubik's
+    cube" nowhere in the scene). Such an episode keeps its stored lists; an unchanged one is replayed."""
+    monkeypatch.delenv("EB_DISABLE_PLUGIN_AUTOLOAD", raising=False)
+    monkeypatch.delenv("EB_PLUGINS", raising=False)
+    from eb_core.compose import compose
+    from eb_core.config import validate_config
+    from eb_core.errors import load_steps
+    from eb_core.errors.replay import replay_run
+    from eb_core.plugins import Registry
+    from eb_core.records import RunFiles, episode_dir_name
+    from eb_core.runner import run
+
+    if "manipulation" not in Registry.create().envs:
+        pytest.skip("eb-manipulation is not installed")
+    cfg = validate_config(compose(["env=manipulation", "model=oracle", "limit=1", "runner.quiet=true"]))
+    run(cfg, tmp_path)
+    capsys.readouterr()
+    rec = RunFiles(tmp_path).load_episodes()[0]
+    stored = [dict(s, visible_objects=[{"name": "object 99", "type": "stored marker"}])
+              for s in load_steps(tmp_path / "episodes" / episode_dir_name(*rec.key))]
+    same = replay_run(tmp_path, [rec], {rec.key: stored})[rec.key]
+    assert same[0]["visible_objects"][0]["name"] != "object 99"  # replayed: what the world shows
+    assert "changed" not in capsys.readouterr().err
+    other = rec.model_copy(update={"instruction": rec.instruction + " (an older version of this task)"})
+    kept = replay_run(tmp_path, [other], {rec.key: stored})[rec.key]
+    assert [s["visible_objects"] for s in kept] == [s["visible_objects"] for s in stored]
+    assert f"the task set has changed since {tmp_path}" in capsys.readouterr().err
