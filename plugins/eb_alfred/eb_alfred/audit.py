@@ -177,6 +177,7 @@ class Views:
         self.renderer.load(world)
         self._cache: dict[str | None, dict[str, float]] = {}
         self._worlds: dict[str | None, World] = {}
+        self._shown: dict[str, float] = {}
 
     def view(self, name: str | None) -> dict[str, float]:
         if name not in self._cache:
@@ -203,6 +204,16 @@ class Views:
     def area(self, name: str) -> float:
         """Share of the image ``name`` covers after the action that brings it into view."""
         return self.view(name).get(name, 0.0)
+
+    def shown(self, name: str) -> float:
+        """Share of ``name``'s own silhouette that its view (after the action that brings it into view) shows: 1.0
+        when nothing stands in front of it, about 0.4 for a bowl behind a box that shows only its rim."""
+        if name not in self._shown:
+            area = self.area(name)
+            self.renderer.render(self.world_after(name))
+            alone = self.renderer.unoccluded_fraction(name, _RES)
+            self._shown[name] = min(1.0, area / alone) if alone > 0 else 0.0
+        return self._shown[name]
 
     def together(self, names: list[str], min_area: float = MIN_AREA) -> str | None:
         """A view (``"start"`` or ``"after find <name>"``) showing all ``names`` at once, or None."""

@@ -65,7 +65,8 @@ from eb_alfred.oracle import expert_plan
 from eb_alfred.scenes import _renumber, make_scene
 from eb_alfred.world import World
 
-__all__ = ["LEVELS", "KINDS", "MAX_STEPS", "STEP_RANGE", "make_hard", "maker", "search_bound", "shadowed_white"]
+__all__ = ["APPLIANCES", "LEVELS", "KINDS", "MAX_STEPS", "MIN_SHOWN", "STEP_RANGE", "half_hidden", "make_hard",
+           "maker", "misread_places", "PART_LIKE", "search_bound", "shadowed_white"]
 
 MAX_STEPS = 30
 """The benchmark's step budget (``conf/env/alfred.yaml``)."""
@@ -73,7 +74,8 @@ MAX_STEPS = 30
 LEVELS: dict[str, dict[str, Any]] = {
     "medium": {"n_obj": 3, "n_rec": 2, "n_rec_max": 3, "n_host": 3, "untouched": ("object",), "two_looks": False},
     "hard": {"n_obj": 6, "n_rec": 4, "n_rec_max": 6, "n_host": 5, "untouched": ("object", "receptacle"),
-             "two_looks": True, "short": {"n_obj": 7, "n_rec": 5}, "check_hidden": "target"},
+             "two_looks": True, "short": {"n_obj": 7, "n_rec": 5}, "check_hidden": "target",
+             "check_shown": "target"},
 }
 """Per level: instances of the object's type, of the destination's type (at least ``n_rec``, at most
 ``n_rec_max``), of the furniture type holding the spatial look-alikes (one each), the roles whose look-alikes the
@@ -82,7 +84,11 @@ plate" among white square plates and blue round ones), and what changes for the 
 but spatial_awareness and long_horizon), which have steps to spare for more candidates. ``check_hidden``
 refuses a candidate whose view after ``find`` shows much less of it than of the others
 (:func:`hidden_candidates`): ``"target"`` when it is one the goal accepts (the shipped hard set), ``"all"`` when
-it is any instance of the object's type (every look-alike too; much slower to draw), ``False`` never."""
+it is any instance of the object's type (every look-alike too; much slower to draw), ``False`` never.
+``check_shown`` refuses one whose own view hides part of it (:func:`half_hidden`, below :data:`MIN_SHOWN` of its
+silhouette), with the same values: every target (both of a pick-two task) in the shipped set; ``"all"`` would
+refuse most draws (about 60 % of the third regeneration's tasks have a look-alike partly hidden by its
+neighbours) and makes the draw about twice as slow."""
 
 #: Task types of the hard set: every type with a destination (examine-in-light has one lamp per room, so only
 #: the object could be ambiguous, and one guess in six is too easy).
@@ -96,9 +102,24 @@ STEP_RANGE = {"base": (4, 18), "common_sense": (4, 18), "complex_instruction": (
 #: boxes, whose contents need extra steps or are unexpected. Every look-alike stands where a person sees it.
 DEEP = ("Sink", "SinkBasin", "Bathtub", "BathtubBasin", "LaundryHamper", "GarbageCan", "Microwave", "Fridge",
         "Toaster", "CoffeeMachine", "Safe", "Box")
-#: Colours never used to name a destination of the type: a white drawer's front renders light grey with dark
-#: stripes at the model's size, so "the white drawer" is not named (the drawers of the other colour may be white).
-_NOT_NAMED = {"Drawer": ("white",)}
+#: Colours never used to name a destination of the type: white drawers, side tables, shelves and dressers render
+#: light grey with darker stripes at the model's size (no pixel of a "white" family; measured by
+#: ``test_every_colour_named_destination_renders_its_colour``), so "the white drawer" is not named (the pieces
+#: of the other colour may be white). A white cabinet renders plain off-white and is named.
+_NOT_NAMED = {"Drawer": ("white",), "SideTable": ("white",), "Shelf": ("white",), "Dresser": ("white",)}
+#: Shapes kept out of a furniture type: a tall vase in a cabinet pokes its flowers through the shelf above, so it
+#: reads shorter than it is (hard spatial_awareness_08 of the third regeneration).
+_NOT_INSIDE = {("Vase", "tall"): ("Cabinet",)}
+#: Appliances that stand at the back of a counter or desk: a flat thing on the strip in front of one reads as a
+#: part of it (a blue square plate under the coffee machine is its drip tray, hard long_horizon_36 of the third
+#: regeneration), so no look-alike of the types in :data:`PART_LIKE` is put on furniture that carries one.
+APPLIANCES = ("Microwave", "Toaster", "CoffeeMachine")
+#: Flat things that read as an appliance's part when they stand in front of it (a tray, a turntable).
+PART_LIKE = ("Plate",)
+MIN_SHOWN = 0.75
+"""Smallest share of its own silhouette a target or look-alike must show in its own view (after ``find``, and
+``open``): a bowl behind a box that shows only its rim shows 0.4 of itself (hard spatial_awareness_35 of the third
+regeneration), a tall vase in a cabinet 0.65 (:meth:`eb_alfred.audit.Views.shown`)."""
 #: Types left out of hard rooms: a tennis racket lying flat reads as a white plate with a red rim at the
 #: model's size (a model that called it a plate was labelled as hallucinating).
 _LEFT_OUT = ("TennisRacket",)
@@ -175,12 +196,14 @@ def _add_look_alikes(rng: random.Random, scene: dict[str, Any], xt: str, n_obj: 
     if not mine:
         return None
     model = {k: v for k, v in mine[0].items() if k not in ("name", "parent", "slot", "is_dirty")}
+    carries = {o["parent"] for o in objs if o["type"] in APPLIANCES and "parent" in o} if xt in PART_LIKE else set()
     for o in mine:  # existing ones leave the destination's type and closed spots the plan cannot reach cheaply
         parent = next((p for p in objs if p["name"] == o.get("parent")), None)
-        if parent is None or parent["type"] in avoid or (hosts is not None and parent["name"] not in hosts):
+        if (parent is None or parent["type"] in avoid or (hosts is not None and parent["name"] not in hosts)
+                or parent["name"] in carries):
             o["parent"] = "?"
     if hosts is not None:
-        free = list(hosts)
+        free = [h for h in hosts if h not in carries]
         rng.shuffle(free)
         placed = [o for o in mine if o["parent"] != "?"]
         used = {o["parent"] for o in placed}
@@ -205,7 +228,7 @@ def _add_look_alikes(rng: random.Random, scene: dict[str, Any], xt: str, n_obj: 
         return o["name"]
 
     receps = [o for o in objs if TYPES[o["type"]].receptacle and fits(xt, o["type"]) and o["type"] not in avoid
-              and o["type"] not in DEEP and not TYPES[o["type"]].pickupable
+              and o["type"] not in DEEP and not TYPES[o["type"]].pickupable and o["name"] not in carries
               and top(o) not in avoid_places(objs, avoid)]
     by_place: dict[str, list[dict[str, Any]]] = {}
     for r in receps:
@@ -335,7 +358,7 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
     _prepare(world, goal)
     if long and rng.random() < 0.85 and not _shut_all_away(rng, world, goal, xt, rt):
         return None
-    if evaluate(goal, world)[1] > 0 or shadowed_white(world, xt):
+    if evaluate(goal, world)[1] > 0 or shadowed_white(world, xt) or misread_places(world, xt):
         return None
     lo, hi = STEP_RANGE[subset]
     if search_bound(world, goal, lo) > MAX_STEPS:  # cheap early check with the shortest plan allowed
@@ -360,7 +383,8 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
         seen = dict(rec, instruction=f"{text} ({value} {noun(xt)})") if subset == "common_sense" and value else rec
         views = views_for(world)
         if (image_problems(seen, views) or relation_problems(text, goal, views, own_view=True)
-                or _hidden_refused(cfg.get("check_hidden"), world, goal, xt, views)):
+                or _hidden_refused(cfg.get("check_hidden"), world, goal, xt, views)
+                or _shown_refused(cfg.get("check_shown"), world, goal, xt, views)):
             return None
     return rec
 
@@ -374,6 +398,46 @@ def _hidden_refused(check: str | bool | None, world: World, goal: dict[str, Any]
         raise ValueError(f"alfred: check_hidden must be 'target', 'all' or False, not {check!r}")
     hidden = hidden_candidates(world, xt, views)
     return bool(hidden) if check == "all" else any(n in hidden for n in _targets(goal, world))
+
+
+def _shown_refused(check: str | bool | None, world: World, goal: dict[str, Any], xt: str, views: Any) -> bool:
+    """Whether ``check_shown`` (see :data:`LEVELS`) refuses the candidate: a target (``"target"``: every target
+    of a pick-two task) or any instance of the object's type (``"all"``) that its own view shows less than
+    :data:`MIN_SHOWN` of (:func:`half_hidden`). Targets are checked first (they are rendered already)."""
+    if not check:
+        return False
+    if check not in ("target", "all"):
+        raise ValueError(f"alfred: check_shown must be 'target', 'all' or False, not {check!r}")
+    targets = _targets(goal, world)
+    names = targets + ([n for n in world.of_type(xt) if n not in targets] if check == "all" else [])
+    return any(views.shown(n) < MIN_SHOWN for n in names)
+
+
+def half_hidden(world: World, xt: str, views: Any) -> list[str]:
+    """Instances of the object's type whose own view (after ``find``, and ``open``) shows less than
+    :data:`MIN_SHOWN` of their silhouette: something in front of them (a box, a pillow, the shelf above a tall
+    vase) hides the look that tells them apart. Every candidate must be judged from its own view, so the hard
+    draw refuses a task with one."""
+    return [n for n in world.of_type(xt) if views.shown(n) < MIN_SHOWN]
+
+
+def misread_places(world: World, xt: str) -> list[str]:
+    """Instances of the object's type placed where the render misleads: a flat thing (:data:`PART_LIKE`) on
+    furniture that carries an appliance (:data:`APPLIANCES`: a plate in front of the coffee machine reads as its
+    drip tray) or a shape inside furniture
+    that cuts it (:data:`_NOT_INSIDE`: a tall vase in a cabinet reads short). The hard draw refuses a task with
+    one."""
+    out = []
+    for n in world.of_type(xt):
+        o = world.objects[n]
+        parent = world.objects[o.parent] if o.parent else None
+        if parent is None:
+            continue
+        if o.type in PART_LIKE and any(world.objects[c].type in APPLIANCES for c in world.children(parent.name)):
+            out.append(n)
+        elif parent.type in _NOT_INSIDE.get((o.type, o.shape or ""), ()):
+            out.append(n)
+    return out
 
 
 def shadowed_white(world: World, xt: str) -> list[str]:

@@ -497,6 +497,22 @@ class AlfredRenderer:
                 out[base] = out.get(base, 0.0) + k / (resolution * resolution)
         return out
 
+    def unoccluded_fraction(self, name: str, resolution: int = 250) -> float:
+        """Share of the agent's view (0..1) ``name`` would cover in the current view with nothing in front of it
+        (call after :meth:`render`): every other geom is made transparent for one segmentation pass. Against
+        :meth:`visible_fraction` it says how much of the object is hidden (a bowl behind a box shows its rim)."""
+        assert self._renderer is not None and self.model is not None, "call load() first"
+        mine = set(self._geoms.get(self.kit_name.get(name, name), [])) | set(self._geoms.get(f"{name}__slices", []))
+        saved = self.model.geom_rgba.copy()
+        hide = np.ones(self.model.ngeom, dtype=bool)
+        hide[sorted(mine)] = False
+        self.model.geom_rgba[hide, 3] = 0.0  # MuJoCo draws no geom whose alpha is 0
+        try:
+            counts = self._renderer.visible_pixels("agent", resolution, resolution)
+        finally:
+            self.model.geom_rgba[:] = saved
+        return sum(k for n, k in counts.items() if n in (name, f"{name}__slices")) / (resolution * resolution)
+
     def looks(self, name: str) -> dict[str, Any]:
         """What the compiled model draws for one instance: its mean colour (current, e.g. dirty) and its
         axis-aligned size (dx, dy, dz) in metres, measured from the geoms."""
