@@ -7,7 +7,8 @@ list stored at the time, and from each step the ``path_distance`` a world report
 record (an action's success differs) stops there and keeps the stored lists for the rest of the episode. An
 episode whose task has changed since the run (a regenerated task set: the id's instruction is no longer the
 recorded one) is not replayed at all: the world would show another scene, and every label would be judged
-against objects the model never saw.
+against objects the model never saw. The run's manifest catches the same under unchanged wording: when the digest
+of the tasks it ran (scenes included) is not the installed tasks', no episode of the run is replayed.
 """
 
 from __future__ import annotations
@@ -69,6 +70,28 @@ def _config(root: Path) -> dict[str, Any]:
     return data if isinstance(data, dict) else {}
 
 
+def _stale_tasks(root: Path, by_id: dict[str, Any]) -> str | None:
+    """Why the installed tasks are not the ones ``root`` ran, or None when they are (or the run has no manifest to
+    tell). The manifest's ``selected_digest`` covers every selected task's scene, not only its instruction, so a
+    task set regenerated with the same wording (a new draw of the same template) is caught too."""
+    from eb_core.taskfile import task_set_digest
+
+    path = root / "manifest.json"
+    try:
+        manifest = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    ids, want = manifest.get("task_ids"), manifest.get("selected_digest")
+    if not isinstance(ids, list) or not isinstance(want, str):
+        return None
+    missing = [i for i in ids if i not in by_id]
+    if missing:
+        return f"{len(missing)} task id(s) no longer exist, e.g. {missing[0]}"
+    if task_set_digest(by_id[i] for i in ids) != want:
+        return "the selected tasks' digest differs from the manifest's"
+    return None
+
+
 def replay_run(run_dir: str | Path, records: Sequence[Any], steps: dict[tuple[str, int], list[dict[str, Any]]]
                ) -> dict[tuple[str, int], list[dict[str, Any]]]:
     """Every measured episode of ``run_dir`` replayed (see the module docstring); episodes that cannot be replayed
@@ -93,6 +116,11 @@ def replay_run(run_dir: str | Path, records: Sequence[Any], steps: dict[tuple[st
     tasks = (env_cls.load_tasks(**params) if split == "test"
              else env_cls.split_tasks(split, 0, cfg.get("limit"), **params))
     by_id = {t.id: t for t in tasks}
+    stale = _stale_tasks(root, by_id)
+    if stale is not None:  # the scenes changed under the same ids: replaying would show the model's words other rooms
+        print(f"eb: the tasks of {root} are not the installed ones any more ({stale}); labels use the stored "
+              "visible_objects", file=sys.stderr)
+        return steps
     env = env_cls(resolution=int(env_cfg.get("resolution") or 500), multi_view=bool(env_cfg.get("multi_view")),
                   **env_params)
     out = dict(steps)

@@ -121,3 +121,44 @@ def test_a_task_changed_since_the_run_is_not_replayed(tmp_path, monkeypatch, cap
     kept = replay_run(tmp_path, [other], {rec.key: stored})[rec.key]
     assert [s["visible_objects"] for s in kept] == [s["visible_objects"] for s in stored]
     assert f"the task set has changed since {tmp_path}" in capsys.readouterr().err
+
+
+def test_a_scene_changed_under_the_same_instruction_is_not_replayed(tmp_path, monkeypatch, capsys):
+    """A regenerated task can keep its id and its wording and still stand in another scene (a new draw of the same
+    template). The run's manifest holds the digest of the tasks it ran (scenes included); when the installed tasks
+    no longer match it, nothing is replayed and the labels use the lists stored at run time."""
+    from pathlib import Path
+
+    monkeypatch.delenv("EB_DISABLE_PLUGIN_AUTOLOAD", raising=False)
+    monkeypatch.delenv("EB_PLUGINS", raising=False)
+    from eb_core.compose import compose
+    from eb_core.config import validate_config
+    from eb_core.errors import load_steps
+    from eb_core.errors.replay import replay_run
+    from eb_core.plugins import Registry
+    from eb_core.records import RunFiles, episode_dir_name
+    from eb_core.runner import run
+
+    if "manipulation" not in Registry.create().envs:
+        pytest.skip("eb-manipulation is not installed")
+    from eb_manipulation.tasks import DEFAULT_TASK_FILE
+
+    doc = json.loads(Path(DEFAULT_TASK_FILE).read_text(encoding="utf-8"))
+    task_file = tmp_path / "tasks.json"
+    task_file.write_text(json.dumps(doc), encoding="utf-8")
+    run_dir = tmp_path / "run"
+    cfg = validate_config(compose(["env=manipulation", "model=oracle", "limit=1", "runner.quiet=true",
+                                   f"+env.params.task_file={task_file}"]))
+    run(cfg, run_dir)
+    capsys.readouterr()
+    rec = RunFiles(run_dir).load_episodes()[0]
+    stored = [dict(s, visible_objects=[{"name": "object 99", "type": "stored marker"}])
+              for s in load_steps(run_dir / "episodes" / episode_dir_name(*rec.key))]
+    assert replay_run(run_dir, [rec], {rec.key: stored})[rec.key][0]["visible_objects"][0]["name"] != "object 99"
+    # the same id and instruction, another scene: one object moved by 3 cm
+    first = next(t for t in doc["tasks"] if t["id"] == rec.task_id)
+    first["metadata"]["objects"][0]["x"] += 0.03
+    task_file.write_text(json.dumps(doc), encoding="utf-8")
+    kept = replay_run(run_dir, [rec], {rec.key: stored})[rec.key]
+    assert [s["visible_objects"] for s in kept] == [s["visible_objects"] for s in stored]
+    assert "digest differs from the manifest's" in capsys.readouterr().err
