@@ -114,12 +114,18 @@ def _composed(parsed: AuditArgs) -> Any:
         if not path.exists():
             raise _error(f"task_file={path} does not exist; give a task file (or folder) made by "
                          f"`eb tasks generate env={cfg_dict['env']['name']} out=...`")
-        key = "task_dir" if ("task_dir" in params and "task_file" not in params) or path.is_dir() else "task_file"
+        key = _task_key(params)
         params[key] = str(path)
     try:
         return validate(cfg_dict)
     except ValueError as exc:  # ConfigError: one line naming the key
         raise _error(str(exc)) from None
+
+
+def _task_key(params: dict[str, Any]) -> str:
+    """The env param a task file or folder goes in: ``task_file`` (every world of this project reads a folder there
+    too), or ``task_dir`` for a world whose config knows only that older name."""
+    return "task_dir" if "task_dir" in params and "task_file" not in params else "task_file"
 
 
 def _load(cfg: Any) -> tuple[Any, type, list[Any]]:

@@ -97,14 +97,13 @@ def _fresh_form(setup: AuditSetup, workdir: Path) -> tuple[list[Task], dict[str,
         else:
             path, how, sample = _write_fresh_form(setup, workdir)
         src = Path(path)
-    if src.is_dir():
-        params["task_dir"] = str(src)
-        params.pop("task_file", None)
-    elif src.is_file():
-        params["task_file"] = str(src)
-        params.pop("task_dir", None)
-    else:
+    if not src.exists():
         raise FileNotFoundError(f"no task file or folder at {src}")
+    # a file or a folder goes in task_file (navigation knows no task_dir: a fresh hard form, one file per subset
+    # in a folder, crashed its probe); task_dir only for a world whose config knows just that older name
+    key = "task_dir" if "task_dir" in params and "task_file" not in params else "task_file"
+    params.pop("task_dir" if key == "task_file" else "task_file", None)
+    params[key] = str(src)
     return setup.env_cls.load_tasks(**params), params, how, sample
 
 

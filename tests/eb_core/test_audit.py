@@ -283,6 +283,31 @@ def test_parallel_forms_compare_with_a_given_file(tmp_path):
     assert not res.passed and "long (" in res.value and f"given {other}" in res.value
 
 
+class LockFolderEnv(LockEnv):
+    """Like navigation: ``task_file`` is a file or a folder of per-subset files, and there is no ``task_dir``."""
+
+    @classmethod
+    def load_tasks(cls, task_file: str = "") -> list[Task]:  # type: ignore[override]
+        path = Path(task_file)
+        files = sorted(path.glob("*.json")) if path.is_dir() else [path]
+        return [Task(**t) for f in files for t in json.loads(f.read_text())]
+
+
+def test_parallel_forms_read_a_folder_through_task_file_where_the_world_has_no_task_dir(tmp_path):
+    """A fresh hard form is a folder (one file per subset); the probe crashed on navigation ("unknown navigation env
+    param 'task_dir'") because it always passed a folder as task_dir."""
+    other = tmp_path / "other"
+    other.mkdir()
+    fresh = lock_tasks(seed=3, lengths={"short": 3, "long": 2})
+    for subset in ("short", "long"):
+        write_tasks(other / f"{subset}.json", [t for t in fresh if t["subset"] == subset])
+    params = {"task_file": write_tasks(tmp_path / "tasks.json", lock_tasks())}
+    setup = AuditSetup(env_name="lock", env_cls=LockFolderEnv, tasks=LockFolderEnv.load_tasks(**params),
+                       max_steps=20, env_params=params, parallel_source=str(other))
+    res = probe_parallel_forms(setup)
+    assert "crashed" not in res.value and "long (" in res.value and not res.passed, res
+
+
 # -- the whole audit -------------------------------------------------------------------------------------
 
 
