@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from eb_core import PromptParts
 
+from eb_navigation.geometry import AGENT_RADIUS
+
 __all__ = ["ACTION_RULES_LANGUAGE_ONLY", "EXAMPLES", "FIRST_STEP_GUIDANCE", "GUIDELINES", "GUIDELINES_LANGUAGE_ONLY",
            "LATER_STEP_GUIDANCE", "ROLE", "ROLE_LANGUAGE_ONLY", "VIEW_DESCRIPTIONS", "prompt_parts"]
 
@@ -30,6 +32,16 @@ ACTION_RULES = """\
 - When an action fails, the rest of your plan is dropped: nothing after it is carried out, and you are asked for a new plan from where you stand.
 - The episode ends after 20 actions in all, failed ones included. Plan a way that gets there well within that: moves that bump into things and turns that only look around use up the same budget.
 - Success is measured from the centre of your body to the centre of the target object, along the floor: the episode ends by itself, as a success, once that distance is 1 metre (4 moves) or less. Beside a large object, such as the long side of a table or a sofa, its centre can still be more than 1 metre away, so keep moving toward the middle of the object until the episode ends."""
+
+#: The size of the body and what the camera never shows: which gaps are passable and why a sideways move can fail
+#: (a calibration player lost hard tasks to gaps that looked passable and to furniture beside it; issue 25).
+BODY_RULE = (f"- Your body is about {2 * AGENT_RADIUS:g} metres across: you pass between two things only where the "
+             "gap is wider than that. The camera shows only what lies ahead, so a sideways or backward move can "
+             "bump into something beside or behind you that no image has shown.")
+ACTION_RULES = ACTION_RULES.replace(
+    "A sideways move does not change where you look.\n",
+    "A sideways move does not change where you look.\n" + BODY_RULE + "\n", 1)
+assert BODY_RULE in ACTION_RULES
 
 GUIDELINES = (
     "Find the target in the image first and say where it is relative to you (ahead, front left, far right...) "
@@ -55,7 +67,9 @@ ROLE_LANGUAGE_ONLY = (
 ACTION_RULES_LANGUAGE_ONLY = ACTION_RULES.replace(
     "- Tilting (ids 6-7) points the camera 30 degrees up or down (at most 60 down and 30 up) to see things near the "
     "floor or high up.",
-    "- Tilting (ids 6-7) only changes the view you are not given: it neither moves nor turns you.")
+    "- Tilting (ids 6-7) only changes the view you are not given: it neither moves nor turns you.").replace(
+    " The camera shows only what lies ahead, so a sideways or backward move can bump into something beside or "
+    "behind you that no image has shown.", "")
 GUIDELINES_LANGUAGE_ONLY = (
     "You cannot see where the target is: reason from the instruction and from which of your moves worked or "
     "failed, and explore the room in a way that covers new ground instead of going back and forth.",

@@ -132,3 +132,22 @@ def test_visual_icl_request_carries_the_example_images(sample_tasks) -> None:
     example_images = [p for p in parts if isinstance(p, ImagePart) and p.name.startswith("example-")]
     n = sum(len(ex.images) for ex in env.prompt_parts().visual_examples)
     assert len(example_images) == n and isinstance(parts[-1], ImagePart)  # the current view comes last
+
+
+def test_the_rules_give_the_body_width_the_world_collides_with() -> None:
+    """A calibration player lost hard tasks to gaps that looked passable and to furniture beside it: the rules say
+    how wide the body is (the collision disc of geometry.AGENT_RADIUS, so the two cannot drift apart) and that a
+    sideways move can bump into what no image showed; blind play gets the width but not the camera sentence."""
+    from eb_navigation.geometry import AGENT_RADIUS
+    from eb_navigation.prompts import ACTION_RULES, ACTION_RULES_LANGUAGE_ONLY
+
+    width = f"about {2 * AGENT_RADIUS:g} metres across"
+    assert width in ACTION_RULES and width in ACTION_RULES_LANGUAGE_ONLY
+    assert "a sideways or backward move can bump into something" in ACTION_RULES
+    assert "no image" not in ACTION_RULES_LANGUAGE_ONLY
+    env = NavigationEnv(render=False)
+    try:
+        env.reset(NavigationEnv.load_tasks()[0], 0)
+        assert width in env.prompt_parts().action_rules
+    finally:
+        env.close()
