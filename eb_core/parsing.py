@@ -1,8 +1,8 @@
 """Tolerant parsing of the planner's JSON answer.
 
-Models wrap JSON in code fences, put prose before it, leave trailing commas, use single quotes or
-write the plan as a string. We accept what a careful reader would; whatever still fails is an output
-error (counted, fed back to the model, never an exception out of the episode loop).
+Models wrap JSON in code fences, put prose before it, leave trailing commas, use single quotes, put a
+raw newline inside a string or write the plan as a string. We accept what a careful reader would; whatever
+still fails is an output error (counted, fed back to the model, never an exception out of the episode loop).
 """
 
 from __future__ import annotations
@@ -107,7 +107,9 @@ def _loads_lenient(chunk: str) -> Any:
         pass
     fixed = _TRAILING_COMMA.sub(r"\1", chunk)
     try:
-        return json.loads(fixed)
+        # strict=False: a raw newline or tab inside a string (llama.cpp's JSON grammar lets one through; models
+        # write them in long reasoning) is text to a careful reader, not a broken answer
+        return json.loads(fixed, strict=False)
     except ValueError:
         pass
     if "'" in fixed and '"' not in fixed:

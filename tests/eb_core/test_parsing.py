@@ -20,6 +20,8 @@ GOOD = {"visual_state_description": "a kitchen", "reasoning_and_reflection": "r"
     "Sure! Here is my plan:\n" + json.dumps(GOOD, indent=2) + "\nGood luck.",
     json.dumps(GOOD).replace("]}", "],}").replace("}, {", "}, {"),  # trailing comma
     json.dumps(GOOD).replace('"', "'"),  # single quotes
+    # a raw newline and tab inside a string (what llama.cpp's JSON grammar let a real local model write)
+    json.dumps(GOOD).replace('"r"', '"the last action failed;\n\tstart again"'),
 ])
 def test_tolerant_forms_parse(text):
     r = parse_planner_output(text, SPACE)
