@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from eb_core.audit.forms import find_form_generator
+from eb_core.audit.forms import find_form_generator, task_param
 from eb_core.audit.render import format_audit
 from eb_core.audit.running import run_audit
 from eb_core.audit.setup import AuditSetup
@@ -114,18 +114,12 @@ def _composed(parsed: AuditArgs) -> Any:
         if not path.exists():
             raise _error(f"task_file={path} does not exist; give a task file (or folder) made by "
                          f"`eb tasks generate env={cfg_dict['env']['name']} out=...`")
-        key = _task_key(params)
+        key = task_param(params)
         params[key] = str(path)
     try:
         return validate(cfg_dict)
     except ValueError as exc:  # ConfigError: one line naming the key
         raise _error(str(exc)) from None
-
-
-def _task_key(params: dict[str, Any]) -> str:
-    """The env param a task file or folder goes in: ``task_file`` (every world of this project reads a folder there
-    too), or ``task_dir`` for a world whose config knows only that older name."""
-    return "task_dir" if "task_dir" in params and "task_file" not in params else "task_file"
 
 
 def _load(cfg: Any) -> tuple[Any, type, list[Any]]:

@@ -81,6 +81,13 @@ def _difficulty(fn: Callable[..., Any] | None, taskset: str) -> dict[str, Any]:
     return {"difficulty": taskset} if takes else {}
 
 
+def task_param(params: dict[str, Any]) -> str:
+    """The env param a task file or folder goes in: ``task_file`` (every world of this project reads a folder there
+    too; navigation knows no ``task_dir``, and a fresh hard form -- one file per subset in a folder -- crashed its
+    probe), or ``task_dir`` for a world whose config knows only that older name."""
+    return "task_dir" if "task_dir" in params and "task_file" not in params else "task_file"
+
+
 def _fresh_form(setup: AuditSetup, workdir: Path) -> tuple[list[Task], dict[str, Any], str, bool]:
     """Tasks of another form (``parallel_source``, or a fresh one from the world's generator, made here or already
     under way in the background), its env params, how it was made and whether it is a per-subset sample."""
@@ -99,9 +106,7 @@ def _fresh_form(setup: AuditSetup, workdir: Path) -> tuple[list[Task], dict[str,
         src = Path(path)
     if not src.exists():
         raise FileNotFoundError(f"no task file or folder at {src}")
-    # a file or a folder goes in task_file (navigation knows no task_dir: a fresh hard form, one file per subset
-    # in a folder, crashed its probe); task_dir only for a world whose config knows just that older name
-    key = "task_dir" if "task_dir" in params and "task_file" not in params else "task_file"
+    key = task_param(params)
     params.pop("task_dir" if key == "task_file" else "task_file", None)
     params[key] = str(src)
     return setup.env_cls.load_tasks(**params), params, how, sample
