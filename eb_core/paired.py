@@ -5,11 +5,10 @@ from __future__ import annotations
 
 import csv
 import io
-import sys
 from pathlib import Path
 from typing import Any
 
-from eb_core.report import _emit, _has_results, _pct, load_run
+from eb_core.report import _emit, _has_results, _pct, load_run, rich_text
 
 __all__ = ["overlap_note", "paired_rows", "render_paired"]
 
@@ -104,16 +103,7 @@ def render_paired(dirs: list[str], fmt: str = "rich", out: str | None = None) ->
         md += ["| " + " | ".join(row) + " |" for row in table]
         text = "\n".join(md) + "\n\n" + note + "\n"
     else:
-        from rich.console import Console
-        from rich.table import Table
-
-        t = Table(title=title)
-        for col in header:
-            t.add_column(col, justify="left" if col in ("subset", "metric", "test", "verdict") else "right")
-        for row in table:
-            t.add_row(*row)
-        buf = io.StringIO()
-        Console(file=buf, width=200, force_terminal=out is None and sys.stdout.isatty()).print(t)
-        text = buf.getvalue().rstrip("\n") + "\n" + note + "\n"
+        text = rich_text(title, header, table, ("subset", "metric", "test", "verdict"), width=200,
+                         colour=out is None) + "\n" + note + "\n"
     _emit(text, out)
     return text

@@ -334,17 +334,8 @@ def _render_tables(tables: list[Table], fmt: str, out: str | None, note: str) ->
             body = "".join("<tr>" + "".join(f"<td>{e(c)}</td>" for c in row) + "</tr>" for row in rows)
             parts.append(f"<h2>{e(title)}</h2><table><tr>{head}</tr>{body}</table>")
         else:
-            from rich.console import Console
-            from rich.table import Table as RichTable
-
-            t = RichTable(title=title)
-            for col in header:
-                t.add_column(col, justify="left" if col in ("env", "model", "ablation", "vs") else "right")
-            for row in rows:
-                t.add_row(*row)
-            buf = io.StringIO()
-            Console(file=buf, width=220, force_terminal=out is None and sys.stdout.isatty()).print(t)
-            parts.append(buf.getvalue().rstrip("\n"))
+            parts.append(rich_text(title, header, rows, ("env", "model", "ablation", "vs"), width=220,
+                                   colour=out is None))
     if fmt == "latex":
         return ("% needs \\usepackage{booktabs}\n" + "\n\n".join(parts) + f"\n% {_latex_escape(note)}\n")
     if fmt == "html":
@@ -456,6 +447,23 @@ def _csv_row(env: str, r: dict[str, Any], subsets: list[str]) -> list[str]:
     ps = ea.get("perception_score")
     row.append("" if ps is None else f"{ps:.3f}")
     return [*row, str(bool(r["meta"].get("partial"))).lower(), str(r["meta"].get("n_tasks_total", ""))]
+
+
+def rich_text(title: str, header: list[str], rows: list[list[str]], left: tuple[str, ...], width: int,
+              colour: bool) -> str:
+    """One table drawn by rich as text: the columns named in ``left`` flush left, the numbers right; terminal
+    colours only when ``colour`` and standard output is a terminal."""
+    from rich.console import Console
+    from rich.table import Table as RichTable
+
+    t = RichTable(title=title)
+    for col in header:
+        t.add_column(col, justify="left" if col in left else "right")
+    for row in rows:
+        t.add_row(*row)
+    buf = io.StringIO()
+    Console(file=buf, width=width, force_terminal=colour and sys.stdout.isatty()).print(t)
+    return buf.getvalue().rstrip("\n")
 
 
 def _emit(text: str, out: str | None) -> None:

@@ -56,6 +56,19 @@ def _resolve(world: str) -> str:
                      f"(is its plugin installed? `eb list` shows the worlds)")
 
 
+
+def reset_seeds(seed: int | Sequence[int | None] | None, n: int) -> list[int | None]:
+    """The per-environment seeds of a vector ``reset(seed=...)``, as gymnasium's vector envs read them: ``None``
+    for all, an int ``s`` for ``s, s+1, ...``, or one seed (or ``None``) per environment."""
+    if seed is None:
+        return [None] * n
+    if isinstance(seed, (int, np.integer)):
+        return [int(seed) + i for i in range(n)]
+    seeds = [None if s is None else int(s) for s in seed]
+    if len(seeds) != n:
+        raise ValueError(f"reset(seed=...) needs {n} seeds (one per environment), got {len(seeds)}")
+    return seeds
+
 class _MakeEnv:
     """A picklable environment factory: ``gymnasium.make(gym_id, **kwargs)`` in the worker, after registering
     the worlds the worker's plugins provide."""
@@ -236,14 +249,7 @@ class EBVectorEnv(VectorEnv):
     def reset(self, *, seed: int | Sequence[int | None] | None = None,
               options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
         n = self.num_envs
-        if seed is None:
-            seeds: list[int | None] = [None] * n
-        elif isinstance(seed, (int, np.integer)):
-            seeds = [int(seed) + i for i in range(n)]
-        else:
-            seeds = list(seed)
-            if len(seeds) != n:
-                raise ValueError(f"reset(seed=...) needs {n} seeds (one per environment), got {len(seeds)}")
+        seeds = reset_seeds(seed, n)
         options = dict(options or {})
         mask = options.pop("reset_mask", None)
         if mask is None:

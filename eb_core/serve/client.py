@@ -24,6 +24,7 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space, concatenate, create_empty_array
 
+from eb_core.gym.vector import reset_seeds
 from eb_core.serve.png import decode_png
 from eb_core.serve.schema import SCHEMA
 from eb_core.serve.spaces import build
@@ -150,12 +151,7 @@ class RemoteVectorEnv(VectorEnv):
     def reset(self, *, seed: int | Sequence[int | None] | None = None,
               options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
         n = self.num_envs
-        if seed is None:
-            seeds: list[int | None] = [None] * n
-        elif isinstance(seed, (int, np.integer)):
-            seeds = [int(seed) + i for i in range(n)]
-        else:
-            seeds = [None if s is None else int(s) for s in seed]
+        seeds = reset_seeds(seed, n)
         options = dict(options or {})
         mask = options.pop("reset_mask", None)
         task_id = options.pop("task_id", None)

@@ -164,3 +164,14 @@ def test_prompt_mode_batches_texts_and_images_and_takes_answer_texts():
         assert all(img.shape == (64, 64, 3) for imgs in obs["images"] for img in imgs)
     finally:
         vec.close()
+
+
+def test_reset_seeds_follow_gymnasium_and_refuse_a_wrong_count():
+    # one rule for the in-process vector env and the service's client (eb_core.serve.client)
+    from eb_core.gym.vector import reset_seeds
+
+    assert reset_seeds(None, 3) == [None, None, None]
+    assert reset_seeds(np.int64(5), 3) == [5, 6, 7]
+    assert reset_seeds([4, None, np.int32(9)], 3) == [4, None, 9]
+    with pytest.raises(ValueError, match="needs 3 seeds \\(one per environment\\), got 2"):
+        reset_seeds([1, 2], 3)
