@@ -636,7 +636,9 @@ def _wide_counted_type(rng: random.Random, x: str) -> str:
     """The counted type: never the moved type, its look-alike type, nor a type whose twin is the moved type."""
     fits = [y for y, twin in WIDE_COUNTED.items() if x not in (y, twin) and y not in CONFUSERS.get(x, ())
             and x not in CONFUSERS.get(y, ())]
-    return rng.choice(fits)
+    # bowls fit every moved type but the dishes, and the tall cans are refused most often for occlusion: drawn at
+    # half the weight of the others, so that bowls do not make most of the counts
+    return rng.choice([y for y in fits for _ in range(1 if y == "bowl" else 2)])
 
 
 def wide_groups(rng: random.Random, scene: Scene, y: str) -> tuple[list[str], int]:
@@ -653,6 +655,8 @@ def wide_groups(rng: random.Random, scene: Scene, y: str) -> tuple[list[str], in
         fits = [k for k in WIDE_CAPACITY if k not in out and not scene.used_slots(k) and scene.cap(k) >= count + 1]
         if not fits:
             raise _Reject("no wide surface for a counted group")
+        roomy = [k for k in fits if scene.cap(k) >= count + 1 + min(twins, 1)]
+        fits = roomy or fits  # room for a twin where one is wanted, when a surface has it
         at = rng.choice(fits)
         twins = min(twins, scene.cap(at) - count - 1)
         clash = HANDLE_CLASHES.get((scene.apartment, at))
