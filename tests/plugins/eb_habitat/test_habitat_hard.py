@@ -115,7 +115,7 @@ IN_THE_WAY_SUBSETS = ("base", "common_sense", "visual_appearance")
 def test_in_the_way_the_look_alike_left_of_the_object_goes_to_the_named_receptacle_first() -> None:
     """Version 5: every one-object task of base, common_sense, visual_appearance and complex_instruction's stories
     and negations says that a look-alike left of the object (the same type in another colour) must first go to
-    a named receptacle. In 30-70 % of a subset one stands there (its near hue) and the goal moves it there, once;
+    a named receptacle. In 30-70 % of a subset (version 7: base 34 of 50) one stands there (its near hue) and the goal moves it there, once;
     in the rest nothing of the type stands left of the object, and the goal moves the object alone. The clause
     never names the look-alike's colour, and the object is not the leftmost of its kind exactly when one is in
     the way."""
@@ -142,7 +142,7 @@ def test_in_the_way_the_look_alike_left_of_the_object_goes_to_the_named_receptac
             blocked += 1
             assert left == [blocker] and aside == named[-1] and f"(once {blocker.name})" in spec.goal, t.id
             assert not re.search(rf"\b{blocker.color}\b", clause), t.id
-        assert 0.3 * len(tasks) <= blocked <= 0.7 * len(tasks), (subset, blocked)  # version 7: base 33 of 50
+        assert 0.3 * len(tasks) <= blocked <= 0.7 * len(tasks), (subset, blocked)  # version 7: base 34 of 50
 
 
 def test_a_stateless_agent_walks_straight_back_after_moving_a_look_alike_out_of_the_way() -> None:
@@ -354,7 +354,7 @@ def test_target_and_landmark_are_in_view_where_the_agent_stands(subset: str) -> 
         if spec_of(task).world().is_open(src):
             assert mover in {o.name for o in obs.objects if o.box is not None}
         if subset == "visual_appearance":
-            dest = spec.goal[0].split()[2].rstrip(")")
+            dest = [g for g in spec.goal if g.startswith("(on ")][-1].split()[2].rstrip(")")  # after any look-alike
             obs = env.step(skill_id("navigate", dest)).observation
             types = {o.type for o in obs.objects if o.box is not None}
             assert types  # the landmark lies there
@@ -677,7 +677,7 @@ def test_a_mug_is_told_from_its_same_colour_twin_only_by_its_handle() -> None:
             others = [o for o in spec.objects if o.type == "mug" and o.color == mover.color]
             assert len(others) == 2, t.id
         low = 0.25 if subset == "complex_instruction" else 0.35
-        assert low * 50 <= handled <= 0.7 * 50, (subset, handled)  # version 7: common_sense 32
+        assert low * 50 <= handled <= 0.6 * 50, (subset, handled)
 
 
 def test_a_handle_on_anything_but_a_mug_on_a_surface_is_refused(tmp_path: Path) -> None:
@@ -859,7 +859,9 @@ def test_wide_slots_are_refused_in_a_task_that_is_not_wide(tmp_path: Path) -> No
 
 def test_no_counted_object_stands_on_furniture_of_its_colour() -> None:
     """A blue cup on the blue sofa barely stands out at 500 px: counted objects and their twins never take the
-    furniture's colour (the clash table above), nor white, black, silver or gray."""
+    furniture's colour (the clash table above), nor white, black, silver or gray -- except a twin whose type has
+    one colour only (the tuna can: blue label, silver top, yellow band, which shows on the blue sofa)."""
+    from eb_habitat.catalog import allowed_colors
     from eb_habitat.hard import COUNT_COLORS_OUT, HANDLE_CLASHES, counted_surfaces
 
     checked = 0
@@ -867,7 +869,7 @@ def test_no_counted_object_stands_on_furniture_of_its_colour() -> None:
         spec = spec_of(t)
         for key in counted_surfaces(spec.objects):
             for o in spec.objects:
-                if o.at == key:
+                if o.at == key and len(allowed_colors(o.type)) > 1:
                     assert o.color not in COUNT_COLORS_OUT, (t.id, o.name)
                     assert HANDLE_CLASHES.get((spec.apartment, key)) != o.color, (t.id, o.name)
                     checked += 1
