@@ -29,6 +29,11 @@ changes is the scenes and the words:
   counted destination in spatial_relationship; in long_horizon a gathering of one type also holds objects of its
   look-alike type in a colour that qualifies (:func:`_gather_twins`).
 
+* **counting five to eight** (version 7): in base, common_sense, visual_appearance and complex_instruction's
+  stories the destination may be the one wide surface (:data:`~eb_habitat.catalog.WIDE_CAPACITY`) with exactly
+  five to eight of a type among its shape twins, beside decoys with one fewer and one more
+  (:func:`wide_groups`); every counted object is checked uncovered in a real render (:func:`counted_views_fair`).
+
 * **counting in one view** (version 3): a destination told by a count ("the one place that has exactly two
   bowls", beside decoys with one more or one fewer; base) or a conditional on the count beside a landmark
   (complex_instruction), every judgement made in the view where the agent acts.

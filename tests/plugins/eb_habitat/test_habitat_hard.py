@@ -115,7 +115,8 @@ IN_THE_WAY_SUBSETS = ("base", "common_sense", "visual_appearance")
 def test_in_the_way_the_look_alike_left_of_the_object_goes_to_the_named_receptacle_first() -> None:
     """Version 5: every one-object task of base, common_sense, visual_appearance and complex_instruction's stories
     and negations says that a look-alike left of the object (the same type in another colour) must first go to
-    a named receptacle. In 30-70 % of a subset (version 7: base 34 of 50) one stands there (its near hue) and the goal moves it there, once;
+    a named receptacle. In 30-70 % of a subset (version 7: base 34 of 50) one stands there (its near hue) and the
+    goal moves it there, once;
     in the rest nothing of the type stands left of the object, and the goal moves the object alone. The clause
     never names the look-alike's colour, and the object is not the leftmost of its kind exactly when one is in
     the way."""
@@ -770,7 +771,8 @@ def _wide_count(t: Task) -> tuple[str, int, str]:
 def test_wide_counting_destinations_hold_five_to_eight_among_shape_twins_beside_near_counts() -> None:
     """Version 7: "the furniture that holds exactly seven bowls" (in base, common_sense by use, visual_appearance by
     looks, complex_instruction's stories) -- a wide task whose destination holds exactly n (5-8) of the counted type
-    and one or two of its shape twin (plates among bowls; none where the surface has no room left) and nothing else; two other wide surfaces hold one fewer
+    and one or two of its shape twin (plates among bowls; none where the surface has no room left) and nothing
+    else; two other wide surfaces hold one fewer
     and one more (two fewer when n is 8), with twins; no other receptacle holds the counted type."""
     from eb_habitat.catalog import WIDE_CAPACITY
     from eb_habitat.hard import WIDE_COUNTED
