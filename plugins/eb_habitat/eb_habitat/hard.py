@@ -670,8 +670,21 @@ def wide_groups(rng: random.Random, scene: Scene, y: str) -> tuple[list[str], in
         for color in _count_colors(rng, twin, twins, clash):
             _put(scene, twin, at, color)
         _shuffle_slots(rng, scene, at)
+        _no_same_colour_neighbours(rng, scene, at, clash)
         out.append(at)
     return out, n
+
+
+def _no_same_colour_neighbours(rng: random.Random, scene: Scene, at: str, clash: str | None) -> None:
+    """Recolour, left to right, an object in the slot next to one of the same colour: neighbours stand half in
+    front of each other (two depths), and two red mugs overlapping read almost as one."""
+    objs = sorted((o for o in scene.objects if o["at"] == at), key=lambda o: o["slot"])
+    for left, right in zip(objs, objs[1:]):
+        if right["slot"] == left["slot"] + 1 and right["color"] == left["color"]:
+            pool = [c for c in _count_colors(rng, right["type"], 12, clash) if c != left["color"]]
+            if not pool:
+                raise _Reject("no colour apart from the neighbour's")
+            right["color"] = pool[0]
 
 
 def _counted_destination(rng: random.Random, level: Level, x: str

@@ -862,7 +862,8 @@ def test_wide_slots_are_refused_in_a_task_that_is_not_wide(tmp_path: Path) -> No
 def test_no_counted_object_stands_on_furniture_of_its_colour() -> None:
     """A blue cup on the blue sofa barely stands out at 500 px: counted objects and their twins never take the
     furniture's colour (the clash table above), nor white, black, silver or gray -- except a twin whose type has
-    one colour only (the tuna can: blue label, silver top, yellow band, which shows on the blue sofa)."""
+    one colour only (the tuna can: blue label, silver top, yellow band, which shows on the blue sofa) -- and two
+    objects in neighbouring slots never share a colour (two red mugs half in front of each other read as one)."""
     from eb_habitat.catalog import allowed_colors
     from eb_habitat.hard import COUNT_COLORS_OUT, HANDLE_CLASHES, counted_surfaces
 
@@ -870,6 +871,9 @@ def test_no_counted_object_stands_on_furniture_of_its_colour() -> None:
     for t in (t for s in WIDE_SUBSETS for t in BY_SUBSET[s] if t.metadata.get("wide")):
         spec = spec_of(t)
         for key in counted_surfaces(spec.objects):
+            row = sorted((o for o in spec.objects if o.at == key), key=lambda o: o.slot)
+            for a, b in zip(row, row[1:]):  # neighbours stand half in front of each other: never one colour
+                assert b.slot != a.slot + 1 or a.color != b.color, (t.id, a.name, b.name)
             for o in spec.objects:
                 if o.at == key and len(allowed_colors(o.type)) > 1:
                     assert o.color not in COUNT_COLORS_OUT, (t.id, o.name)
