@@ -20,7 +20,9 @@ __all__ = [
     "RECEPTACLES",
     "ObjectType",
     "Receptacle",
+    "WIDE_CAPACITY",
     "allowed_colors",
+    "capacity",
     "object_type",
     "receptacle",
 ]
@@ -98,6 +100,15 @@ RECEPTACLES: tuple[Receptacle, ...] = (
 )
 
 _RECEPTACLE_BY_KEY = {r.key: r for r in RECEPTACLES}
+
+#: Hard sets (version 7): slots of the long surfaces in a "wide" task, objects standing closer and in two depths,
+#: so one surface can show a group of five to eight to count. Classic tasks never use it.
+WIDE_CAPACITY: dict[str, int] = {"left_counter": 9, "right_counter": 9, "dining_table": 9, "tv_stand": 7, "sofa": 7}
+
+
+def capacity(key: str, wide: bool = False) -> int:
+    """Slots of receptacle ``key``: :data:`WIDE_CAPACITY` in a wide (hard) task, else the catalogue's."""
+    return WIDE_CAPACITY.get(key, receptacle(key).capacity) if wide else receptacle(key).capacity
 
 
 def receptacle(key: str) -> Receptacle:

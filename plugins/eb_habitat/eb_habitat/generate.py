@@ -25,6 +25,7 @@ from eb_habitat.catalog import (
     OBJECT_TYPES,
     RECEPTACLES,
     ObjectType,
+    capacity,
     object_type,
     receptacle,
 )
@@ -52,12 +53,18 @@ class Scene:
     apartment: int
     objects: list[dict[str, Any]] = field(default_factory=list)
     open: list[str] = field(default_factory=list)
+    wide: bool = False
+    """Hard sets (version 7): the long surfaces have :data:`~eb_habitat.catalog.WIDE_CAPACITY` slots."""
+
+    def cap(self, key: str) -> int:
+        """Slots of receptacle ``key`` in this scene."""
+        return capacity(key, self.wide)
 
     def used_slots(self, key: str) -> set[int]:
         return {o["slot"] for o in self.objects if o["at"] == key}
 
     def has_room(self, key: str) -> bool:
-        return len(self.used_slots(key)) < receptacle(key).capacity
+        return len(self.used_slots(key)) < self.cap(key)
 
     def types_at(self, key: str) -> set[str]:
         return {o["type"] for o in self.objects if o["at"] == key}
@@ -71,7 +78,7 @@ class Scene:
             at = rng.choice(choices)
         if not self.has_room(at) or type_key in self.types_at(at):
             raise _Reject(f"no room for {type_key} at {at}")
-        free = [s for s in range(receptacle(at).capacity) if s not in self.used_slots(at)]
+        free = [s for s in range(self.cap(at)) if s not in self.used_slots(at)]
         n = 1 + sum(1 for o in self.objects if o["type"] == type_key)
         obj = {"name": f"{type_key}_{n}", "type": type_key, "color": color or rng.choice(t.colors), "at": at,
                "slot": rng.choice(free)}
@@ -627,7 +634,7 @@ def _finish(draft: Draft, subset: str, index: int) -> dict[str, Any] | None:
     objects = scene.sorted_objects()
     inst = {o["name"]: o["type"] for o in objects}
     goal = [parse_predicate(g, inst) for g in draft.goal]
-    world = World(objects, scene.open)
+    world = World(objects, scene.open, wide=scene.wide)
     if all(p.holds(world) for p in goal):
         return None
     try:
@@ -645,6 +652,8 @@ def _finish(draft: Draft, subset: str, index: int) -> dict[str, Any] | None:
         "subgoals": [[str(p) for p in group] for group in default_subgoals(goal)],
         "oracle_steps": len(plan),
     }
+    if scene.wide:
+        meta["wide"] = True
     return {"id": f"{subset}-{index:02d}", "subset": subset, "instruction": fix_articles(draft.instruction),
             "metadata": meta}
 

@@ -22,7 +22,6 @@ from typing import Any
 from eb_core.env import PromptParts
 from eb_habitat.skills import SKILL_NAMES
 from eb_habitat.tasks import TaskSpec
-from eb_habitat.world import World
 
 __all__ = ["ACTION_RULES", "GUIDELINES", "ROLE", "examples", "prompt_parts", "render_example"]
 
@@ -78,7 +77,7 @@ def render_example(ex: dict[str, Any], number: int) -> str:
     if unknown:
         raise ValueError(f"example {number}: unknown action name {unknown[0]!r}; use a name from eb_habitat.skills")
     spec = TaskSpec.model_validate(ex["scene"])
-    world = World([o.model_dump() for o in spec.objects], spec.open)
+    world = spec.world()
     tracker = spec.tracker()
     for name in ex["plan"]:
         out = world.step(SKILL_NAMES.index(name))

@@ -20,7 +20,7 @@ from eb_scenekit.gl import import_mujoco
 from eb_scenekit.render import SceneRenderer, camera_from_eye
 from eb_habitat._mirror import MIRRORED, mirrored_type
 from eb_habitat._ycb import KIT_TYPES, kit_or_ycb
-from eb_habitat.catalog import COLORS, KITCHEN_ROWS, N_APARTMENTS, RECEPTACLES
+from eb_habitat.catalog import COLORS, KITCHEN_ROWS, N_APARTMENTS, RECEPTACLES, WIDE_CAPACITY
 from eb_habitat.world import HAND
 
 if TYPE_CHECKING:
@@ -211,6 +211,30 @@ _GEOMETRY: dict[str, _Slots] = {
 }
 assert set(_GEOMETRY) == {r.key for r in RECEPTACLES}
 
+
+def _staggered(surface: str, n: int, half_width: float, dx: float, depth: float
+               ) -> tuple[tuple[str, float, float], ...]:
+    """``n`` slots left to right, every other one ``depth`` metres nearer the viewer (two depths, so neighbours
+    stand close without merging)."""
+    return tuple((surface, dx + (depth if i % 2 else -depth), -half_width + 2 * half_width * i / (n - 1))
+                 for i in range(n))
+
+
+#: Hard sets (version 7): the slots of the long surfaces in a wide task (:data:`~eb_habitat.catalog.WIDE_CAPACITY`);
+#: the other receptacles keep :data:`_GEOMETRY`.
+_WIDE_POINTS: dict[str, tuple[tuple[str, float, float], ...]] = {
+    "left_counter": _staggered("top", 9, 0.46, 0.0, 0.14),
+    "right_counter": _staggered("top", 9, 0.46, 0.0, 0.14),
+    "dining_table": _staggered("top", 9, 0.62, 0.08, 0.13),
+    "tv_stand": _staggered("top", 7, 0.52, 0.06, 0.07),
+    "sofa": _staggered("seat", 7, 0.6, 0.0, 0.07),
+}
+assert all(len(p) == WIDE_CAPACITY[k] for k, p in _WIDE_POINTS.items()) and set(_WIDE_POINTS) == set(WIDE_CAPACITY)
+
+
+def _slot_point(key: str, slot: int, wide: bool) -> tuple[str, float, float]:
+    return (_WIDE_POINTS[key] if wide and key in _WIDE_POINTS else _GEOMETRY[key].points)[slot]
+
 #: Extra yaw (degrees) per object type so that long things show their profile to the camera.
 _YAW = {"skillet": 90.0, "toy_airplane": 60.0, "spatula": 70.0, "pitcher": -60.0, "mug": -30.0,
         "banana": 20.0, "hammer": 15.0, "bleach_bottle": -20.0}
@@ -360,11 +384,11 @@ class ApartmentRenderer:
         dx, dy = _rot(yaw, x, y)
         return px + dx, py + dy, pz + z
 
-    def slot_position(self, key: str, slot: int) -> tuple[float, float, float]:
+    def slot_position(self, key: str, slot: int, wide: bool = False) -> tuple[float, float, float]:
         """World position of slot ``slot`` of receptacle ``key`` in the current joint state (things in a drawer
-        come out with it)."""
+        come out with it); ``wide``: a hard task's wide surfaces (:data:`_WIDE_POINTS`)."""
         g = _GEOMETRY[key]
-        surface, dx, dy = g.points[slot]
+        surface, dx, dy = _slot_point(key, slot, wide)
         s = _furniture_type(self._kit_type(g.instance)).surface(surface)
         x, y, z = surface_position(self._model, self._data, g.instance, s, offset=(dx, dy))
         return float(x), float(y), float(z)
@@ -417,7 +441,7 @@ class ApartmentRenderer:
                 pos, oyaw = tuple(float(v) for v in p), self._object_yaw(yaw, it.type)
                 quat = _yaw_quat(oyaw)
             else:
-                pos = self.slot_position(it.loc, it.slot)
+                pos = self.slot_position(it.loc, it.slot, world.wide)
                 g = _GEOMETRY[it.loc]
                 _, fyaw = self._furniture[g.instance]
                 oyaw = self._object_yaw(fyaw + g.view_dir + 180.0, it.type, it.handle)
@@ -451,6 +475,30 @@ class ApartmentRenderer:
             cam = camera_from_eye((0.0, -0.01, dist), (0.0, 0.0, 0.0))
             images["overhead"] = self._renderer.rgb(cam, show_agents=True)
         return images
+
+    def visible_shares(self, world: World, names: list[str]) -> dict[str, tuple[int, float]]:
+        """Per object of ``names`` in the first-person view of ``world``: (its visible pixels, the share of its
+        pixels that no other object covers, i.e. visible pixels over the pixels it shows when it is the only small
+        object in the scene). Hard sets (version 7) refuse a counted object that others hide."""
+        if self._renderer is None:
+            raise RuntimeError("ApartmentRenderer.visible_shares() before load()")
+        m, d = self._model, self._data
+        self.pose(world)
+        index = self._renderer.instance_names
+        seg = self._renderer.segmentation(AGENT)
+        full = {n: int((seg == index.index(n)).sum()) for n in names}
+        saved = d.qpos.copy()
+        out: dict[str, tuple[int, float]] = {}
+        for n in names:
+            for other, adr in self._qpos_adr.items():
+                if other != n:
+                    d.qpos[adr + 2] = -5.0
+            mujoco.mj_forward(m, d)
+            alone = int((self._renderer.segmentation(AGENT) == index.index(n)).sum())
+            out[n] = (full[n], full[n] / alone if alone else 0.0)
+            d.qpos[:] = saved
+        mujoco.mj_forward(m, d)
+        return out
 
     def boxes(self) -> dict[str, tuple[int, int, int, int]]:
         """Pixel boxes of the objects visible in the last first-person render."""

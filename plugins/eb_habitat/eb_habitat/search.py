@@ -59,7 +59,7 @@ def _deciding_place(objects: list[dict[str, Any]], movers: set[str], instruction
 
 
 def search_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[str], instruction: str,
-                 template: str = "", reverse: bool = False) -> int:
+                 template: str = "", reverse: bool = False, wide: bool = False) -> int:
     """Steps of a seeing agent with memory: it walks to the receptacles in catalogue order (``reverse``: backward)
     opening the closed ones, until it has seen every object the goal moves and every destination the instruction
     does not name (a landmark's place) or whose count decides a conditional, then follows the expert's plan from
@@ -70,8 +70,8 @@ def search_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[st
     from eb_habitat.world import World
 
     if any(part in template for part in GATHERING):
-        return gather_steps(objects, opened, goal, reverse, memory=True) or _LIMIT + 1
-    w = World(objects, opened)
+        return gather_steps(objects, opened, goal, reverse, memory=True, wide=wide) or _LIMIT + 1
+    w = World(objects, opened, wide=wide)
     inst = {o["name"]: o["type"] for o in objects}
     preds = [parse_predicate(g, inst) for g in goal]
     places = [p for p in preds if p.name in ("on", "inside")]
@@ -96,11 +96,12 @@ class _Walker:
     """The world of a step bound, with the steps taken so far: ``do`` one skill, ``go`` to a receptacle (and open
     it), ``finish`` with the expert's remaining non-placing goals (None when it has no plan for them)."""
 
-    def __init__(self, objects: list[dict[str, Any]], opened: list[str], goal: list[str]) -> None:
+    def __init__(self, objects: list[dict[str, Any]], opened: list[str], goal: list[str], wide: bool = False
+                 ) -> None:
         from eb_habitat.goals import parse_predicate
         from eb_habitat.world import World
 
-        self.w = World(objects, opened)
+        self.w = World(objects, opened, wide=wide)
         inst = {o["name"]: o["type"] for o in objects}
         self.preds = [parse_predicate(g, inst) for g in goal]
         self.dest = {p.args[0]: p.args[1] for p in self.preds if p.name in ("on", "inside") and p.args[0] in inst}
@@ -128,7 +129,7 @@ class _Walker:
 
 
 def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[str], instruction: str,
-                           template: str = "", reverse: bool = False) -> int | None:
+                           template: str = "", reverse: bool = False, wide: bool = False) -> int | None:
     """Steps of a seeing agent **without memory**, or None when no such agent can solve the task.
 
     It walks to the receptacles in catalogue order (``reverse``: backward), opening closed ones, and in each view
@@ -145,8 +146,8 @@ def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goa
     if any(part in template for part in WITNESS_ELSEWHERE):
         return None
     if any(part in template for part in GATHERING):
-        return gather_steps(objects, opened, goal, reverse)
-    walker = _Walker(objects, opened, goal)
+        return gather_steps(objects, opened, goal, reverse, wide=wide)
+    walker = _Walker(objects, opened, goal, wide)
     w, preds, dest, do, go = walker.w, walker.preds, walker.dest, walker.do, walker.go
     if len(dest) != sum(p.name in ("on", "inside") for p in preds):
         return None  # a goal that accepts any instance of a type: not a hard-set goal
@@ -199,7 +200,7 @@ def stateless_search_steps(objects: list[dict[str, Any]], opened: list[str], goa
 
 
 def gather_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[str], reverse: bool = False,
-                 memory: bool = False) -> int | None:
+                 memory: bool = False, wide: bool = False) -> int | None:
     """Steps of a seeing agent in a quantified gathering (:data:`GATHERING`), or None when it cannot finish.
 
     Every view tells by itself which objects qualify (their colour and type) and the destination is named, so the
@@ -208,8 +209,8 @@ def gather_steps(objects: list[dict[str, Any]], opened: list[str], goal: list[st
     ends on success). In each view it picks up a qualifying object if ``pick up`` takes one (else it moves on; None
     if ``pick up`` would take another instance first), carries it to the destination, places it and walks back to
     look again. Without memory (the benchmark's planner) it always walks back, since only the view can tell
-    whether another one is left there; with ``memory`` only when one is."""
-    walker = _Walker(objects, opened, goal)
+    whether another one is left there; with ``memory`` only when one is. ``wide``: a wide (hard) task's slots."""
+    walker = _Walker(objects, opened, goal, wide)
     w, dest, do, go = walker.w, walker.dest, walker.do, walker.go
     pending = set(dest)
 

@@ -26,7 +26,7 @@ from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler
 from eb_core.env import Task
 from eb_core.taskfile import TaskFileError as _CoreTaskFileError
 from eb_core.taskfile import TaskFileFormat
-from eb_habitat.catalog import N_APARTMENTS, allowed_colors, object_type, receptacle
+from eb_habitat.catalog import N_APARTMENTS, allowed_colors, capacity, object_type, receptacle
 from eb_habitat.goals import GoalTracker, Predicate, PredicateError, parse_predicate
 from eb_habitat.world import World
 
@@ -100,9 +100,19 @@ class TaskSpec(BaseModel):
     """Subgoal predicate sets for the progress metric (sticky)."""
     oracle_steps: int = Field(ge=1)
     """Length of the expert plan from the initial state (recorded by the generator)."""
+    wide: bool = False
+    """Hard sets (version 7): the long surfaces hold up to :data:`~eb_habitat.catalog.WIDE_CAPACITY` objects, closer
+    together and in two depths. Left out of the file and of dumps when false (classic files and digests unchanged)."""
+
+    @model_serializer(mode="wrap")
+    def _drop_unset_wide(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        out = handler(self)
+        if not out.get("wide"):
+            out.pop("wide", None)
+        return out
 
     def world(self) -> World:
-        return World([o.model_dump() for o in self.objects], self.open)
+        return World([o.model_dump() for o in self.objects], self.open, wide=self.wide)
 
     def instances(self) -> dict[str, str]:
         return {o.name: o.type for o in self.objects}
@@ -152,8 +162,9 @@ def _semantic_problem(entry: _TaskEntry) -> tuple[str, str] | None:
             return f + ".at", exc.args[0]
         if o.handle is not None and (o.type != "mug" or r.kind != "surface"):
             return f + ".handle", f"only a mug on a surface has a handle's side, not a {t.name} at the {r.name}"
-        if o.slot >= r.capacity:
-            return f + ".slot", f"slot {o.slot} but the {r.name} has {r.capacity} slot(s)"
+        cap = capacity(r.key, spec.wide)
+        if o.slot >= cap:
+            return f + ".slot", f"slot {o.slot} but the {r.name} has {cap} slot(s)"
         if (o.at, o.slot) in slots:
             return f + ".slot", f"slot {o.slot} of the {r.name} is taken twice"
         slots.add((o.at, o.slot))

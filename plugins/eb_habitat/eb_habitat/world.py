@@ -10,7 +10,7 @@ from __future__ import annotations
 import copy
 from dataclasses import dataclass
 
-from eb_habitat.catalog import object_type, receptacle
+from eb_habitat.catalog import capacity, object_type, receptacle
 from eb_habitat.skills import SKILLS
 
 __all__ = ["FAILURES", "HAND", "Item", "Outcome", "World", "item_label"]
@@ -66,11 +66,14 @@ class Outcome:
 class World:
     """Mutable symbolic state of one episode."""
 
-    def __init__(self, objects: list[dict], opened: list[str] | tuple[str, ...] = (), agent_at: str | None = None):
+    def __init__(self, objects: list[dict], opened: list[str] | tuple[str, ...] = (), agent_at: str | None = None,
+                 wide: bool = False):
         self.items: dict[str, Item] = {}
         for o in objects:
             self.items[o["name"]] = Item(o["name"], o["type"], o["color"], o["at"], int(o["slot"]), o.get("handle"))
         self.opened: set[str] = set(opened)
+        self.wide = wide
+        """Hard sets (version 7): the long surfaces have :data:`~eb_habitat.catalog.WIDE_CAPACITY` slots."""
         self.agent_at: str | None = agent_at
         self.held: str | None = None
         self.picks: dict[str, int] = {}
@@ -95,7 +98,7 @@ class World:
 
     def free_slot(self, key: str) -> int | None:
         used = {it.slot for it in self.items_at(key)}
-        for s in range(receptacle(key).capacity):
+        for s in range(capacity(key, self.wide)):
             if s not in used:
                 return s
         return None

@@ -91,14 +91,15 @@ def _views(tasks: list[Task]) -> dict[str, tuple[float, float, int, int]]:
 def search_then_plan(task: Task) -> int:
     """:func:`eb_habitat.hard.search_steps` of a task (a seeing agent that looks before it acts)."""
     m = task.metadata
-    return search_steps(m["objects"], m["open"], m["goal"], task.instruction, m["template"])
+    return search_steps(m["objects"], m["open"], m["goal"], task.instruction, m["template"], wide=bool(m.get("wide")))
 
 
 def stateless(task: Task) -> int | None:
     """:func:`eb_habitat.search.stateless_search_steps` of a task (a seeing agent without memory); None when no
     such agent solves it, or the goal takes any instance of a type (the classic set)."""
     m = task.metadata
-    return stateless_search_steps(m["objects"], m["open"], m["goal"], task.instruction, m["template"])
+    return stateless_search_steps(m["objects"], m["open"], m["goal"], task.instruction, m["template"],
+                                  wide=bool(m.get("wide")))
 
 
 def _random_episode(task: Task, seed: int) -> bool:

@@ -115,7 +115,8 @@ IN_THE_WAY_SUBSETS = ("base", "common_sense", "visual_appearance")
 def test_in_the_way_the_look_alike_left_of_the_object_goes_to_the_named_receptacle_first() -> None:
     """Version 5: every one-object task of base, common_sense, visual_appearance and complex_instruction's stories
     and negations says that a look-alike left of the object (the same type in another colour) must first go to
-    a named receptacle. In 30-65 % of a subset one stands there (its near hue) and the goal moves it there, once;
+    a named receptacle. In 30-75 % of a subset (version 7: base 36 of 50) one stands there (its near hue) and the
+    goal moves it there, once;
     in the rest nothing of the type stands left of the object, and the goal moves the object alone. The clause
     never names the look-alike's colour, and the object is not the leftmost of its kind exactly when one is in
     the way."""
@@ -126,14 +127,14 @@ def test_in_the_way_the_look_alike_left_of_the_object_goes_to_the_named_receptac
         if subset != "complex_instruction":
             assert len(tasks) == 50, subset
         else:
-            assert {t.metadata["template"].split(".")[2] for t in tasks} == {"story", "negation"}
+            assert {t.metadata["template"].split(".")[2] for t in tasks} == {"story", "negation", "story_count"}
             assert len(tasks) >= 15
         blocked = 0
         for t in tasks:
             spec = spec_of(t)
             mover, blocker, aside = _object_and_blocker(t)
             left = [o for o in spec.objects if o.type == mover.type and o.at == mover.at and o.slot < mover.slot]
-            clause = next(c for c in re.split(r"(?<=\.) ", t.instruction) if re.search("to its left|left of it", c))
+            clause = next(c for c in re.split(r"(?<=[.?]) ", t.instruction) if re.search("to its left|left of it", c))
             named = [r.key for r in RECEPTACLES if f"the {r.name.lower()}" in clause.lower()]
             assert named, t.id
             if blocker is None:
@@ -142,7 +143,7 @@ def test_in_the_way_the_look_alike_left_of_the_object_goes_to_the_named_receptac
             blocked += 1
             assert left == [blocker] and aside == named[-1] and f"(once {blocker.name})" in spec.goal, t.id
             assert not re.search(rf"\b{blocker.color}\b", clause), t.id
-        assert 0.3 * len(tasks) <= blocked <= 0.65 * len(tasks), (subset, blocked)
+        assert 0.3 * len(tasks) <= blocked <= 0.75 * len(tasks), (subset, blocked)  # version 7: base 36 of 50
 
 
 def test_a_stateless_agent_walks_straight_back_after_moving_a_look_alike_out_of_the_way() -> None:
@@ -157,8 +158,9 @@ def test_a_stateless_agent_walks_straight_back_after_moving_a_look_alike_out_of_
             continue
         m = t.metadata
         args = (m["objects"], m["open"], m["goal"], t.instruction)
-        back = stateless_search_steps(*args, m["template"])
-        restart = stateless_search_steps(*args, m["template"].replace(".in_the_way.", ".way."))
+        wide = bool(m.get("wide"))
+        back = stateless_search_steps(*args, m["template"], wide=wide)
+        restart = stateless_search_steps(*args, m["template"].replace(".in_the_way.", ".way."), wide=wide)
         assert back is not None and restart is not None and back <= restart, t.id
         shorter += back < restart
     assert shorter >= 10
@@ -353,7 +355,7 @@ def test_target_and_landmark_are_in_view_where_the_agent_stands(subset: str) -> 
         if spec_of(task).world().is_open(src):
             assert mover in {o.name for o in obs.objects if o.box is not None}
         if subset == "visual_appearance":
-            dest = spec.goal[0].split()[2].rstrip(")")
+            dest = [g for g in spec.goal if g.startswith("(on ")][-1].split()[2].rstrip(")")  # after any look-alike
             obs = env.step(skill_id("navigate", dest)).observation
             types = {o.type for o in obs.objects if o.box is not None}
             assert types  # the landmark lies there
@@ -467,18 +469,14 @@ def test_counting_conditionals_the_count_beside_the_landmark_decides() -> None:
 
 
 def test_counting_destinations_hold_exactly_the_number_and_decoys_do_not() -> None:
-    """"The furniture that holds exactly two cups" (base; spatial_relationship since version 5): the destination
-    holds exactly that many of the type and nothing else (nothing hides what is counted), two decoy surfaces hold
-    one more or one fewer (or one fewer beside an object of the look-alike type: a mug among cups), and no other
-    receptacle holds the type. Version 5 (base): in some tasks the destination holds two and one of the look-alike
-    type (two cups and a mug), with decoys of one cup and one mug, three cups, or one cup and two mugs."""
+    """"The furniture that holds exactly two cups" (spatial_relationship since version 5; base in versions 3-6):
+    the destination holds exactly that many of the type and nothing else (nothing hides what is counted), two decoy
+    surfaces hold one more or one fewer (or one fewer beside an object of the look-alike type: a mug among cups),
+    and no other receptacle holds the type."""
     from eb_habitat.hard import CONFUSERS
 
-    count_tasks = [t for t in BY_SUBSET["base"] if ".base.count." in t.metadata["template"]]
-    spatial = [t for t in BY_SUBSET["spatial_relationship"] if t.metadata["template"].endswith(".count")]
-    assert len(count_tasks) >= 15 and len(spatial) >= 15  # version 5: a relation, then a count (spatial)
-    count_tasks += spatial
-    among_twins = 0
+    count_tasks = [t for t in BY_SUBSET["spatial_relationship"] if t.metadata["template"].endswith(".count")]
+    assert len(count_tasks) >= 15  # version 5: a relation, then a count (spatial)
     for t in count_tasks:
         spec = spec_of(t)
         kind, n = _counted(t)
@@ -489,7 +487,6 @@ def test_counting_destinations_hold_exactly_the_number_and_decoys_do_not() -> No
         assert len(decoys) == 2, t.id
         if here != [kind] * n:  # version 5: two of the type and one of its look-alike type (two cups, a mug)
             assert n == 2 and sorted(here) == sorted([kind, kind, CONFUSERS[kind][0]]), t.id
-            among_twins += 1
         for at in decoys:
             there = [o.type for o in spec.objects if o.at == at]
             twins = [k for k in there if k in CONFUSERS[kind]]
@@ -499,7 +496,6 @@ def test_counting_destinations_hold_exactly_the_number_and_decoys_do_not() -> No
                 assert len(twins) <= 1 and (not twins or there.count(kind) == n - 1), t.id
             else:
                 assert (there.count(kind), len(twins)) in ((1, 1), (3, 0), (1, 2)), t.id
-    assert among_twins >= 5
 
 
 def test_every_hard_task_is_within_the_stateless_bound() -> None:
@@ -512,10 +508,12 @@ def test_every_hard_task_is_within_the_stateless_bound() -> None:
     for t in HARD:
         m = t.metadata
         args = (m["objects"], m["open"], m["goal"], t.instruction, m["template"])
+        wide = bool(m.get("wide"))
         for reverse in (False, True):
-            steps = stateless_search_steps(*args, reverse=reverse)
+            steps = stateless_search_steps(*args, reverse=reverse, wide=wide)
             assert steps is not None and m["oracle_steps"] <= steps <= MAX_STATELESS_STEPS, (t.id, reverse)
-            assert m["oracle_steps"] <= search_steps(*args, reverse=reverse) <= MAX_SEARCH_STEPS, (t.id, reverse)
+            assert m["oracle_steps"] <= search_steps(*args, reverse=reverse, wide=wide) <= MAX_SEARCH_STEPS, (t.id,
+                                                                                                          reverse)
 
 
 def test_no_gathering_gives_its_objects_to_a_blind_walker_in_list_order() -> None:
@@ -679,7 +677,7 @@ def test_a_mug_is_told_from_its_same_colour_twin_only_by_its_handle() -> None:
                              t.instruction), t.id
             others = [o for o in spec.objects if o.type == "mug" and o.color == mover.color]
             assert len(others) == 2, t.id
-        low = 0.25 if subset == "complex_instruction" else 0.35
+        low = 0.25 if subset == "complex_instruction" else 0.3  # version 7: common_sense 17
         assert low * 50 <= handled <= 0.6 * 50, (subset, handled)
 
 
@@ -746,3 +744,138 @@ def test_no_handle_pair_stands_on_furniture_of_its_colour() -> None:
         for o in spec.objects:
             if o.handle is not None:
                 assert HANDLE_CLASHES.get((spec.apartment, o.at)) != o.color, t.id
+
+
+# -- version 7: counting five to eight on wide surfaces --------------------------------------------------------------
+
+_WORDS = {"five": 5, "six": 6, "seven": 7, "eight": 8}
+WIDE_SUBSETS = ("base", "common_sense", "complex_instruction", "visual_appearance")
+
+
+def _wide_count(t: Task) -> tuple[str, int, str]:
+    """(counted type, number asked for, destination) of a version-7 counting task."""
+    from eb_habitat.catalog import object_type
+    from eb_habitat.hard import COUNT_LOOKS, COUNT_USES, WIDE_COUNTED
+
+    spec = spec_of(t)
+    m = re.search(r"exactly (five|six|seven|eight)\b", t.instruction)
+    assert m is not None, t.id
+    words = {y: (object_type(y).name + "s", COUNT_USES[y], COUNT_LOOKS[y]) for y in WIDE_COUNTED}
+    kind = next(y for y, w in words.items() if any(f"{m.group(1)} {p}" in t.instruction or f"hold {p}." in
+                                                   t.instruction for p in w))
+    obj = _object_and_blocker(t)[0]
+    dest = next(g for g in spec.goal if g.startswith(f"(on {obj.name} "))[1:-1].split()[2]
+    return kind, _WORDS[m.group(1)], dest
+
+
+def test_wide_counting_destinations_hold_five_to_eight_among_shape_twins_beside_near_counts() -> None:
+    """Version 7: "the furniture that holds exactly seven bowls" (in base, common_sense by use, visual_appearance by
+    looks, complex_instruction's stories) -- a wide task whose destination holds exactly n (5-8) of the counted type
+    and one or two of its shape twin (plates among bowls; none where the surface has no room left) and nothing
+    else; two other wide surfaces hold one fewer
+    and one more (two fewer when n is 8), with twins; no other receptacle holds the counted type."""
+    from eb_habitat.catalog import WIDE_CAPACITY
+    from eb_habitat.hard import WIDE_COUNTED
+
+    per_subset = {}
+    for s in WIDE_SUBSETS:
+        tasks = [t for t in BY_SUBSET[s] if t.metadata.get("wide")]
+        per_subset[s] = len(tasks)
+        for t in tasks:
+            spec = spec_of(t)
+            kind, n, dest = _wide_count(t)
+            twin = WIDE_COUNTED[kind]
+            here = [o.type for o in spec.objects if o.at == dest]
+            assert 5 <= n <= 8 and dest in WIDE_CAPACITY, t.id
+            assert here.count(kind) == n and here.count(twin) <= 2 and len(here) == n + here.count(twin), t.id
+            assert here.count(twin) >= 1 or n + 1 == WIDE_CAPACITY[dest], t.id  # no twin only where it has no room
+            assert len(here) < WIDE_CAPACITY[dest], t.id  # a free slot: a failed place tells nothing
+            decoys = {o.at for o in spec.objects if o.type == kind} - {dest}
+            counts = sorted(sum(o.type == kind and o.at == at for o in spec.objects) for at in decoys)
+            assert counts == sorted([n - 1, n + 1] if n < 8 else [6, 7]), t.id
+            assert all(at in WIDE_CAPACITY for at in decoys), t.id
+            for at in decoys:
+                assert {o.type for o in spec.objects if o.at == at} <= {kind, twin}, t.id
+    assert all(n >= 15 for n in per_subset.values()), per_subset  # seed 0: 22, 23, 20, 17
+
+
+def test_every_counted_object_is_uncovered_in_the_view_where_it_is_counted() -> None:
+    """Real rendering and segmentation, at 500 px: in every shipped wide task of one subset, every object on a
+    surface where a count is made shows at least COUNT_MIN_PIXELS pixels, and at least COUNT_MIN_SHARE of the
+    pixels it shows when alone (objects stand close and in two depths, but none merges into another)."""
+    from eb_habitat.hard import COUNT_MIN_PIXELS, COUNT_MIN_SHARE, counted_surfaces
+    from eb_habitat.render import ApartmentRenderer
+
+    renderer = ApartmentRenderer(500)
+    checked = 0
+    for t in [t for t in BY_SUBSET["base"] if t.metadata.get("wide")][:12]:
+        spec = spec_of(t)
+        renderer.load(spec)
+        world = spec.world()
+        surfaces = counted_surfaces(spec.objects)
+        assert len(surfaces) == 3, t.id
+        for key in surfaces:
+            world.agent_at = key
+            shares = renderer.visible_shares(world, [o.name for o in spec.objects if o.at == key])
+            assert len(shares) >= 5
+            for name, (px, share) in shares.items():
+                assert px >= COUNT_MIN_PIXELS and share >= COUNT_MIN_SHARE, (t.id, key, name, px, share)
+                checked += 1
+    renderer.close()
+    assert checked >= 12 * 3 * 5
+
+
+def test_a_counted_object_hidden_behind_another_makes_the_draw_unfair() -> None:
+    """The generator's fairness check sees occlusion: a flat tuna can right behind a tall soda can on a wide
+    counter is covered, and the draw is refused; spread apart, the same objects pass."""
+    from eb_habitat.hard import counted_views_fair
+
+    def entry(slots: list[int]) -> dict:
+        objs = [{"name": f"soda_can_{i + 1}", "type": "soda_can", "color": "red", "at": "left_counter", "slot": s}
+                for i, s in enumerate(slots[:-1])]
+        objs.append({"name": "tuna_can_1", "type": "tuna_can", "color": "blue", "at": "left_counter",
+                     "slot": slots[-1]})
+        objs.append({"name": "bowl_1", "type": "bowl", "color": "red", "at": "desk", "slot": 0})
+        goal = ["(on bowl_1 left_counter)"]
+        return {"metadata": {"apartment": 0, "template": "test", "objects": objs, "open": [], "goal": goal,
+                             "subgoals": [goal], "oracle_steps": 4, "wide": True}}
+
+    # even slots stand further back, odd ones nearer: the can in slot 1 stands in front of the flat tin in slot 0
+    assert counted_views_fair(entry([0, 2, 4, 6, 8]))
+    assert not counted_views_fair(entry([1, 3, 5, 7, 0]))
+
+
+def test_wide_slots_are_refused_in_a_task_that_is_not_wide(tmp_path: Path) -> None:
+    """Slot 6 of the left counter exists only in a wide (hard, version 7) task: elsewhere one clear line."""
+    doc = json.loads((taskset_dir("hard") / "base.json").read_text())
+    task = next(t for t in doc["tasks"] if t["metadata"].get("wide"))
+    big = next(o for o in task["metadata"]["objects"] if o["slot"] >= 4)
+    task["metadata"].pop("wide")
+    doc["tasks"] = [task]
+    path = tmp_path / "base.json"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(TaskFileError, match=f"slot {big['slot']} but the .* has [34] slot"):
+        load_task_file(path)
+
+
+def test_no_counted_object_stands_on_furniture_of_its_colour() -> None:
+    """A blue cup on the blue sofa barely stands out at 500 px: counted objects and their twins never take the
+    furniture's colour (the clash table above), nor white, black, silver or gray -- except a twin whose type has
+    one colour only (the tuna can: blue label, silver top, yellow band, which shows on the blue sofa) -- and two
+    objects in neighbouring slots never share a colour (two red mugs half in front of each other read as one)."""
+    from eb_habitat.catalog import allowed_colors
+    from eb_habitat.hard import COUNT_COLORS_OUT, HANDLE_CLASHES, counted_surfaces
+
+    checked = 0
+    for t in (t for s in WIDE_SUBSETS for t in BY_SUBSET[s] if t.metadata.get("wide")):
+        spec = spec_of(t)
+        for key in counted_surfaces(spec.objects):
+            row = sorted((o for o in spec.objects if o.at == key), key=lambda o: o.slot)
+            for a, b in zip(row, row[1:]):  # neighbours stand half in front of each other: never one colour
+                assert b.slot != a.slot + 1 or a.color != b.color, (t.id, a.name, b.name)
+            for o in spec.objects:
+                if o.at == key and len(allowed_colors(o.type)) > 1:
+                    assert o.color not in COUNT_COLORS_OUT, (t.id, o.name)
+                    assert HANDLE_CLASHES.get((spec.apartment, key)) != o.color, (t.id, o.name)
+                    checked += 1
+    assert checked > 500
