@@ -20,6 +20,10 @@ start has a floor object lower than :data:`LOW_TOP` on its straight way to the t
 such a thing leaves the untilted view as the agent comes near, and an agent that keeps no memory of earlier images
 walks into it; the low extra floor things stand along the walls (:data:`WALL_BAND`) so that enough starts keep a
 clear way. At an in-view start every floor object on the way ahead shows in the first image (:func:`way_seen`).
+With a level's ``open_way`` knob on (off for the shipped set), a start also needs an open way for its first
+moves: nothing lower than :data:`WAY_TOP` within reach of any forward-and-sideways route near the start
+(:func:`open_way`), everything within reach of the routes in view (:func:`blockers_seen`), room for a wider body
+(:func:`wide_enough`).
 Every candidate start is checked on the geometry (:mod:`eb_navigation.baselines`) against all 10,948 blind
 constant-action policies and the feedback-only rule agents; one that would lift any of them above ``cap`` tasks of
 its subset (5 % of the scenes) is never taken. Of the rest the shortest expert plan wins (:func:`_pick`): a
@@ -133,6 +137,10 @@ class Level:
     lh_max_plan: int
     lh_min_bearing: float
     """A long_horizon start has the target at least this many degrees off straight ahead (and out of view)."""
+    open_way: bool = False
+    """Refuse starts without an open way for the first moves (:func:`open_way`, :func:`wide_enough`,
+    :func:`blockers_seen`). Off for the shipped sets: with it, a slot draws hundreds of rooms (see
+    docs/hard_tasks/navigation.md); ``generate_level(..., open_way=True)`` turns it on."""
 
 
 LEVELS: dict[str, Level] = {
@@ -442,7 +450,9 @@ def _pick(room: NavRoom, target: NavObject, looks: list[NavObject], lo: float, h
     taken."""
     free = room.free_space(room.extra_ids)
     xy = (target.x, target.y)
-    wide = wide if wide is not None else plan_lengths(wide_space(room), xy)
+    if level.open_way and wide is None:
+        wide = plan_lengths(wide_space(room), xy)
+    wide = wide or {}
     ranked = []
     for (i, j, h), n in sorted(plan_lengths(free, xy).items()):
         if not min_plan <= n <= max_plan:
@@ -451,7 +461,8 @@ def _pick(room: NavRoom, target: NavObject, looks: list[NavObject], lo: float, h
             continue
         s = AgentState(i, j, h)
         if s != avoid and _sector_ok(bearing_to(s, xy), sector, level.lh_min_bearing) and not_in_pocket(free, s) \
-                and clear_corridor(room, s, target) and wide_enough(wide, s, n) and open_way(room, s, target):
+                and clear_corridor(room, s, target) \
+                and (not level.open_way or (wide_enough(wide, s, n) and open_way(room, s, target))):
             ranked.append((n, not lookalike_first(s, target, looks), float(rng.random()), s, n))
     ranked.sort(key=lambda c: c[:3])
     need = _VIS_TRIES if tally.cap is not None else 1
@@ -481,12 +492,13 @@ def _visible(room: NavRoom, st: _Start, target_id: str, looks: list[str], level:
     if not any(vis.pixels(room, st.state, d) >= MIN_LOOKALIKE_PIXELS for d in looks):
         return False
     target = room.get(target_id)
-    return way_seen(room, st.state, target, vis) and blockers_seen(room, st.state, target, vis)
+    return way_seen(room, st.state, target, vis) and (not level.open_way
+                                                       or blockers_seen(room, st.state, target, vis))
 
 
-def _hidden(room: NavRoom, st: _Start, target_id: str, vis: Any | None) -> bool:
+def _hidden(room: NavRoom, st: _Start, target_id: str, level: Level, vis: Any | None) -> bool:
     return vis is None or (vis.pixels(room, st.state, target_id) == 0
-                           and blockers_seen(room, st.state, room.get(target_id), vis))
+                           and (not level.open_way or blockers_seen(room, st.state, room.get(target_id), vis)))
 
 
 # -- one scene ----------------------------------------------------------------------------------------------------
@@ -515,13 +527,14 @@ def draw_scene(kind: str, seed: int, type_name: str, level: Level, rng: np.rando
     target = room.get(target_id)
     looks = [room.get(i) for i in look_ids]
     lo, hi = level.distance
-    wide = plan_lengths(wide_space(room), (target.x, target.y))
+    wide = plan_lengths(wide_space(room), (target.x, target.y)) if level.open_way else None
     starts: dict[str, _Start] = {}
     for part in parts:
         if part == "long_horizon":
             min_plan = starts["plain"].plan + 2 if "plain" in starts else 8
             pick = _pick(room, target, looks, lo, hi + 1.0, min_plan, level.lh_max_plan, sector, level,
-                         tallies[part], rng, lambda c: _hidden(room, c, target_id, vis), agents=agents, wide=wide)
+                         tallies[part], rng, lambda c: _hidden(room, c, target_id, level, vis), agents=agents,
+                         wide=wide)
         else:
             avoid = starts["plain"].state if part == "visual_appearance" and "plain" in starts else None
             pick = _pick(room, target, looks, lo, hi, 6, level.max_plan, "ahead", level, tallies[part], rng,
