@@ -20,6 +20,10 @@ start has a floor object lower than :data:`LOW_TOP` on its straight way to the t
 such a thing leaves the untilted view as the agent comes near, and an agent that keeps no memory of earlier images
 walks into it; the low extra floor things stand along the walls (:data:`WALL_BAND`) so that enough starts keep a
 clear way. At an in-view start every floor object on the way ahead shows in the first image (:func:`way_seen`).
+With a level's ``open_way`` knob on (off for the shipped set), a start also needs an open way for its first
+moves: nothing lower than :data:`WAY_TOP` within reach of any forward-and-sideways route near the start
+(:func:`open_way`), everything within reach of the routes in view (:func:`blockers_seen`), room for a wider body
+(:func:`wide_enough`).
 Every candidate start is checked on the geometry (:mod:`eb_navigation.baselines`) against all 10,948 blind
 constant-action policies and the feedback-only rule agents; one that would lift any of them above ``cap`` tasks of
 its subset (5 % of the scenes) is never taken. Of the rest the shortest expert plan wins (:func:`_pick`): a
@@ -44,15 +48,27 @@ from eb_navigation.baselines import (
     plan_lengths,
     rule_agent_successes,
 )
-from eb_navigation.geometry import HEADING_VECTORS, STEP, AgentState, FreeSpace, _move_delta, bearing_to
+from eb_navigation.geometry import (
+    AGENT_RADIUS,
+    GRID_RESOLUTION,
+    HEADING_VECTORS,
+    STEP,
+    SUCCESS_DISTANCE,
+    AgentState,
+    FreeSpace,
+    _move_delta,
+    bearing_to,
+)
 from eb_navigation.hard_words import HARD_COMMON_SENSE, HARD_SHAPES, hard_instruction
 from eb_navigation.room import ExtraSpec, NavObject, NavRoom, colour_distance, probe
 from eb_navigation.tasks import SUBSETS
 
-__all__ = ["CHECK_AGENTS", "DIFFICULTIES", "HARD_TYPES", "LEVELS", "Level", "LOW_TOP", "MIN_LOOKALIKE_GAP",
-           "MIN_WAY_PIXELS", "SEED_BASE", "Scene", "WALL_BAND",
-           "Tally", "clear_corridor", "draw_scene", "free_run", "lookalike_first", "not_in_pocket", "scene_tasks",
-           "way_objects", "way_seen"]
+__all__ = ["CHECK_AGENTS", "DIFFICULTIES", "HARD_TYPES", "LEVELS", "LOW_TOP", "Level", "MIN_LOOKALIKE_GAP",
+           "MIN_WAY_PIXELS", "NEAR_START", "SEED_BASE", "Scene", "Tally", "WALL_BAND", "WAY_MARGIN", "WAY_TOP",
+           "WIDE_SLACK",
+           "blockers_seen", "clear_corridor", "draw_scene", "facing_target", "free_run", "lookalike_first",
+           "not_in_pocket", "open_way", "scene_tasks", "way_blockers", "way_box", "way_objects", "way_seen",
+           "wide_enough", "wide_space"]
 
 DIFFICULTIES = ("classic", "medium", "hard")
 """The generator's difficulty knob: ``classic`` is the shipped classic generator (:mod:`eb_navigation.generate`)."""
@@ -88,6 +104,17 @@ MIN_WAY_PIXELS = 20
 """Pixels (of 128 x 128) that every floor object on the straight way shows in the first image of an in-view start
 (:func:`way_seen`): what the agent may bump into first is in the picture it gets."""
 SOLVED_COST = 2
+WAY_MARGIN = 0.05
+"""Metres to spare on either side of the 0.4 m body: :func:`way_blockers` looks this far beyond the body, and the
+way must fit a body this much wider on each side (:func:`wide_enough`)."""
+WAY_TOP = 0.75
+"""Metres: nothing lower stands within reach of the routes to the target (:func:`open_way`). A thing this tall
+stays in the level view until the agent's centre is about 0.6 m from it, a step before the body touches it."""
+WIDE_SLACK = 2
+NEAR_START = 1.0
+"""Metres: the part of the routes next to the start (:func:`open_way`), where a low thing is under the level view
+(a 0.45 m thing within about 0.9 m) or at the agent's side, and no image has shown it."""
+"""Actions more than the expert's plan that the wider body (:func:`wide_enough`) may need."""
 """Actions a start's rank pays when some blind policy or feedback-only agent solves it (within the cap)."""
 
 
@@ -110,6 +137,10 @@ class Level:
     lh_max_plan: int
     lh_min_bearing: float
     """A long_horizon start has the target at least this many degrees off straight ahead (and out of view)."""
+    open_way: bool = False
+    """Refuse starts without an open way for the first moves (:func:`open_way`, :func:`wide_enough`,
+    :func:`blockers_seen`). Off for the shipped sets: with it, a slot draws hundreds of rooms (see
+    docs/hard_tasks/navigation.md); ``generate_level(..., open_way=True)`` turns it on."""
 
 
 LEVELS: dict[str, Level] = {
@@ -313,6 +344,91 @@ def way_seen(room: NavRoom, s: AgentState, target: NavObject, vis: Any | None) -
                               for o in way_objects(room, s, target, ahead=True))
 
 
+def wide_space(room: NavRoom) -> FreeSpace:
+    """Where a body :data:`WAY_MARGIN` wider on each side than the agent's fits (all extras present)."""
+    return FreeSpace(room.layout.free_space(GRID_RESOLUTION, AGENT_RADIUS + WAY_MARGIN), room.size,
+                     GRID_RESOLUTION)
+
+
+def way_box(s: AgentState, target: NavObject) -> tuple[int, int, int, int] | None:
+    """The lattice box ``(i0, i1, j0, j1)`` spanned by the start and the lattice point within 1 m of the target
+    nearest to the point 1 m short of it on the straight way (None when the start is already that close)."""
+    dx, dy = target.x - s.x, target.y - s.y
+    length = math.hypot(dx, dy)
+    if length <= SUCCESS_DISTANCE:
+        return None
+    px, py = target.x - dx / length * SUCCESS_DISTANCE, target.y - dy / length * SUCCESS_DISTANCE
+    best: tuple[float, int, int] | None = None
+    for gi in range(math.floor(px / STEP) - 1, math.ceil(px / STEP) + 2):
+        for gj in range(math.floor(py / STEP) - 1, math.ceil(py / STEP) + 2):
+            if math.hypot(gi * STEP - target.x, gj * STEP - target.y) <= SUCCESS_DISTANCE + 1e-9:
+                d = math.hypot(gi * STEP - px, gj * STEP - py)
+                if best is None or d < best[0]:
+                    best = (d, gi, gj)
+    if best is None:
+        return None
+    (i0, i1), (j0, j1) = sorted((s.i, best[1])), sorted((s.j, best[2]))
+    return i0, i1, j0, j1
+
+
+def open_way(room: NavRoom, s: AgentState, target: NavObject) -> bool:
+    """Nothing lower than :data:`WAY_TOP` stands within reach of the routes of forward and sideways moves (after
+    the turns toward the target) from ``s`` to the point 1 m short of the target where they run within
+    :data:`NEAR_START` of the start (:func:`way_blockers` with ``near``): no coffee table, side table, ottoman,
+    plant, hamper or floor clutter where the first forward or sideways moves go, which the player has never
+    seen (under the level view, or at its side). Farther along the routes a low thing must show in the first
+    view (:func:`blockers_seen`): the player meets it head-on, in view, before it drops under the level view.
+    The generator refuses a start without it."""
+    return all(room.layout.objects[room.index[n]].height >= WAY_TOP for n in way_blockers(room, s, target, True))
+
+
+def wide_enough(wide_plans: dict[tuple[int, int, int], int], s: AgentState, plan: int) -> bool:
+    """A body :data:`WAY_MARGIN` wider on each side than the agent reaches the target from ``s`` within
+    :data:`WIDE_SLACK` actions of the expert's ``plan`` (``wide_plans``: :func:`plan_lengths` on
+    :func:`wide_space`): the way does not hang on a gap narrower than the body and 10 cm."""
+    return wide_plans.get((s.i, s.j, s.heading % 4), 10 ** 6) <= plan + WIDE_SLACK
+
+
+def facing_target(s: AgentState, target: NavObject) -> AgentState:
+    """``s`` turned to the lattice heading nearest the bearing of the target (what the player sees once it has
+    turned toward it)."""
+    b = bearing_to(s, (target.x, target.y))
+    return replace(s, heading=(s.heading + round(b / 90.0)) % 4, tilt=0)
+
+
+def blockers_seen(room: NavRoom, s: AgentState, target: NavObject, vis: Any | None) -> bool:
+    """Every thing within reach of the routes (:func:`way_blockers`; near the start only :data:`WAY_TOP` or taller
+    ones) shows at least :data:`MIN_WAY_PIXELS` in the view from ``s`` facing the target (:func:`facing_target`):
+    the player has it in the picture before it gets there."""
+    if vis is None:
+        return True
+    view = facing_target(s, target)
+    return all(vis.pixels(room, view, n) >= MIN_WAY_PIXELS for n in way_blockers(room, s, target))
+
+
+def way_blockers(room: NavRoom, s: AgentState, target: NavObject, near: bool = False) -> list[str]:
+    """The floor things (furniture included, not the target) whose footprint comes within the body's radius and
+    :data:`WAY_MARGIN` of a lattice point of :func:`way_box` (with ``near``: of one within :data:`NEAR_START` of
+    the start), by name: what a player walking forward and sideways to the target may bump into."""
+    box = way_box(s, target)
+    if box is None:
+        return []
+    i0, i1, j0, j1 = box
+    pts = np.array([(i * STEP, j * STEP) for i in range(i0, i1 + 1) for j in range(j0, j1 + 1)
+                    if not near or math.hypot(i - s.i, j - s.j) * STEP <= NEAR_START + 1e-9])
+    out = []
+    for o in room.layout.objects:
+        if o.parent is not None or o.mount == "wall" or o.name == target.id:
+            continue
+        c, si = math.cos(math.radians(o.yaw)), math.sin(math.radians(o.yaw))
+        d = pts - np.array(o.position[:2])
+        lx, ly = np.abs(c * d[:, 0] + si * d[:, 1]), np.abs(-si * d[:, 0] + c * d[:, 1])
+        gap = np.hypot(np.maximum(lx - o.half_extents[0], 0.0), np.maximum(ly - o.half_extents[1], 0.0))
+        if gap.min() < AGENT_RADIUS + WAY_MARGIN:
+            out.append(o.name)
+    return out
+
+
 def lookalike_first(s: AgentState, target: NavObject, looks: list[NavObject]) -> bool:
     """A look-alike stands nearer the middle of the view than the target (both within 45 degrees of straight
     ahead): walking at the thing ahead goes to the wrong one, so the colour has to be read first."""
@@ -322,15 +438,21 @@ def lookalike_first(s: AgentState, target: NavObject, looks: list[NavObject]) ->
 
 def _pick(room: NavRoom, target: NavObject, looks: list[NavObject], lo: float, hi: float, min_plan: int,
           max_plan: int, sector: str, level: Level, tally: Tally, rng: np.random.Generator, accept: Any,
-          avoid: AgentState | None = None, agents: dict[str, Any] | None = None) -> _Start | None:
+          avoid: AgentState | None = None, agents: dict[str, Any] | None = None,
+          wide: dict[tuple[int, int, int], int] | None = None) -> _Start | None:
     """The best admissible start that ``accept`` (the rendered check) takes. A start with a low object on its
-    straight way to the target (:func:`clear_corridor`) is never a candidate. Candidates are ranked by the
+    straight way to the target (:func:`clear_corridor`), without an open way to it (:func:`open_way`) or whose
+    way hangs on a narrow gap (:func:`wide_enough`; ``wide``: the wider body's plan lengths) is never a
+    candidate. Candidates are ranked by the
     expert's plan length, plus :data:`SOLVED_COST` when any blind policy or rule agent (``agents``, default
     :data:`HARD_RULE_AGENTS`) solves the start; ties go to a start that shows a look-alike nearer the middle of the
     view, then to fewer solving baselines. A start that would lift a baseline above ``tally``'s cap is never
     taken."""
     free = room.free_space(room.extra_ids)
     xy = (target.x, target.y)
+    if level.open_way and wide is None:
+        wide = plan_lengths(wide_space(room), xy)
+    wide = wide or {}
     ranked = []
     for (i, j, h), n in sorted(plan_lengths(free, xy).items()):
         if not min_plan <= n <= max_plan:
@@ -339,7 +461,8 @@ def _pick(room: NavRoom, target: NavObject, looks: list[NavObject], lo: float, h
             continue
         s = AgentState(i, j, h)
         if s != avoid and _sector_ok(bearing_to(s, xy), sector, level.lh_min_bearing) and not_in_pocket(free, s) \
-                and clear_corridor(room, s, target):
+                and clear_corridor(room, s, target) \
+                and (not level.open_way or (wide_enough(wide, s, n) and open_way(room, s, target))):
             ranked.append((n, not lookalike_first(s, target, looks), float(rng.random()), s, n))
     ranked.sort(key=lambda c: c[:3])
     need = _VIS_TRIES if tally.cap is not None else 1
@@ -368,11 +491,14 @@ def _visible(room: NavRoom, st: _Start, target_id: str, looks: list[str], level:
         return False
     if not any(vis.pixels(room, st.state, d) >= MIN_LOOKALIKE_PIXELS for d in looks):
         return False
-    return way_seen(room, st.state, room.get(target_id), vis)
+    target = room.get(target_id)
+    return way_seen(room, st.state, target, vis) and (not level.open_way
+                                                       or blockers_seen(room, st.state, target, vis))
 
 
-def _hidden(room: NavRoom, st: _Start, target_id: str, vis: Any | None) -> bool:
-    return vis is None or vis.pixels(room, st.state, target_id) == 0
+def _hidden(room: NavRoom, st: _Start, target_id: str, level: Level, vis: Any | None) -> bool:
+    return vis is None or (vis.pixels(room, st.state, target_id) == 0
+                           and (not level.open_way or blockers_seen(room, st.state, room.get(target_id), vis)))
 
 
 # -- one scene ----------------------------------------------------------------------------------------------------
@@ -401,16 +527,19 @@ def draw_scene(kind: str, seed: int, type_name: str, level: Level, rng: np.rando
     target = room.get(target_id)
     looks = [room.get(i) for i in look_ids]
     lo, hi = level.distance
+    wide = plan_lengths(wide_space(room), (target.x, target.y)) if level.open_way else None
     starts: dict[str, _Start] = {}
     for part in parts:
         if part == "long_horizon":
             min_plan = starts["plain"].plan + 2 if "plain" in starts else 8
             pick = _pick(room, target, looks, lo, hi + 1.0, min_plan, level.lh_max_plan, sector, level,
-                         tallies[part], rng, lambda c: _hidden(room, c, target_id, vis), agents=agents)
+                         tallies[part], rng, lambda c: _hidden(room, c, target_id, level, vis), agents=agents,
+                         wide=wide)
         else:
             avoid = starts["plain"].state if part == "visual_appearance" and "plain" in starts else None
             pick = _pick(room, target, looks, lo, hi, 6, level.max_plan, "ahead", level, tallies[part], rng,
-                         lambda c: _visible(room, c, target_id, look_ids, level, vis), avoid=avoid, agents=agents)
+                         lambda c: _visible(room, c, target_id, look_ids, level, vis), avoid=avoid, agents=agents,
+                         wide=wide)
         if pick is None:
             return None
         starts[part] = pick

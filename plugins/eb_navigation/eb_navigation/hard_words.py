@@ -12,7 +12,17 @@ import numpy as np
 
 from eb_navigation.instructions import colour_word, display_name
 
-__all__ = ["HARD_COMMON_SENSE", "HARD_SHAPES", "HARD_TEMPLATES", "hard_instruction"]
+__all__ = ["HARD_COLOUR_WORDS", "HARD_COMMON_SENSE", "HARD_SHAPES", "HARD_TEMPLATES", "hard_colour_word",
+           "hard_instruction"]
+
+#: Where a kit colour renders as another word on one type (checked against the rendered pixels in the tests):
+#: the "white" wicker of the laundry hamper renders light grey (median about RGB 160 at 500 px).
+HARD_COLOUR_WORDS: dict[tuple[str, str], str] = {("LaundryHamper", "white"): "light grey"}
+
+
+def hard_colour_word(type_name: str, colour: str) -> str:
+    """The word a hard instruction uses for a ``type_name`` of kit colour ``colour``."""
+    return HARD_COLOUR_WORDS.get((type_name, colour), colour_word(colour))
 
 #: What each hard target type is for, as a noun phrase with ``{colour}`` in it (never the type's name).
 HARD_COMMON_SENSE: dict[str, tuple[str, ...]] = {
@@ -40,7 +50,7 @@ HARD_SHAPES: dict[str, str] = {
     "GarbageCan": "knee-high round bin",
     "HousePlant": "pot of leafy green stems",
     "Ottoman": "low padded cube you could rest your feet on",
-    "LaundryHamper": "waist-high round basket with a lid",
+    "LaundryHamper": "thigh-high round wicker basket with clothes in it",
 }
 
 _BASE = (
@@ -113,7 +123,8 @@ HARD_TEMPLATES: dict[str, tuple[str, ...]] = {
 
 def _fill(subset: str, k: int, type_name: str, colour: str, other_colour: str, variant: int) -> str:
     tpl = HARD_TEMPLATES[subset][k]
-    name, c, oc = display_name(type_name), colour_word(colour), colour_word(other_colour)
+    name = display_name(type_name)
+    c, oc = hard_colour_word(type_name, colour), hard_colour_word(type_name, other_colour)
     if subset in ("base", "long_horizon"):
         return tpl.format(name=name, colour=c)
     if subset == "common_sense":

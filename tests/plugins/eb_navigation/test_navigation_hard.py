@@ -20,6 +20,7 @@ from eb_navigation.baselines import (
     REACTIVE_RULE_AGENTS,
     SIDESTEP_RULE_AGENTS,
     blind_successes,
+    plan_lengths,
     rule_agent_successes,
 )
 from eb_navigation.env import NavigationEnv, build_room
@@ -31,14 +32,19 @@ from eb_navigation.hard import (
     MIN_COLOUR_DISTANCE,
     MIN_LOOKALIKE_GAP,
     WALL_BAND,
+    blockers_seen,
     clear_corridor,
     lookalike_first,
     not_in_pocket,
+    open_way,
+    way_blockers,
     way_objects,
     way_seen,
+    wide_enough,
+    wide_space,
 )
 from eb_navigation.hard_set import AUDIT_SAMPLE, MAX_RATE, audit_sample
-from eb_navigation.instructions import colour_word
+from eb_navigation.hard_words import HARD_COLOUR_WORDS, hard_colour_word
 from eb_navigation.room import ExtraSpec, colour_distance
 from eb_navigation.tasks import (
     DEFAULT_TASK_FILE,
@@ -111,9 +117,9 @@ def test_targets_are_small_with_lookalikes_told_apart_by_colour(hard, rooms) -> 
             assert colour_distance(o.colour, t.target.colour) >= MIN_COLOUR_DISTANCE - 1e-9, (t.id, o.id)
             if o.id in {e.id for e in t.extra_objects}:
                 assert math.hypot(o.x - t.target.position[0], o.y - t.target.position[1]) >= MIN_LOOKALIKE_GAP, t.id
-        assert colour_word(t.target.colour) in t.instruction, t.id
+        assert hard_colour_word(t.target.type, t.target.colour) in t.instruction, t.id
         if t.subset == "complex_instruction":  # a look-alike is named, by another colour
-            assert sum(colour_word(o.colour) in t.instruction for o in looks) >= 1, t.id
+            assert sum(hard_colour_word(o.type, o.colour) in t.instruction for o in looks) >= 1, t.id
 
 
 def test_starts_no_pocket_and_long_horizon_direction_must_be_found(hard, rooms) -> None:
@@ -250,6 +256,153 @@ def test_the_generator_refuses_an_old_offending_start(entry) -> None:
                  lambda c: seen.append(c.state) or False, agents=CHECK_AGENTS)
     assert pick is None and seen and s not in seen  # every start offered to the rendered check
     assert all(clear_corridor(room, c, target) for c in seen)
+
+
+def test_the_open_way_knob_draws_only_open_starts() -> None:
+    """With the level's ``open_way`` on (off for the shipped set: see docs/hard_tasks/navigation.md), every start
+    of a drawn scene has an open way for its first moves, a way a 0.5 m body fits, and everything within reach of
+    its routes in the view facing the target (rendered)."""
+    from dataclasses import replace
+
+    from eb_navigation.hard import Tally, draw_scene
+    from eb_navigation.visibility import Visibility
+
+    assert not LEVELS["hard"].open_way
+    lv = replace(LEVELS["hard"], open_way=True)
+    rng = np.random.default_rng(4)
+    vis = Visibility()
+    try:
+        sc = None
+        for k in range(60):
+            sc = draw_scene("living_room", 920_000 + k, "Vase", lv, rng,
+                            {p: Tally(None) for p in ("plain", "visual_appearance", "long_horizon")}, vis, "left")
+            if sc is not None:
+                break
+        assert sc is not None
+        target = sc.target
+        wide = plan_lengths(wide_space(sc.room), (target.x, target.y))
+        for st in sc.starts.values():
+            assert open_way(sc.room, st.state, target) and wide_enough(wide, st.state, st.plan)
+            assert blockers_seen(sc.room, st.state, target, vis)
+    finally:
+        vis.close()
+
+
+# Two starts of the hard set as shipped at ba1a4da, lost by stateless calibration players in session 8 on low
+# things they could not see: base_004's first forward moves under a low side table, complex_instruction_034 boxed
+# in beside a plant and a hamper.
+_PLAYED_LOSSES = [
+    {"id": "base_004", "subset": "base", "instruction": "Walk over to the red watering can and stop next to it.",
+     "template": "base.01", "scene": {"kind": "living_room", "seed": 236491, "clutter": 20},
+     "start": {"x": -1.25, "y": -0.25, "yaw": 0, "tilt": 0},
+     "target": {"id": "WateringCan_12", "type": "WateringCan", "colour": "red",
+                "position": [1.673, -1.132, 0.115]},
+     "extra_objects": [
+         {"id": "WateringCan_12", "type": "WateringCan", "colour": "red", "x": 1.673, "y": -1.132, "yaw": 16.0},
+         {"id": "WateringCan_13", "type": "WateringCan", "colour": "green", "x": -1.185, "y": -0.812, "yaw": 187.0},
+         {"id": "WateringCan_11", "type": "WateringCan", "colour": "yellow", "x": 1.918, "y": 1.019, "yaw": 81.0},
+         {"id": "Box_31", "type": "Box", "colour": "brown", "x": 2.08, "y": 1.972, "yaw": 260.0},
+         {"id": "LaundryHamper_32", "type": "LaundryHamper", "colour": "tan", "x": 0.025, "y": -0.936, "yaw": 256.0},
+         {"id": "SideTable_33", "type": "SideTable", "colour": "oak", "x": -0.699, "y": 0.004, "yaw": 100.0}],
+     "oracle_steps": 13},
+    {"id": "complex_instruction_034", "subset": "complex_instruction",
+     "instruction": "The brown laundry hamper belongs to my neighbour and she is picking it up later. The white "
+                    "laundry hamper is ours: stand next to it until I call you.",
+     "template": "complex_instruction.01", "scene": {"kind": "living_room", "seed": 254349, "clutter": 20},
+     "start": {"x": -1.0, "y": 1.0, "yaw": 270, "tilt": 0},
+     "target": {"id": "LaundryHamper_11", "type": "LaundryHamper", "colour": "white",
+                "position": [0.43, -0.483, 0.31]},
+     "extra_objects": [
+         {"id": "LaundryHamper_11", "type": "LaundryHamper", "colour": "white", "x": 0.43, "y": -0.483, "yaw": 90.0},
+         {"id": "LaundryHamper_13", "type": "LaundryHamper", "colour": "brown", "x": -1.882, "y": -1.69,
+          "yaw": 183.0},
+         {"id": "LaundryHamper_14", "type": "LaundryHamper", "colour": "brown", "x": -1.526, "y": 0.651,
+          "yaw": 290.0},
+         {"id": "Ottoman_31", "type": "Ottoman", "colour": "beige", "x": 2.203, "y": -0.344, "yaw": 105.0},
+         {"id": "TeddyBear_32", "type": "TeddyBear", "colour": "tan", "x": -2.238, "y": -0.471, "yaw": 280.0},
+         {"id": "BasketBall_33", "type": "BasketBall", "colour": "orange", "x": -2.505, "y": -1.966, "yaw": 99.0},
+         {"id": "HousePlant_34", "type": "HousePlant", "colour": "white", "x": -0.488, "y": 0.157, "yaw": 189.0}],
+     "oracle_steps": 7},
+]
+
+
+@pytest.mark.parametrize("entry", _PLAYED_LOSSES, ids=lambda e: e["id"])
+def test_open_way_refuses_the_starts_players_lost(entry) -> None:
+    """``open_way`` closes each of them and ``way_blockers`` names the low things within reach of the routes (none
+    of them lower than 0.5 m on the straight line, so the session-8 rule let them pass); ``_pick`` on the same
+    room, with the level's ``open_way`` on, offers only starts with an open way."""
+    from dataclasses import replace
+
+    from eb_navigation.hard import Tally, _pick
+    from eb_navigation.tasks import NavTaskSpec
+
+    t = NavTaskSpec.model_validate(entry)
+    room = build_room(t)
+    target = room.get(t.target.id)
+    s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
+    assert clear_corridor(room, s, target) and not open_way(room, s, target)
+    expected = {"base_004": {"WateringCan_13", "LaundryHamper_32", "SideTable_33"},
+                "complex_instruction_034": {"HousePlant_34", "LaundryHamper_14"}}[t.id]
+    assert expected <= set(way_blockers(room, s, target)), way_blockers(room, s, target)
+    near = {"base_004": {"WateringCan_13", "SideTable_33"},
+            "complex_instruction_034": {"HousePlant_34", "LaundryHamper_14"}}[t.id]
+    assert set(way_blockers(room, s, target, near=True)) == near
+    lv = replace(LEVELS["hard"], open_way=True)
+    looks = [o for o in room.objects if o.type == target.type and o.id != target.id]
+    seen: list = []
+    pick = _pick(room, target, looks, *lv.distance, 6, lv.max_plan, "ahead", lv, Tally(None),
+                 np.random.default_rng(0), lambda c: seen.append(c.state) or False, agents=CHECK_AGENTS)
+    assert pick is None and s not in seen
+    assert all(open_way(room, c, target) for c in seen)
+
+
+def test_hard_colour_words_match_the_render() -> None:
+    """Every (type, colour) a hard instruction can name, rendered at 500 x 500 from 2 m in one room: the median
+    HSV of its pixels fits its word (a "white" thing is bright and grey-free, "light grey" and "grey" are
+    colourless and darker, a hue word has its hue); the word of the "white" laundry hamper, whose wicker
+    renders grey (value about 0.64), is "light grey" (``HARD_COLOUR_WORDS``)."""
+    import colorsys
+
+    from eb_navigation.room import NavRoom
+    from eb_navigation.scene import RoomScene
+
+    hues = {"blue": 0.62, "green": 0.35, "red": 0.0, "yellow": 0.14, "brown": 0.08, "tan": 0.1, "pink": 0.96,
+            "terracotta": 0.04, "beige": 0.11}
+    kind, seed, spot = "living_room", 200011, None
+    free = NavRoom(kind, seed, (), 20).free_space()
+    for i, j in sorted(free.free_cells(), key=lambda c: abs(c[0]) + abs(c[1])):
+        if all(free.is_free(i + k, j) for k in range(9)):
+            spot = (i, j)
+            break
+    assert spot is not None
+    bad = {}
+    for type_name in HARD_TYPES:
+        for colour in get_type(type_name).colors:
+            room = NavRoom(kind, seed, [ExtraSpec("X_1", type_name, colour, (spot[0] + 8) * 0.25, spot[1] * 0.25,
+                                                  0.0)], 20)
+            scene = RoomScene(room, 500, 500)
+            try:
+                scene.set_agent(AgentState(spot[0], spot[1], 0))
+                rgb, mask = scene.first_person(), scene.object_map() == room.index["X_1"]
+            finally:
+                scene.close()
+            rows = np.flatnonzero(mask.any(axis=1))
+            if type_name == "HousePlant":  # the colour is the pot's: the lower third, under the leaves
+                mask[: rows[0] + 2 * (rows[-1] - rows[0]) // 3] = False
+            h, sat, v = np.median([colorsys.rgb_to_hsv(*p) for p in rgb[mask].astype(float) / 255], axis=0)
+            word = hard_colour_word(type_name, colour)
+            if word == "white":
+                ok = sat <= 0.1 and v >= 0.75
+            elif word in ("grey", "light grey"):
+                ok = sat <= 0.1 and (0.55 <= v < 0.75 if word == "light grey" else 0.3 <= v < 0.55)
+            elif word == "black":
+                ok = v <= 0.15
+            else:
+                ok = sat >= 0.25 and min(abs(h - hues[word]), 1 - abs(h - hues[word])) <= 0.04
+            if not ok:
+                bad[(type_name, colour, word)] = (round(h, 2), round(sat, 2), round(v, 2))
+    assert not bad, bad
+    assert HARD_COLOUR_WORDS == {("LaundryHamper", "white"): "light grey"}
 
 
 def test_first_images_show_everything_on_the_way(hard, rooms) -> None:
