@@ -30,7 +30,8 @@ from eb_navigation.geometry import (
     bearing_to,
     distance_to,
 )
-from eb_navigation.instructions import colour_word, display_name, with_article
+from eb_navigation.hard_words import hard_colour_word
+from eb_navigation.instructions import display_name, with_article
 from eb_navigation.prompts import prompt_parts
 from eb_navigation.room import NavObject, NavRoom
 from eb_navigation.splits import take_room
@@ -326,7 +327,8 @@ class NavigationEnv(Env):
         omap = self._world.scene.object_map()
         seen = {k: v for k, v in objects_in_view(omap).items() if k in present}
         colours = colours_in_view(rgb, omap, list(seen))
-        return [{"name": objects[k].id, "type": objects[k].type, "colour": colour_word(objects[k].colour),
+        return [{"name": objects[k].id, "type": objects[k].type,
+                 "colour": hard_colour_word(objects[k].type, objects[k].colour),
                  "colours": colours.get(k, []), "aliases": [display_name(objects[k].type)], "pixels": v.pixels,
                  "edge": v.edge} for k, v in sorted(seen.items(), key=lambda kv: -kv[1].pixels)]
 
@@ -386,8 +388,8 @@ class NavigationEnv(Env):
         parts = []
         for _, d, o, b in seen[:8]:  # the eight biggest in the image
             dist = max(0.5, round(d * 2) / 2)
-            parts.append(f"{with_article(colour_word(o.colour) + ' ' + display_name(o.type))} about {dist:g} m "
-                         f"away, {_bearing_words(b)}")
+            what = with_article(hard_colour_word(o.type, o.colour) + " " + display_name(o.type))
+            parts.append(f"{what} about {dist:g} m away, {_bearing_words(b)}")
         text = "In view: " + ("; ".join(parts) if parts else "nothing but the walls and the floor") + "."
         free = self._free.free_ahead(s)
         text += (f" The floor straight ahead is clear for about {free * STEP:g} m." if free

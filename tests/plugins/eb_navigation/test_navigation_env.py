@@ -191,3 +191,14 @@ def test_text_names_colours_with_the_right_article(tasks) -> None:
 
     assert not [t for t in texts if grammar_issues(t)]
     assert with_article("orange floor lamp") == "an orange floor lamp" and with_article("white sofa") == "a white sofa"
+
+
+def test_text_state_uses_the_words_the_render_shows() -> None:
+    # the kit's "white" laundry hamper renders light grey wicker; the hard instructions say so, and the text that
+    # stands in for the image (ablation=text_state) must say the same, not the kit's name for the colour
+    hard = NavigationEnv.load_tasks(taskset="hard")
+    task = next(t for t in hard if "light grey" in t.instruction and t.subset != "long_horizon")
+    e = NavigationEnv(render=False)
+    text = e.reset(task, 0).text
+    e.close()
+    assert "light grey laundry hamper" in text and "white laundry hamper" not in text
