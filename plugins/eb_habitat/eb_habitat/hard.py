@@ -815,16 +815,26 @@ _CS_COUNT = (
 )
 
 
-def _common_sense_count(rng: random.Random, level: Level) -> HardDraft:
+def _count_draft(rng: random.Random, level: Level, templates: tuple[str, ...], tag: str,
+                 words: Callable[[str, str, dict[str, Any], str | None, int, str], str]) -> HardDraft:
+    """One object to the one surface that holds exactly ``n`` of a counted type (common_sense and
+    visual_appearance): the object, its counted destination, a handle pair, the confusers, then the wording
+    ``words(template, type, object, handle side, n, counted type)``."""
     x = "mug" if rng.random() < HANDLE_SHARE else rng.choice(PAIRED)
     scene, target, dest, y, n = _counted_destination(rng, level, x)
     side = handle_pair(rng, scene, target)
     groups = tuple(counted_surfaces(scene.objects))
     _confusers(rng, scene, target, groups)
-    i = rng.randrange(len(_CS_COUNT))
-    text = _with_handle(_CS_COUNT[i], side, "{u}").format(c=target["color"], u=USES[x], n=_NUMBERS[n],
-                                                          ys=COUNT_USES[y])
-    return one_move(rng, text, scene, target, dest, f"hard.common_sense.count.{i}", avoid=groups, named=False)
+    i = rng.randrange(len(templates))
+    text = words(templates[i], x, target, side, n, y)
+    return one_move(rng, text, scene, target, dest, f"{tag}.{i}", avoid=groups, named=False)
+
+
+def _common_sense_count(rng: random.Random, level: Level) -> HardDraft:
+    def words(t: str, x: str, target: dict[str, Any], side: str | None, n: int, y: str) -> str:
+        return _with_handle(t, side, "{u}").format(c=target["color"], u=USES[x], n=_NUMBERS[n], ys=COUNT_USES[y])
+
+    return _count_draft(rng, level, _CS_COUNT, "hard.common_sense.count", words)
 
 
 def _common_sense(rng: random.Random, level: Level) -> HardDraft:
@@ -1131,15 +1141,11 @@ _LOOK_COUNT = (
 
 
 def _visual_count(rng: random.Random, level: Level) -> HardDraft:
-    x = "mug" if rng.random() < HANDLE_SHARE else rng.choice(PAIRED)
-    scene, target, dest, y, n = _counted_destination(rng, level, x)
-    side = handle_pair(rng, scene, target)
-    groups = tuple(counted_surfaces(scene.objects))
-    _confusers(rng, scene, target, groups)
-    i = rng.randrange(len(_LOOK_COUNT))
-    look = LOOKS[x].format(c=target["color"]) + handle_words(side, looks=True)
-    text = _LOOK_COUNT[i].format(look=look, n=_NUMBERS[n], ys=COUNT_LOOKS[y])
-    return one_move(rng, text, scene, target, dest, f"hard.visual.count.{i}", avoid=groups, named=False)
+    def words(t: str, x: str, target: dict[str, Any], side: str | None, n: int, y: str) -> str:
+        look = LOOKS[x].format(c=target["color"]) + handle_words(side, looks=True)
+        return t.format(look=look, n=_NUMBERS[n], ys=COUNT_LOOKS[y])
+
+    return _count_draft(rng, level, _LOOK_COUNT, "hard.visual.count", words)
 
 
 def _visual(rng: random.Random, level: Level) -> HardDraft:
