@@ -128,7 +128,7 @@ def probe_parallel_forms(setup: AuditSetup) -> ProbeResult:
         # an audit of some subsets (subset=...) compares with the same subsets of the fresh form
         audited = {t.subset for t in setup.tasks}
         fresh = [t for t in fresh if t.subset in audited]
-        ours, theirs = setup.sampled_tasks(), setup.sampled_tasks(fresh)
+        ours, theirs = setup.forms_sample(list(setup.tasks)), setup.forms_sample(fresh)
         # the shipped form's episodes at p = 0.5 are shared with the noise curve (same seeds per repeat)
         shipped_scores = _scores(_curve_outcomes(setup, levels, ours))
         key = "" if params == setup.env_params else json.dumps(params, sort_keys=True)

@@ -89,6 +89,14 @@ class AuditSetup:
         k = self.cap()
         return _spread(tasks, k) if k is not None else tasks
 
+    def forms_sample(self, tasks: list[Task]) -> list[Task]:
+        """The tasks the parallel-forms probe compares, from either form: as many per subset as
+        :meth:`sampled_tasks` plays, but drawn at random (seeded by the audit's seed and the subset), because the
+        permutation test assumes random samples, and an evenly spaced pick aliases with a file whose task types
+        come in turn (every 2.5th task of a file that cycles through five types is always one of two types)."""
+        k = self.cap()
+        return _random_sample(tasks, k, f"eb-audit-forms:{self.seed}") if k is not None else list(tasks)
+
     def fresh_per_subset(self) -> int:
         """Tasks per subset of the fresh parallel form: ``parallel_per_subset``, else :data:`FRESH_PER_SUBSET` but
         no more than the shipped form plays per subset."""
@@ -168,6 +176,18 @@ def _spread(tasks: Sequence[Task], k: int) -> list[Task]:
             out += ts
         else:
             out += [ts[(i * len(ts)) // k] for i in range(k)]
+    return out
+
+
+def _random_sample(tasks: Sequence[Task], k: int, salt: str) -> list[Task]:
+    """``k`` tasks of each subset at seeded random positions, in the file's order (all when it has no more)."""
+    out = []
+    for subset, ts in _by_subset(tasks).items():
+        if len(ts) <= k:
+            out += ts
+        else:
+            picks = random.Random(f"{salt}:{subset}").sample(range(len(ts)), k)
+            out += [ts[i] for i in sorted(picks)]
     return out
 
 
