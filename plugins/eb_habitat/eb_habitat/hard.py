@@ -190,7 +190,8 @@ _IN_THE_WAY = (
     "If {same} stands anywhere to its left on the same piece of furniture, first move that one to the {t}.",
     "Check the furniture it stands on: {same} to its left would be in the way, so if there is one, put that one "
     "{pa} before anything else.",
-    "Should {same} stand somewhere left of it on that furniture, that one has to go to the {t} first.",
+    "Should {same} stand somewhere left of it on the furniture where it stands, that one has to go to the {t} "
+    "first.",
     "Anything of its kind (the same thing, in any colour) standing to its left on the same furniture must "
     "first be moved to the {t}; if nothing of its kind stands there, no such move is needed.",
 )

@@ -30,9 +30,9 @@ beside the red bowl is yellow, bring the orange mug there"): the view that tells
 view where it can be picked up, so no agent without memory can act on it."""
 
 IN_THE_WAY = ".in_the_way."
-"""Template part of version 5's "in the way" clause ("if another mug stands to its left on that furniture, first
-move that one to the sofa"): the view that shows the object shows the look-alike left of it, so one plan moves the
-look-alike to the named receptacle and walks straight back for the object."""
+"""Template part of version 5's "in the way" clause ("if another mug stands to its left on the furniture it stands
+on, first move that one to the sofa"): the view that shows the object shows the look-alike left of it, so one plan
+moves the look-alike to the named receptacle and walks straight back for the object."""
 
 _LIMIT = 60
 """A walk longer than this is not worth following: the caller's bound is far below."""
