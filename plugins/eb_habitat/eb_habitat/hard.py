@@ -50,9 +50,10 @@ the bounds walk every receptacle until the last is delivered (:func:`~eb_habitat
 
 from __future__ import annotations
 
+import contextlib
 import random
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -715,14 +716,14 @@ def counted_views_fair(entry: dict[str, Any]) -> bool:
     spec = TaskSpec.model_validate(entry["metadata"])
     if not spec.wide:
         return True
-    renderer = _fairness_renderer()
-    renderer.load(spec)
-    world = spec.world()
-    for key in counted_surfaces(spec.objects):
-        world.agent_at = key
-        shares = renderer.visible_shares(world, [o.name for o in spec.objects if o.at == key])
-        if any(px < COUNT_MIN_PIXELS or share < COUNT_MIN_SHARE for px, share in shares.values()):
-            return False
+    with _fairness_renderer() as renderer:
+        renderer.load(spec)
+        world = spec.world()
+        for key in counted_surfaces(spec.objects):
+            world.agent_at = key
+            shares = renderer.visible_shares(world, [o.name for o in spec.objects if o.at == key])
+            if any(px < COUNT_MIN_PIXELS or share < COUNT_MIN_SHARE for px, share in shares.values()):
+                return False
     return True
 
 
@@ -741,14 +742,33 @@ def counted_surfaces(objects: list[Any]) -> list[str]:
 
 
 _RENDERER: list[Any] = []
+_RENDERER_SCOPES = [0]
 
 
-def _fairness_renderer() -> Any:
-    if not _RENDERER:  # one renderer for the whole generation (a compile per scene, not per draw)
-        from eb_habitat.render import ApartmentRenderer
+@contextlib.contextmanager
+def _fairness_renderer() -> Iterator[Any]:
+    """The fairness checks' renderer, made on first use and closed when the outermost block ends: one for a
+    whole generation (:func:`generate_subset` opens a block around its draws; a compile per scene, not per draw),
+    and none left behind in the shared GL pool after it, or after a check called on its own."""
+    with _one_renderer_for_the_block():
+        if not _RENDERER:
+            from eb_habitat.render import ApartmentRenderer
 
-        _RENDERER.append(ApartmentRenderer(500))
-    return _RENDERER[0]
+            _RENDERER.append(ApartmentRenderer(500))
+        yield _RENDERER[0]
+
+
+@contextlib.contextmanager
+def _one_renderer_for_the_block() -> Iterator[None]:
+    """Keep the fairness renderer, once made, for the whole block (made lazily: subsets without counting tasks
+    never make one)."""
+    _RENDERER_SCOPES[0] += 1
+    try:
+        yield
+    finally:
+        _RENDERER_SCOPES[0] -= 1
+        if _RENDERER_SCOPES[0] == 0 and _RENDERER:
+            _RENDERER.pop().close()
 
 
 def _base_count(rng: random.Random, level: Level) -> HardDraft:
@@ -1439,29 +1459,31 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
     branches = {True: 0, False: 0}  # conditionals answered by the branch named first / by the other one
     named = 0  # conditionals answered by the named receptacle
     tries = 0
-    while len(out) < n:
-        tries += 1
-        if tries > 400 * n:
-            raise RuntimeError(f"could not draw {n} valid {difficulty} {subset} tasks")
-        try:
-            entry = draw(subset, rng, difficulty, len(out))
-        except _Reject:
-            continue
-        if entry is None or entry["instruction"] in seen:
-            continue
-        first = _answers_first_branch(entry)
-        if first is not None:  # keep the two within one of each other: always following one branch never pays
-            if branches[first] > branches[not first]:
+    with _one_renderer_for_the_block():
+        while len(out) < n:
+            tries += 1
+            if tries > 400 * n:
+                raise RuntimeError(f"could not draw {n} valid {difficulty} {subset} tasks")
+            try:
+                entry = draw(subset, rng, difficulty, len(out))
+            except _Reject:
                 continue
-            to_named = bool(_answers_named(entry))
-            if to_named and named + 1 > max(1.0, NAMED_ANSWER_SHARE * (sum(branches.values()) + 1)):
-                continue  # the named branch, which a blind player reaches, pays in few tasks
-            branches[first] += 1
-            named += to_named
-        seen.add(entry["instruction"])
-        out.append(entry)
-        if progress and (len(out) % 10 == 0 or len(out) == n):
-            print(f"habitat {difficulty} {subset}: {len(out)}/{n} tasks ({tries} draws)", file=sys.stderr, flush=True)
+            if entry is None or entry["instruction"] in seen:
+                continue
+            first = _answers_first_branch(entry)
+            if first is not None:  # keep the two within one of each other: always following one branch never pays
+                if branches[first] > branches[not first]:
+                    continue
+                to_named = bool(_answers_named(entry))
+                if to_named and named + 1 > max(1.0, NAMED_ANSWER_SHARE * (sum(branches.values()) + 1)):
+                    continue  # the named branch, which a blind player reaches, pays in few tasks
+                branches[first] += 1
+                named += to_named
+            seen.add(entry["instruction"])
+            out.append(entry)
+            if progress and (len(out) % 10 == 0 or len(out) == n):
+                print(f"habitat {difficulty} {subset}: {len(out)}/{n} tasks ({tries} draws)", file=sys.stderr,
+                      flush=True)
     return out
 
 

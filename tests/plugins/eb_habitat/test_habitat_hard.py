@@ -843,6 +843,11 @@ def test_a_counted_object_hidden_behind_another_makes_the_draw_unfair() -> None:
     # even slots stand further back, odd ones nearer: the can in slot 1 stands in front of the flat tin in slot 0
     assert counted_views_fair(entry([0, 2, 4, 6, 8]))
     assert not counted_views_fair(entry([1, 3, 5, 7, 0]))
+    # and leaves no renderer behind in the shared GL pool (one left there broke the pool tests of other worlds
+    # that ran later in the same process)
+    from eb_scenekit.pool import pool_stats
+
+    assert pool_stats()["users"] == 0
 
 
 def test_wide_slots_are_refused_in_a_task_that_is_not_wide(tmp_path: Path) -> None:
