@@ -771,15 +771,25 @@ def _one_renderer_for_the_block() -> Iterator[None]:
             _RENDERER.pop().close()
 
 
-def _base_count(rng: random.Random, level: Level) -> HardDraft:
+def _named_count(rng: random.Random, level: Level, templates: tuple[str, ...], tag: str,
+                 avoid: Callable[[Scene, str], tuple[str, ...]]) -> HardDraft:
+    """One object, named by its type, to the one surface that holds exactly ``n`` of a counted type (base and
+    complex_instruction's stories): the object, its counted destination, a handle pair, then the wording;
+    ``avoid(scene, counted type)`` gives the surfaces the move must not disturb."""
     x = "mug" if rng.random() < HANDLE_SHARE else rng.choice(PAIRED)
     scene, target, dest, y, n = _counted_destination(rng, level, x)
     side = handle_pair(rng, scene, target)
-    i = rng.randrange(len(_BASE_COUNT))
-    text = _with_handle(_BASE_COUNT[i], side).format(c=target["color"], o=object_type(x).name, n=_NUMBERS[n],
-                                                     ys=_plural(y))
-    groups = tuple(k for k in SURFACES if any(o["type"] == y and o["at"] == k for o in scene.objects))
-    return one_move(rng, text, scene, target, dest, f"hard.base.count.{i}", avoid=groups)
+    i = rng.randrange(len(templates))
+    text = _with_handle(templates[i], side).format(c=target["color"], o=object_type(x).name, n=_NUMBERS[n],
+                                                   ys=_plural(y))
+    return one_move(rng, text, scene, target, dest, f"{tag}.{i}", avoid=avoid(scene, y))
+
+
+def _base_count(rng: random.Random, level: Level) -> HardDraft:
+    def groups(scene: Scene, y: str) -> tuple[str, ...]:
+        return tuple(k for k in SURFACES if any(o["type"] == y and o["at"] == k for o in scene.objects))
+
+    return _named_count(rng, level, _BASE_COUNT, "hard.base.count", groups)
 
 
 def _base(rng: random.Random, level: Level) -> HardDraft:
@@ -988,14 +998,8 @@ _STORY_COUNT = (
 
 
 def _complex_count(rng: random.Random, level: Level) -> HardDraft:
-    x = "mug" if rng.random() < HANDLE_SHARE else rng.choice(PAIRED)
-    scene, target, dest, y, n = _counted_destination(rng, level, x)
-    side = handle_pair(rng, scene, target)
-    i = rng.randrange(len(_STORY_COUNT))
-    text = _with_handle(_STORY_COUNT[i], side).format(c=target["color"], o=object_type(x).name, n=_NUMBERS[n],
-                                                      ys=_plural(y))
-    return one_move(rng, text, scene, target, dest, f"hard.complex.story_count.{i}",
-                    avoid=tuple(counted_surfaces(scene.objects)))
+    return _named_count(rng, level, _STORY_COUNT, "hard.complex.story_count",
+                        lambda scene, _y: tuple(counted_surfaces(scene.objects)))
 
 
 def _complex(rng: random.Random, level: Level) -> HardDraft:
