@@ -41,6 +41,7 @@ from eb_core.audit.contract import (
     NamedPolicy,
     Policy,
     ProbeResult,
+    sample_positions,
 )
 from eb_core.audit.expert import P50_WARN, RISE_Z, probe_closed_loop, probe_noise_curve
 from eb_core.audit.forms import PARALLEL_ALPHA, PARALLEL_NOISE, find_form_generator, probe_parallel_forms
@@ -102,6 +103,7 @@ __all__ = [
     "probe_templates",
     "probe_unique_instructions",
     "random_action",
+    "sample_positions",
     "run_audit",
     "world_probes",
 ]

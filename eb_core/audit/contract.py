@@ -9,6 +9,7 @@ policies of its own through :meth:`eb_core.env.Env.audit_blind_policies`.
 
 from __future__ import annotations
 
+import random
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -18,7 +19,8 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from eb_core.env import Action, DiscreteActionSpace, Env, StepResult, Task
 
-__all__ = ["AuditProbe", "BlindPolicy", "EpisodeOutcome", "FeedbackPolicy", "NamedPolicy", "Policy", "ProbeResult"]
+__all__ = ["AuditProbe", "BlindPolicy", "EpisodeOutcome", "FeedbackPolicy", "NamedPolicy", "Policy", "ProbeResult",
+           "sample_positions"]
 
 
 class ProbeResult(BaseModel):
@@ -130,3 +132,19 @@ class BlindPolicy:
             return tuple(item)
 
         return act
+
+
+def sample_positions(n: int, k: int, seed: int = 0) -> list[int]:
+    """The positions (0-based, ascending) that the audit's policy probes play of a subset of ``n`` tasks when
+    they play ``k`` of it: a simple random sample, seeded by the audit's ``seed``, ``n`` and ``k``, so that every
+    task is as likely to be played and the subset's rate is estimated without bias whatever the file's order.
+    (An evenly spaced pick aliases with a file whose task types come in turn: every 2.5th task of ALFRED's
+    period-5 files is one of two types. One pick in each of ``k`` stretches does not fix that: stretches of 2
+    and 3 tasks give unequal chances.) Every subset of ``n`` tasks gets the same positions, so the subsets that
+    share their starts (navigation's base, common_sense and complex_instruction) are sampled at the same ones.
+    All ``n`` positions when ``k >= n``. A generator that keeps a rule on what ``eb audit --quick`` plays
+    (navigation's) calls this with ``seed=0``, the audit's default; it lives here, in the module worlds import,
+    for that."""
+    if k >= n:
+        return list(range(n))
+    return sorted(random.Random(f"eb-audit-sample:{int(seed)}:{int(n)}:{int(k)}").sample(range(n), k))

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from eb_core.audit.contract import sample_positions
 from eb_core.env import Action, ActionSpace, DiscreteActionSpace, Env, Task, VectorActionSpace
 
 if TYPE_CHECKING:
@@ -78,16 +79,18 @@ class AuditSetup:
         return not any(self.env_params.get(k) for k in ("task_file", "task_dir"))
 
     def episode_tasks(self) -> list[Task]:
-        """The tasks the closed-loop oracle plays: all of them, or the first few per subset under quick."""
-        return _spread(self.tasks, self.quick_per_subset) if self.quick else list(self.tasks)
+        """The tasks the closed-loop oracle plays: all of them, or under quick ``quick_per_subset`` per subset,
+        drawn as :meth:`sampled_tasks` draws them."""
+        return _sampled(self.tasks, self.quick_per_subset, self.seed) if self.quick else list(self.tasks)
 
     def sampled_tasks(self, tasks: list[Task] | None = None) -> list[Task]:
-        """The tasks of the random-action probes: ``per_subset`` per subset, spread evenly over each subset's
-        order (task files are often ordered by family). With ``per_subset`` None the cap follows from the
-        measured cost of a random step and :attr:`budget_s` (all tasks when steps are cheap)."""
+        """The tasks of the random-action probes (blind and feedback policies, the noise curve): ``per_subset``
+        per subset, a seeded simple random sample (:func:`sample_positions`, the same positions in every subset of
+        one size), which no order of the file can bias. With ``per_subset`` None the cap follows from the measured
+        cost of a random step and :attr:`budget_s` (all tasks when steps are cheap)."""
         tasks = list(self.tasks if tasks is None else tasks)
         k = self.cap()
-        return _spread(tasks, k) if k is not None else tasks
+        return _sampled(tasks, k, self.seed) if k is not None else tasks
 
     def forms_sample(self, tasks: list[Task]) -> list[Task]:
         """The tasks the parallel-forms probe compares, from either form: as many per subset as
@@ -156,7 +159,7 @@ class AuditSetup:
             return "every task"
         slow = "" if self.per_subset is not None or self.quick else \
             f"; a random step takes {1000 * self.random_step_seconds():.0f} ms, per_subset=N to change"
-        return f"{k} tasks per subset, spread over each subset{slow}"
+        return f"{k} tasks per subset, drawn at random (seed {self.seed}){slow}"
 
     def make_env(self, params: dict[str, Any] | None = None) -> Env:
         """The env without rendering when it accepts ``render=False`` (geometry or symbolic mode)."""
@@ -168,14 +171,11 @@ class AuditSetup:
             return build(resolution=64, multi_view=False, **params)
 
 
-def _spread(tasks: Sequence[Task], k: int) -> list[Task]:
-    """``k`` tasks of each subset at evenly spaced positions of its order (all when it has no more)."""
+def _sampled(tasks: Sequence[Task], k: int, seed: int) -> list[Task]:
+    """``k`` tasks of each subset at :func:`sample_positions` (all when it has no more), in the file's order."""
     out = []
     for ts in _by_subset(tasks).values():
-        if len(ts) <= k:
-            out += ts
-        else:
-            out += [ts[(i * len(ts)) // k] for i in range(k)]
+        out += [ts[i] for i in sample_positions(len(ts), k, seed)]
     return out
 
 

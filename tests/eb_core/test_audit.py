@@ -29,6 +29,7 @@ from eb_core.audit import (
     probe_templates,
     probe_unique_instructions,
     run_audit,
+    sample_positions,
 )
 
 DIGITS = tuple(f"press {d}" for d in range(10))
@@ -344,11 +345,17 @@ def test_run_audit_runs_generic_then_world_probes_and_prints_one_table(tmp_path)
     assert [r.name for _, r in only] == ["closed_loop_oracle"] and only[0][1].passed
 
 
-def test_slow_worlds_play_an_even_spread_of_tasks_per_subset(tmp_path, monkeypatch):
+def test_slow_worlds_play_a_seeded_random_sample_of_tasks_per_subset(tmp_path, monkeypatch):
     setup = setup_for(tmp_path, lock_tasks(), per_subset=5)
     picked = setup.sampled_tasks()
-    assert [t.id for t in picked if t.subset == "short"] == ["short-00", "short-06", "short-12", "short-18", "short-24"]
+    short = [t.id for t in picked if t.subset == "short"]
+    positions = sample_positions(30, 5, seed=0)
+    assert short == [f"short-{i:02d}" for i in positions] and len(set(short)) == 5
+    assert short != ["short-00", "short-06", "short-12", "short-18", "short-24"]  # not the even spread it was
+    # every subset of one size at the same positions (worlds whose subsets share their starts rely on it)
+    assert [t.id.split("-")[1] for t in picked if t.subset != "short"] == [i.split("-")[1] for i in short]
     assert len(picked) == 10 and len(setup.episode_tasks()) == 60  # the closed loop still plays every task
+    assert sample_positions(30, 5, seed=1) != positions and sample_positions(30, 40) == list(range(30))
     curve = probe_noise_curve(setup)
     assert "p50" in curve.value and setup._cache[("curve", 0.5, 0)].keys() == {t.id for t in picked}
     # no cap given: it follows from the cost of a random step (measured once; faked here) and the budget
@@ -367,8 +374,9 @@ def test_parallel_forms_compare_random_samples_that_do_not_alias_with_a_cycling_
     # (visual_appearance 87 % against 70 %, p = 0.002, three fresh forms in a row)
     setup = setup_for(tmp_path, lock_tasks(per_subset=50), per_subset=20)
     family = {t.id: int(t.id.split("-")[1]) % 5 for t in setup.tasks}
-    spread = [t for t in setup.sampled_tasks() if t.subset == "short"]
-    assert {family[t.id] for t in spread} == {0, 2}  # the aliasing, kept for the policy probes' fixed sample
+    # the policy probes' sample does not alias with it either (an evenly spaced one held only families 0 and 2)
+    policy = [t for t in setup.sampled_tasks() if t.subset == "short"]
+    assert len(policy) == 20 and {family[t.id] for t in policy} == {0, 1, 2, 3, 4}
     drawn = [t for t in setup.forms_sample(list(setup.tasks)) if t.subset == "short"]
     assert len(drawn) == 20 and {family[t.id] for t in drawn} == {0, 1, 2, 3, 4}
     assert [t.id for t in drawn] == sorted(t.id for t in drawn)  # in the file's order

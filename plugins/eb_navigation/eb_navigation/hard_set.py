@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from eb_core.audit.contract import sample_positions
 from eb_navigation.baselines import CHECK_AGENTS
 from eb_navigation.hard import DIFFICULTIES, HARD_TYPES, LEVELS, SEED_BASE, Tally, draw_scene, scene_tasks
 from eb_navigation.room import KINDS
@@ -32,10 +33,10 @@ __all__ = ["AUDIT_SAMPLE", "MAX_RATE", "MAX_ROOMS", "audit_sample", "generate_le
 MAX_RATE = 0.05
 """The most any one blind policy or feedback-only agent may solve of a subset (the issue's rule, 5 %)."""
 AUDIT_SAMPLE = 20
-"""Tasks per subset that ``eb audit --quick`` plays (``eb_core.audit.setup``: ``quick_per_subset``, evenly spaced
-over the subset's order). The same rule holds on them: at most 5 % of them (one) solved by any one policy or
-agent, so that the solved tasks (which the first slots take, while the tallies are empty) do not crowd into the
-audit's sample."""
+"""Tasks per subset that ``eb audit --quick`` plays (``eb_core.audit.setup``: ``quick_per_subset``, a seeded random
+sample, the same slots in every subset: :func:`eb_core.audit.contract.sample_positions`).
+The same rule holds on them: at most 5 % of them (one) solved by any one policy or agent, so that the solved tasks
+(which the first slots take, while the tallies are empty) do not crowd into the audit's sample."""
 
 
 class _Joint(Tally):
@@ -54,8 +55,9 @@ class _Joint(Tally):
 
 
 def audit_sample(scenes: int, k: int = AUDIT_SAMPLE) -> set[int]:
-    """The slots ``eb audit --quick`` plays of a ``scenes``-task subset (all of them when there are no more)."""
-    return set(range(scenes)) if scenes <= k else {(i * scenes) // k for i in range(k)}
+    """The slots ``eb audit --quick`` plays, at its default seed, of a ``scenes``-task subset (all of them when
+    there are no more); the same slots in every subset."""
+    return set(sample_positions(scenes, k, seed=0))
 
 
 _SECTORS = ("left", "behind", "right")
