@@ -77,7 +77,10 @@ __all__ = ["DIFFICULTIES", "HARD_BUILDERS", "LEVELS", "Level", "generate_subset"
 DIFFICULTIES = ("classic", "medium", "hard")
 """Generator levels: ``classic`` is :mod:`eb_habitat.generate`, the others are drawn here."""
 
-HARD_VERSION = "7"
+HARD_VERSION = "8"
+"""Version 8: the destination's count is the fewest, the middle or the most of the three with equal chances
+(:data:`COUNT_RANKS`), and complex_instruction's families follow a fixed schedule (:data:`COMPLEX_FAMILIES`); the
+draws are keyed as in version 7 (:data:`DRAW_VERSION`)."""
 
 #: The generator version each subset's random draws are keyed on (version 3 when absent): version 5 redraws
 #: every subset; version 7 redraws the four subsets with counts of five to eight.
@@ -648,18 +651,37 @@ def _wide_counted_type(rng: random.Random, x: str) -> str:
     return rng.choice([y for y in fits for _ in range(1 if y == "bowl" else 2)])
 
 
+COUNT_RANKS: dict[str, tuple[tuple[int, ...], tuple[int, int]]] = {
+    "fewest": ((5, 6), (1, 2)),
+    "middle": ((5, 6, 7), (-1, 1)),
+    "most": ((5, 6, 7, 8), (-1, -2)),
+}
+"""Where the destination's count stands among the three counted surfaces, drawn with equal chances: the counts
+``n`` may take there, and the decoys' counts as offsets from ``n`` (every decoy is one or two off, one of them one
+off). Before, the decoys were always one fewer and one more, so the destination held the middle count in 66 of 82
+tasks: a player that kept all three views (``chat_history=true``) could take the middle one without counting
+exactly."""
+
+
 def wide_groups(rng: random.Random, scene: Scene, y: str) -> tuple[list[str], int]:
     """The destination and two decoys for a count of ``n`` (5-8) of ``y``, each on its own wide surface, holding
-    nothing but ``y`` and its shape twins (:data:`WIDE_COUNTED`) with one slot left free: the destination ``n`` and
-    one or two twins, one decoy one fewer with one or two twins (a count that takes the twins in reads ``n`` or
-    more), the other one more (two fewer when ``n`` is 8) with none or one. Returns (surfaces, n)."""
-    n = rng.choice((5, 6, 6, 7, 7, 8))
-    counts = [n, n - 1, n + 1 if n < 8 else n - 2]
-    wanted = [rng.choice((1, 2)), rng.choice((1, 2)), rng.choice((0, 1))]
+    nothing but ``y`` and its shape twins (:data:`WIDE_COUNTED`) with one slot left free. Whether the destination
+    holds the fewest, the middle or the most is drawn with equal chances (:data:`COUNT_RANKS`): the decoys hold
+    ``n`` -1 and +1, +1 and +2, or -1 and -2. The destination and a decoy one fewer have one or two twins, a decoy
+    two fewer two (a count that takes the twins in reads ``n`` or more), a decoy with more none or one (where the
+    surface has room). Returns (surfaces, n)."""
+    rank = rng.choice(tuple(COUNT_RANKS))
+    values, offsets = COUNT_RANKS[rank]
+    n = rng.choice(values)
+    counts = [n] + [n + d for d in offsets]
+    wanted = [rng.choice((1, 2))] + [(rng.choice((1, 2)) if d == -1 else 2) if d < 0 else rng.choice((0, 1))
+                                     for d in offsets]
     twin = WIDE_COUNTED[y]
-    out: list[str] = []
-    for count, twins in zip(counts, wanted):
-        fits = [k for k in WIDE_CAPACITY if k not in out and not scene.used_slots(k) and scene.cap(k) >= count + 1]
+    out: dict[int, str] = {}
+    for i in sorted(range(3), key=lambda i: -counts[i]):  # the largest count first: it needs the longest surface
+        count, twins = counts[i], wanted[i]
+        fits = [k for k in WIDE_CAPACITY if k not in out.values() and not scene.used_slots(k)
+                and scene.cap(k) >= count + 1]
         if not fits:
             raise _Reject("no wide surface for a counted group")
         roomy = [k for k in fits if scene.cap(k) >= count + 1 + min(twins, 1)]
@@ -673,8 +695,8 @@ def wide_groups(rng: random.Random, scene: Scene, y: str) -> tuple[list[str], in
             _put(scene, twin, at, color)
         _shuffle_slots(rng, scene, at)
         _no_same_colour_neighbours(rng, scene, at, clash)
-        out.append(at)
-    return out, n
+        out[i] = at
+    return [out[i] for i in range(3)], n
 
 
 def _no_same_colour_neighbours(rng: random.Random, scene: Scene, at: str, clash: str | None) -> None:
@@ -692,7 +714,7 @@ def _no_same_colour_neighbours(rng: random.Random, scene: Scene, at: str, clash:
 def _counted_destination(rng: random.Random, level: Level, x: str
                          ) -> tuple[Scene, dict[str, Any], str, str, int]:
     """A wide scene (version 7) where the destination is the one surface with exactly ``n`` (5-8) objects of a
-    counted type ``y`` among its shape twins, beside two decoys with one more and one fewer (:func:`wide_groups`);
+    counted type ``y`` among its shape twins, beside two decoys one or two off (:func:`wide_groups`);
     the object to move (with version 5's near-hue pair) lies elsewhere. Returns (scene, target, destination, y,
     n)."""
     scene = _new_scene(rng)
@@ -1002,13 +1024,18 @@ def _complex_count(rng: random.Random, level: Level) -> HardDraft:
                         lambda scene, _y: tuple(counted_surfaces(scene.objects)))
 
 
-def _complex(rng: random.Random, level: Level) -> HardDraft:
+def _complex(rng: random.Random, level: Level, family: str | None = None) -> HardDraft:
+    """One complex_instruction draft: of ``family`` (:data:`COMPLEX_FAMILIES`; what the generator's schedule gives
+    each task), or with ``None`` of a family drawn by the shares below."""
     draw = rng.random()
-    if draw < COMPLEX_GATHER_SHARE:
+    if family is None:
+        family = "gather" if draw < COMPLEX_GATHER_SHARE else "conditional" if draw < COMPLEX_GATHER_SHARE + 0.2 \
+            else "count" if draw < COMPLEX_GATHER_SHARE + 0.2 + COMPLEX_COUNT_SHARE else "story"
+    if family == "gather":
         return _gather(rng, level, complex_form=True)
-    if draw < COMPLEX_GATHER_SHARE + 0.2:
+    if family == "conditional":
         return _conditional(rng, level)
-    if draw < COMPLEX_GATHER_SHARE + 0.2 + COMPLEX_COUNT_SHARE:
+    if family == "count":
         return _complex_count(rng, level)
     scene = _new_scene(rng)
     x, y = _two_types(rng)
@@ -1255,6 +1282,26 @@ COMPLEX_COUNT_SHARE = 0.58
 """Share of complex_instruction's draws that are stories with a destination told by a count of five to eight
 (version 7, :func:`_complex_count`)."""
 
+COMPLEX_FAMILIES: dict[str, int] = {"count": 20, "conditional": 10, "story": 14, "gather": 6}
+"""Version 8: complex_instruction's tasks per family in 50, a fixed schedule (:func:`family_schedule`). With the
+shares above, a family's part of the file was its share times how often its draws pass, so it swung from seed to
+seed (counting stories 10, 16 and 22 of 50 at seeds 0-2; the mugs told by their handle 8, 7 and 16) and a fresh
+form was not the shipped one's equal. The numbers keep version 7's shipped mix, with a few more conditionals for
+fewer gatherings (stories and negations share "story")."""
+
+
+def family_schedule(rng: random.Random, n: int) -> list[str]:
+    """The family of each of ``n`` complex_instruction tasks: :data:`COMPLEX_FAMILIES` scaled to ``n`` (largest
+    remainders), in a seeded random order."""
+    total = sum(COMPLEX_FAMILIES.values())
+    exact = {f: k * n / total for f, k in COMPLEX_FAMILIES.items()}
+    counts = {f: int(v) for f, v in exact.items()}
+    for f in sorted(exact, key=lambda f: counts[f] - exact[f])[:n - sum(counts.values())]:
+        counts[f] += 1
+    out = [f for f, k in counts.items() for _ in range(k)]
+    rng.shuffle(out)
+    return out
+
 _EVERY_EXCEPT = (
     "I am clearing up the {many}: every one of them goes {pt}, except the {c} ones, which stay where they are.",
     "Bring every {one} to the {t}, except any that is {c}: those stay put.",
@@ -1401,10 +1448,13 @@ MAX_STATELESS_STEPS = 28
 planner sees only the current image and the action history) still has 2 of the 30 steps to spare."""
 
 
-def draw(subset: str, rng: random.Random, difficulty: str, index: int) -> dict[str, Any] | None:
+def draw(subset: str, rng: random.Random, difficulty: str, index: int, family: str | None = None
+         ) -> dict[str, Any] | None:
     """One validated task entry of ``subset`` at ``difficulty`` (``medium`` or ``hard``), or None if the draw
-    fails validation (the caller draws again). Raises :class:`~eb_habitat.generate._Reject` for a bad scene."""
-    hd = HARD_BUILDERS[subset](rng, LEVELS[difficulty])
+    fails validation (the caller draws again); ``family``: complex_instruction's family for this task
+    (:func:`family_schedule`). Raises :class:`~eb_habitat.generate._Reject` for a bad scene."""
+    level = LEVELS[difficulty]
+    hd = _complex(rng, level, family) if family is not None else HARD_BUILDERS[subset](rng, level)
     entry = _finish(to_draft(rng, hd), subset, index)
     if entry is None:
         return None
@@ -1458,6 +1508,8 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
     if difficulty not in LEVELS:
         raise ValueError(f"habitat: unknown difficulty {difficulty!r}; allowed: {', '.join(DIFFICULTIES)}")
     rng = random.Random(f"eb-habitat-{difficulty}/{DRAW_VERSION.get(subset, '3')}/{seed}/{subset}")
+    families = family_schedule(random.Random(f"eb-habitat-{difficulty}/families/{seed}"), n) \
+        if subset == "complex_instruction" else None
     out: list[dict[str, Any]] = []
     seen: set[str] = set()
     branches = {True: 0, False: 0}  # conditionals answered by the branch named first / by the other one
@@ -1469,7 +1521,7 @@ def generate_subset(subset: str, n: int = 50, seed: int = 0, difficulty: str = "
             if tries > 400 * n:
                 raise RuntimeError(f"could not draw {n} valid {difficulty} {subset} tasks")
             try:
-                entry = draw(subset, rng, difficulty, len(out))
+                entry = draw(subset, rng, difficulty, len(out), families[len(out)] if families else None)
             except _Reject:
                 continue
             if entry is None or entry["instruction"] in seen:
