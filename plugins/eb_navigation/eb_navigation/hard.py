@@ -23,7 +23,10 @@ clear way. At an in-view start every floor object on the way ahead shows in the 
 With a level's ``open_way`` knob on (off for the shipped set), a start also needs an open way for its first
 moves: nothing lower than :data:`WAY_TOP` within reach of any forward-and-sideways route near the start
 (:func:`open_way`), everything within reach of the routes in view (:func:`blockers_seen`), room for a wider body
-(:func:`wide_enough`).
+(:func:`wide_enough`); and, since such open starts are what the bump agents solve, the target stands in the open
+(:data:`TARGET_WALL_GAP` from the walls), the extra floor things lower than :data:`WAY_TOP` stand along the walls
+with more tall seats among them (:data:`OPEN_FLOOR_CLUTTER`), and no start that more than
+:data:`OPEN_MAX_SOLVERS` feedback-only agents solve is taken (:data:`OPEN_SOLVER_COST` ranks the rest).
 Every candidate start is checked on the geometry (:mod:`eb_navigation.baselines`) against all 10,948 blind
 constant-action policies and the feedback-only rule agents; one that would lift any of them above ``cap`` tasks of
 its subset (5 % of the scenes) is never taken. Of the rest the shortest expert plan wins (:func:`_pick`): a
@@ -64,7 +67,8 @@ from eb_navigation.room import ExtraSpec, NavObject, NavRoom, colour_distance, p
 from eb_navigation.tasks import SUBSETS
 
 __all__ = ["CHECK_AGENTS", "DIFFICULTIES", "HARD_TYPES", "LEVELS", "LOW_TOP", "Level", "MIN_LOOKALIKE_GAP",
-           "MIN_WAY_PIXELS", "NEAR_START", "SEED_BASE", "Scene", "Tally", "WALL_BAND", "WAY_MARGIN", "WAY_TOP",
+           "MIN_WAY_PIXELS", "NEAR_START", "OPEN_FLOOR_CLUTTER", "OPEN_MAX_SOLVERS", "OPEN_SOLVER_COST",
+           "SEED_BASE", "Scene", "TARGET_WALL_GAP", "Tally", "WALL_BAND", "WAY_MARGIN", "WAY_TOP",
            "WIDE_SLACK",
            "blockers_seen", "clear_corridor", "draw_scene", "facing_target", "free_run", "lookalike_first",
            "not_in_pocket", "open_way", "scene_tasks", "way_blockers", "way_box", "way_objects", "way_seen",
@@ -87,6 +91,9 @@ HARD_TYPES: tuple[str, ...] = ("Vase", "WateringCan", "TeddyBear", "GarbageCan",
                                "LaundryHamper")
 FLOOR_CLUTTER: tuple[str, ...] = ("Box", "Basket", "BasketBall", "Chair", "SideTable", "LaundryHamper",
                                   "WateringCan", "Vase", "TeddyBear", "GarbageCan", "HousePlant", "Ottoman")
+OPEN_FLOOR_CLUTTER: tuple[str, ...] = (*FLOOR_CLUTTER, "Chair", "ArmChair", "ArmChair")
+"""With the open way on: more tall seats (seen in the first image) among the extra floor things, which break the
+blind walks in the open middle of the room while the low things stand along the walls."""
 _VIS_TRIES = 14
 """Rendered checks per start at most (the best-ranked candidates first)."""
 _EVALUATE = 80
@@ -111,6 +118,17 @@ WAY_TOP = 0.75
 """Metres: nothing lower stands within reach of the routes to the target (:func:`open_way`). A thing this tall
 stays in the level view until the agent's centre is about 0.6 m from it, a step before the body touches it."""
 WIDE_SLACK = 2
+TARGET_WALL_GAP = 1.0
+"""Metres from the target's centre to every wall with the open way on: the bump agents slide along the walls
+(the open way leaves the first moves free, so their forward walks end at a wall), and a target in the open is
+reached only by turning or side-stepping toward it."""
+OPEN_SOLVER_COST = 3
+"""Actions of rank per feedback-only agent that solves a start, with the open way on: each one uses up a share of
+that agent's cap (1 of the audit's 20 slots), so the start solved by fewest agents wins."""
+OPEN_MAX_SOLVERS = 2
+"""With the open way on, a start that more feedback-only agents than this solve is never a candidate, even while
+their caps have room: open starts are solved by 10-16 of the 39 agents each, and taking them early would leave
+no budget for the later slots (the session-9 trial: up to 678 rooms a slot)."""
 NEAR_START = 1.0
 """Metres: the part of the routes next to the start (:func:`open_way`), where a low thing is under the level view
 (a 0.45 m thing within about 0.9 m) or at the agent's side, and no image has shown it."""
@@ -139,8 +157,9 @@ class Level:
     """A long_horizon start has the target at least this many degrees off straight ahead (and out of view)."""
     open_way: bool = False
     """Refuse starts without an open way for the first moves (:func:`open_way`, :func:`wide_enough`,
-    :func:`blockers_seen`). Off for the shipped sets: with it, a slot draws hundreds of rooms (see
-    docs/hard_tasks/navigation.md); ``generate_level(..., open_way=True)`` turns it on."""
+    :func:`blockers_seen`), and draw the room and rank the starts so that few feedback-only agents solve them
+    (:data:`TARGET_WALL_GAP`, :data:`OPEN_FLOOR_CLUTTER`, :data:`OPEN_MAX_SOLVERS`). Off for the shipped sets
+    (see docs/hard_tasks/navigation.md); ``generate_level(..., open_way=True)`` turns it on."""
 
 
 LEVELS: dict[str, Level] = {
@@ -162,10 +181,11 @@ def _door_probe(room: NavRoom) -> Any:
 
 
 def _floor_spot(room: NavRoom, type_name: str, rng: np.random.Generator, taken: list, door: Any,
-                far_from: list[tuple[float, float]], gap: float, wall: float | None = None
-                ) -> tuple[float, float, float] | None:
+                far_from: list[tuple[float, float]], gap: float, wall: float | None = None,
+                inner: float | None = None) -> tuple[float, float, float] | None:
     """A floor pose for ``type_name`` clear of everything on the floor (with room to walk past) and the door;
-    with ``wall``, at most that many metres from a wall (pushed into the band along the wall of one side)."""
+    with ``wall``, at most that many metres from a wall (pushed into the band along the wall of one side); with
+    ``inner``, its centre at least that many metres from every wall."""
     t = get_type(type_name)
     hx, hy = room.size[0] / 2, room.size[1] / 2
     r = max(t.half_extents) + 0.05
@@ -180,6 +200,8 @@ def _floor_spot(room: NavRoom, type_name: str, rng: np.random.Generator, taken: 
             else:
                 y = round(math.copysign(hy - r - depth, y), 3)
         if any(math.hypot(x - a, y - b) < gap for a, b in far_from):
+            continue
+        if inner is not None and min(hx - abs(x), hy - abs(y)) < inner:
             continue
         cand = probe(type_name, x, y, yaw)
         if cand.overlaps(door) or any(cand.overlaps(o, 0.12) for o in taken):
@@ -221,7 +243,9 @@ def _furnish(kind: str, seed: int, level: Level, type_name: str, rng: np.random.
     extras: list[ExtraSpec] = []
     ids = [f"{type_name}_{k}" for k in rng.permutation(np.arange(11, 11 + 1 + len(look_colours)))]
     for k, c in enumerate([colour, *look_colours]):
-        pose = _floor_spot(plain, type_name, rng, taken, door, spots, MIN_LOOKALIKE_GAP)
+        # with the open way the target stands in the open, away from the walls the bump agents follow
+        inner = TARGET_WALL_GAP if level.open_way and k == 0 else None
+        pose = _floor_spot(plain, type_name, rng, taken, door, spots, MIN_LOOKALIKE_GAP, inner=inner)
         if pose is None:
             if k == 0:
                 return None
@@ -231,10 +255,11 @@ def _furnish(kind: str, seed: int, level: Level, type_name: str, rng: np.random.
         spots.append(pose[:2])
     if len(extras) - 1 + len(existing) < level.lookalikes[0]:
         return None
-    pool = [t for t in FLOOR_CLUTTER if t != type_name]
+    pool = [t for t in (OPEN_FLOOR_CLUTTER if level.open_way else FLOOR_CLUTTER) if t != type_name]
     for n in range(int(rng.integers(level.floor_clutter[0], level.floor_clutter[1] + 1))):
         typ = pool[int(rng.integers(len(pool)))]
-        low = get_type(typ).height < LOW_TOP  # a low thing along a wall, a taller (seen) one anywhere
+        # a low thing along a wall, a taller (seen) one anywhere; with the open way, "low" is under WAY_TOP
+        low = get_type(typ).height < (WAY_TOP if level.open_way else LOW_TOP)
         pose = _floor_spot(plain, typ, rng, taken, door, [], 0.0, wall=WALL_BAND if low else None)
         if pose is None:
             continue
@@ -447,7 +472,8 @@ def _pick(room: NavRoom, target: NavObject, looks: list[NavObject], lo: float, h
     expert's plan length, plus :data:`SOLVED_COST` when any blind policy or rule agent (``agents``, default
     :data:`HARD_RULE_AGENTS`) solves the start; ties go to a start that shows a look-alike nearer the middle of the
     view, then to fewer solving baselines. A start that would lift a baseline above ``tally``'s cap is never
-    taken."""
+    taken. With the level's ``open_way``, a start that more than :data:`OPEN_MAX_SOLVERS` rule agents solve is
+    never taken either, and each solving rule agent costs :data:`OPEN_SOLVER_COST` of rank."""
     free = room.free_space(room.extra_ids)
     xy = (target.x, target.y)
     if level.open_way and wide is None:
@@ -476,7 +502,13 @@ def _pick(room: NavRoom, target: NavObject, looks: list[NavObject], lo: float, h
         if not tally.admits(st):
             continue
         solvers = int(st.blind.sum() + st.rules.sum())
-        scored.append(((cheap + (SOLVED_COST if solvers else 0), far, solvers, tie), st))
+        cost = cheap + (SOLVED_COST if solvers else 0)
+        if level.open_way:  # each solving agent uses up a scarce share of its cap: few, or none
+            agents_solving = int(st.rules.sum())
+            if agents_solving > OPEN_MAX_SOLVERS:
+                continue
+            cost += OPEN_SOLVER_COST * agents_solving
+        scored.append(((cost, far, solvers, tie), st))
     scored.sort(key=lambda c: c[0])
     for _key, st in scored[:_VIS_TRIES]:
         if accept(st):

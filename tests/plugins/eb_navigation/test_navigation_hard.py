@@ -288,6 +288,45 @@ def test_the_open_way_knob_draws_only_open_starts() -> None:
         vis.close()
 
 
+def test_the_open_way_knob_draws_starts_few_feedback_agents_solve(monkeypatch) -> None:
+    """With ``open_way`` on (geometry only): the target stands at least ``TARGET_WALL_GAP`` from every wall, the
+    extra floor things lower than ``WAY_TOP`` stand along the walls, and no start is one that more than
+    ``OPEN_MAX_SOLVERS`` feedback-only agents solve, even with no cap -- while the same room with the knob off
+    offers a start that more of them solve (open starts are what "forward, step left on a bump" solves)."""
+    from dataclasses import replace
+
+    import eb_navigation.hard as hard_module
+    from eb_navigation.hard import OPEN_MAX_SOLVERS, TARGET_WALL_GAP, WAY_TOP, Tally, _pick, draw_scene
+
+    lv = replace(LEVELS["hard"], open_way=True)
+    rng = np.random.default_rng(2)
+    sc, k = None, 0
+    for k in range(120):
+        sc = draw_scene("living_room", 930_000 + k, "Vase", lv, rng,
+                        {p: Tally(None) for p in ("plain", "visual_appearance", "long_horizon")}, None, "left",
+                        agents=CHECK_AGENTS)
+        if sc is not None:
+            break
+    assert sc is not None, k
+    room, target = sc.room, sc.target
+    hx, hy = room.size[0] / 2, room.size[1] / 2
+    assert min(hx - abs(target.x), hy - abs(target.y)) >= TARGET_WALL_GAP - 1e-9
+    for e in room.extras:
+        typ = get_type(e.type)
+        if e.type != target.type and typ.height < WAY_TOP:
+            assert min(hx - abs(e.x), hy - abs(e.y)) - max(typ.half_extents) - 0.05 <= WALL_BAND + 1e-3, e.id
+    free = room.free_space(room.extra_ids)
+    for st in sc.starts.values():
+        solved = rule_agent_successes(free, st.state, (target.x, target.y), agents=CHECK_AGENTS)
+        assert sum(solved.values()) <= OPEN_MAX_SOLVERS and int(st.rules.sum()) == sum(solved.values())
+    # the same room without the agent rule (open way only, no cap): its best start is one more agents solve
+    monkeypatch.setattr(hard_module, "OPEN_MAX_SOLVERS", 10 ** 6)
+    monkeypatch.setattr(hard_module, "OPEN_SOLVER_COST", 0)
+    off = _pick(room, target, sc.lookalikes, *lv.distance, 6, lv.max_plan, "ahead", lv, Tally(None),
+                np.random.default_rng(0), lambda c: True, agents=CHECK_AGENTS)
+    assert off is not None and int(off.rules.sum()) > OPEN_MAX_SOLVERS
+
+
 # Two starts of the hard set as shipped at ba1a4da, lost by stateless calibration players in session 8 on low
 # things they could not see: base_004's first forward moves under a low side table, complex_instruction_034 boxed
 # in beside a plant and a hamper.
