@@ -28,7 +28,7 @@ from eb_navigation.hard import DIFFICULTIES, HARD_TYPES, LEVELS, SEED_BASE, Tall
 from eb_navigation.room import KINDS
 from eb_navigation.tasks import SUBSETS
 
-__all__ = ["AUDIT_SAMPLE", "MAX_RATE", "MAX_ROOMS", "audit_sample", "generate_level"]
+__all__ = ["AUDIT_SAMPLE", "MAX_RATE", "MAX_ROOMS", "OPEN_WAY_SETS", "audit_sample", "generate_level"]
 
 MAX_RATE = 0.05
 """The most any one blind policy or feedback-only agent may solve of a subset (the issue's rule, 5 %)."""
@@ -68,16 +68,25 @@ feedback agent ("forward, step left on a bump") solves most often, so a slot may
 before one fits under the 5 % caps (up to 678 in a trial)."""
 
 
+OPEN_WAY_SETS = ("hard",)
+"""Levels whose task sets (the shipped files, ``eb tasks generate ... difficulty=hard seed=N`` and the audit's fresh
+form) are drawn with the open-way rule on (:attr:`eb_navigation.hard.Level.open_way`; session 10): the first moves
+of every start meet nothing the images have not shown, and few feedback-only agents solve a start. The train and
+val splits draw the level as it is (no rendered checks, no caps)."""
+
+
 def generate_level(level: str = "hard", seed: int = 0, scenes: int = 60, out: str | None = None,
-                   cap: int | None = None, progress: bool = True, open_way: bool = False) -> str:
-    """Write a ``level`` task set: ``<out>/<subset>.json`` for the five subsets, ``scenes`` tasks each (with
-    ``open_way``, the level's open-way rule on: :attr:`eb_navigation.hard.Level.open_way`)."""
+                   cap: int | None = None, progress: bool = True, open_way: bool | None = None) -> str:
+    """Write a ``level`` task set: ``<out>/<subset>.json`` for the five subsets, ``scenes`` tasks each. ``open_way``:
+    the open-way rule on or off (:attr:`eb_navigation.hard.Level.open_way`); None = on for :data:`OPEN_WAY_SETS`."""
     from eb_navigation.tasks import write_subset_files
     from eb_navigation.visibility import Visibility
 
     if level not in LEVELS:
         raise ValueError(f"unknown difficulty {level!r}; allowed: {', '.join(DIFFICULTIES)}")
-    lv = replace(LEVELS[level], open_way=True) if open_way else LEVELS[level]
+    if open_way is None:
+        open_way = level in OPEN_WAY_SETS
+    lv = replace(LEVELS[level], open_way=bool(open_way))
     scenes = int(scenes)
     if scenes < 1:
         raise ValueError(f"scenes must be at least 1, got {scenes}")

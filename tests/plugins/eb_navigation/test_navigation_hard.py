@@ -675,3 +675,41 @@ def test_generate_rejects_an_unknown_difficulty(tmp_path) -> None:
 
     with pytest.raises(ValueError, match="unknown difficulty 'extreme'; allowed: classic, medium, hard"):
         generate(difficulty="extreme", out=str(tmp_path / "x"))
+
+
+def test_every_shipped_start_has_an_open_way_and_few_feedback_agents_solve_it(hard, rooms) -> None:
+    """Session 10: the shipped hard set is drawn with the open-way rule on (``hard_set.OPEN_WAY_SETS``). On every
+    start, nothing lower than ``WAY_TOP`` stands within reach of the first metre of the forward and sideways routes
+    to the target, a body 5 cm wider on each side still gets there within two actions of the expert, the target
+    stands ``TARGET_WALL_GAP`` or more from the walls, and at most ``OPEN_MAX_SOLVERS`` feedback-only agents solve
+    it; everything within reach of the routes shows in the view facing the target (rendered, on a sample). Session
+    9's shipped set broke the open way on most starts (the low side tables and plants players walked into)."""
+    from eb_navigation.baselines import plan_lengths
+    from eb_navigation.hard import OPEN_MAX_SOLVERS, TARGET_WALL_GAP
+    from eb_navigation.hard_set import OPEN_WAY_SETS
+    from eb_navigation.visibility import Visibility
+
+    assert "hard" in OPEN_WAY_SETS
+    wides: dict[int, dict] = {}
+    closed = []
+    for t in hard:
+        room = rooms(t)
+        target = room.get(t.target.id)
+        s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
+        wide = wides.setdefault(id(room), plan_lengths(wide_space(room), (target.x, target.y)))
+        if not (open_way(room, s, target) and wide_enough(wide, s, t.oracle_steps)):
+            closed.append(t.id)
+        hx, hy = room.size[0] / 2, room.size[1] / 2
+        assert min(hx - abs(target.x), hy - abs(target.y)) >= TARGET_WALL_GAP - 1e-9, t.id
+        free = room.free_space(room.extra_ids)
+        solved = rule_agent_successes(free, s, (target.x, target.y), agents=CHECK_AGENTS)
+        assert sum(solved.values()) <= OPEN_MAX_SOLVERS, (t.id, [k for k, v in solved.items() if v])
+    assert not closed, closed
+    vis = Visibility()
+    try:
+        for t in hard[::25]:
+            room = rooms(t)
+            s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
+            assert blockers_seen(room, s, room.get(t.target.id), vis), t.id
+    finally:
+        vis.close()
