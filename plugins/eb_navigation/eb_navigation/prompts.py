@@ -10,9 +10,11 @@ for every task and subset: only the instruction differs.
 
 from __future__ import annotations
 
+import math
+
 from eb_core import PromptParts
 
-from eb_navigation.geometry import AGENT_RADIUS
+from eb_navigation.geometry import AGENT_RADIUS, EYE_HEIGHT, FIRST_PERSON_FOVY
 
 __all__ = ["ACTION_RULES_LANGUAGE_ONLY", "EXAMPLES", "FIRST_STEP_GUIDANCE", "GUIDELINES", "GUIDELINES_LANGUAGE_ONLY",
            "LATER_STEP_GUIDANCE", "ROLE", "ROLE_LANGUAGE_ONLY", "VIEW_DESCRIPTIONS", "prompt_parts"]
@@ -35,9 +37,15 @@ ACTION_RULES = """\
 
 #: The size of the body and what the camera never shows: which gaps are passable and why a sideways move can fail
 #: (a calibration player lost hard tasks to gaps that looked passable and to furniture beside it; issue 25).
+#: Metres of floor in front of the agent that the level camera does not show (its lower edge is half the vertical
+#: field of view below the horizon): a calibration player walked into a low table there (session 10).
+HIDDEN_FLOOR = EYE_HEIGHT / math.tan(math.radians(FIRST_PERSON_FOVY / 2))
+NEAR_FLOOR_RULE = (f" With the camera level, the floor within about {HIDDEN_FLOOR:.1f} metres in front of you is "
+                   "out of the picture, and a low table, stool or box just ahead of you may not show at all: tilt "
+                   "the camera down to see it.")
 BODY_RULE = (f"- Your body is about {2 * AGENT_RADIUS:g} metres across: you pass between two things only where the "
              "gap is wider than that. The camera shows only what lies ahead, so a sideways or backward move can "
-             "bump into something beside or behind you that no image has shown.")
+             "bump into something beside or behind you that no image has shown." + NEAR_FLOOR_RULE)
 ACTION_RULES = ACTION_RULES.replace(
     "A sideways move does not change where you look.\n",
     "A sideways move does not change where you look.\n" + BODY_RULE + "\n", 1)
@@ -69,7 +77,7 @@ ACTION_RULES_LANGUAGE_ONLY = ACTION_RULES.replace(
     "floor or high up.",
     "- Tilting (ids 6-7) only changes the view you are not given: it neither moves nor turns you.").replace(
     " The camera shows only what lies ahead, so a sideways or backward move can bump into something beside or "
-    "behind you that no image has shown.", "")
+    "behind you that no image has shown." + NEAR_FLOOR_RULE, "")
 GUIDELINES_LANGUAGE_ONLY = (
     "You cannot see where the target is: reason from the instruction and from which of your moves worked or "
     "failed, and explore the room in a way that covers new ground instead of going back and forth.",

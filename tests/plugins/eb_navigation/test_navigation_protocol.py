@@ -145,6 +145,15 @@ def test_the_rules_give_the_body_width_the_world_collides_with() -> None:
     assert width in ACTION_RULES and width in ACTION_RULES_LANGUAGE_ONLY
     assert "a sideways or backward move can bump into something" in ACTION_RULES
     assert "no image" not in ACTION_RULES_LANGUAGE_ONLY
+    # session 10: a player walked into a low table just ahead that the level camera did not show; the rules say how
+    # much floor the level view leaves out (from the camera's own height and field of view) and to tilt down
+    import math
+
+    from eb_navigation.geometry import EYE_HEIGHT, FIRST_PERSON_FOVY
+
+    hidden = EYE_HEIGHT / math.tan(math.radians(FIRST_PERSON_FOVY / 2))
+    assert f"the floor within about {hidden:.1f} metres in front of you is out of the picture" in ACTION_RULES
+    assert "tilt the camera down" in ACTION_RULES and "picture" not in ACTION_RULES_LANGUAGE_ONLY
     env = NavigationEnv(render=False)
     try:
         env.reset(NavigationEnv.load_tasks()[0], 0)
