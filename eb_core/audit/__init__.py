@@ -103,7 +103,7 @@ __all__ = [
     "probe_templates",
     "probe_unique_instructions",
     "random_action",
-    "sample_positions",
     "run_audit",
+    "sample_positions",
     "world_probes",
 ]

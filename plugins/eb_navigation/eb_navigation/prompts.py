@@ -35,14 +35,14 @@ ACTION_RULES = """\
 - The episode ends after 20 actions in all, failed ones included. Plan a way that gets there well within that: moves that bump into things and turns that only look around use up the same budget.
 - Success is measured from the centre of your body to the centre of the target object, along the floor: the episode ends by itself, as a success, once that distance is 1 metre (4 moves) or less. Beside a large object, such as the long side of a table or a sofa, its centre can still be more than 1 metre away, so keep moving toward the middle of the object until the episode ends."""
 
-#: The size of the body and what the camera never shows: which gaps are passable and why a sideways move can fail
-#: (a calibration player lost hard tasks to gaps that looked passable and to furniture beside it; issue 25).
 #: Metres of floor in front of the agent that the level camera does not show (its lower edge is half the vertical
 #: field of view below the horizon): a calibration player walked into a low table there (session 10).
 HIDDEN_FLOOR = EYE_HEIGHT / math.tan(math.radians(FIRST_PERSON_FOVY / 2))
 NEAR_FLOOR_RULE = (f" With the camera level, the floor within about {HIDDEN_FLOOR:.1f} metres in front of you is "
                    "out of the picture, and a low table, stool or box just ahead of you may not show at all: tilt "
                    "the camera down to see it.")
+#: The size of the body and what the camera never shows: which gaps are passable and why a sideways move can fail
+#: (a calibration player lost hard tasks to gaps that looked passable and to furniture beside it; issue 25).
 BODY_RULE = (f"- Your body is about {2 * AGENT_RADIUS:g} metres across: you pass between two things only where the "
              "gap is wider than that. The camera shows only what lies ahead, so a sideways or backward move can "
              "bump into something beside or behind you that no image has shown." + NEAR_FLOOR_RULE)
