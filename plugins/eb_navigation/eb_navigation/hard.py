@@ -20,13 +20,13 @@ start has a floor object lower than :data:`LOW_TOP` on its straight way to the t
 such a thing leaves the untilted view as the agent comes near, and an agent that keeps no memory of earlier images
 walks into it; the low extra floor things stand along the walls (:data:`WALL_BAND`) so that enough starts keep a
 clear way. At an in-view start every floor object on the way ahead shows in the first image (:func:`way_seen`).
-With a level's ``open_way`` knob on (off for the shipped set), a start also needs an open way for its first
-moves: nothing lower than :data:`WAY_TOP` within reach of any forward-and-sideways route near the start
-(:func:`open_way`), everything within reach of the routes in view (:func:`blockers_seen`), room for a wider body
-(:func:`wide_enough`); and, since such open starts are what the bump agents solve, the target stands in the open
-(:data:`TARGET_WALL_GAP` from the walls), the extra floor things lower than :data:`WAY_TOP` stand along the walls
-with more tall seats among them (:data:`OPEN_FLOOR_CLUTTER`), and no start that more than
-:data:`OPEN_MAX_SOLVERS` feedback-only agents solve is taken (:data:`OPEN_SOLVER_COST` ranks the rest).
+With a level's ``open_way`` knob on (on for the shipped hard set: :data:`eb_navigation.hard_set.OPEN_WAY_SETS`), a
+start also needs an open way for its first moves: nothing lower than :data:`WAY_TOP` within reach of any
+forward-and-sideways route near the start (:func:`open_way`), everything within reach of the routes in view
+(:func:`blockers_seen`), room for a wider body (:func:`wide_enough`); and, since such open starts are what the bump
+agents solve, the target stands in the open (:data:`TARGET_WALL_GAP` from the walls), the extra floor things lower than
+:data:`WAY_TOP` stand along the walls with more tall seats among them (:data:`OPEN_FLOOR_CLUTTER`), and no start that
+more than :data:`OPEN_MAX_SOLVERS` feedback-only agents solve is taken (:data:`OPEN_SOLVER_COST` ranks the rest).
 Every candidate start is checked on the geometry (:mod:`eb_navigation.baselines`) against all 10,948 blind
 constant-action policies and the feedback-only rule agents; one that would lift any of them above ``cap`` tasks of
 its subset (5 % of the scenes) is never taken. Of the rest the shortest expert plan wins (:func:`_pick`): a
@@ -158,8 +158,9 @@ class Level:
     open_way: bool = False
     """Refuse starts without an open way for the first moves (:func:`open_way`, :func:`wide_enough`,
     :func:`blockers_seen`), and draw the room and rank the starts so that few feedback-only agents solve them
-    (:data:`TARGET_WALL_GAP`, :data:`OPEN_FLOOR_CLUTTER`, :data:`OPEN_MAX_SOLVERS`). Off for the shipped sets
-    (see docs/hard_tasks/navigation.md); ``generate_level(..., open_way=True)`` turns it on."""
+    (:data:`TARGET_WALL_GAP`, :data:`OPEN_FLOOR_CLUTTER`, :data:`OPEN_MAX_SOLVERS`). Off in :data:`LEVELS`, so the
+    train and val splits draw without it; ``generate_level`` turns it on for the levels in
+    :data:`eb_navigation.hard_set.OPEN_WAY_SETS` (the shipped hard set; docs/hard_tasks/navigation.md)."""
 
 
 LEVELS: dict[str, Level] = {
