@@ -97,11 +97,15 @@ PARTS: dict[str, frozenset[str]] = {
 }
 
 #: Object types a world draws so alike at the model's image size that a careful person may name one for the other:
-#: naming one while the other is in view (and the named one is nowhere in the scene) is not judged. ALFRED draws
-#: its watering can as a red pot with a spout and a top handle: a calibration player called it "a red kettle".
+#: naming one while the other is in view is not judged when the named one is nowhere in the scene, nor when the
+#: colour said fits only the other. ALFRED draws its watering can as a red pot with a spout and a top handle: a
+#: calibration player called it "a red kettle". Navigation's armchairs are wide upholstered seats: close up, a
+#: red armchair filling the corner of the view was called "the red sofa" while a green sofa stood across the room.
 LOOKALIKES: dict[str, frozenset[str]] = {
     "kettle": frozenset({"watering can"}),
     "watering can": frozenset({"kettle"}),
+    "sofa": frozenset({"arm chair"}),
+    "arm chair": frozenset({"sofa"}),
 }
 
 #: Colour words and the family each belongs to (a person calls silver "light grey" and rose "pink").

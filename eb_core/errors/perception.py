@@ -265,6 +265,12 @@ def _same_kind(terms: set[str], pool: set[str]) -> set[str]:
     return {t for t in pool if t in terms or (t and t.split()[-1] in heads)}
 
 
+def _fits_a_lookalike(m: _Mention, seen: _Seen) -> bool:
+    """The colour said fits an object in view of a type drawn like the one named (:data:`~.lexicon.LOOKALIKES`)."""
+    alike = {a for t in m.terms for a in LOOKALIKES.get(t, frozenset())} & seen.terms
+    return any(_judge_colour(m, [o]) is None for a in sorted(alike) for o in seen.by_term[a])
+
+
 def _judge(m: _Mention, seen: _Seen, scene: set[str], world: set[str]) -> tuple[str, str | None, list[str]]:
     """(verdict, why, terms): verdict ``correct``, ``wrong`` or ``unjudged``."""
     if m.ref is not None:
@@ -279,6 +285,8 @@ def _judge(m: _Mention, seen: _Seen, scene: set[str], world: set[str]) -> tuple[
     in_view = sorted(_same_kind(m.terms, seen.terms))
     if in_view:
         why = _judge_colour(m, [o for t in in_view for o in seen.by_term[t]])
+        if why and _fits_a_lookalike(m, seen):
+            return "unjudged", None, []  # the colour fits a thing drawn like it: which one was meant is unclear
         return ("wrong" if why else "correct"), why, in_view
     if _same_kind(m.terms, scene) or not m.terms & world:
         return "unjudged", None, sorted(m.terms & scene)  # remembered or at the edge; or a thing this world lacks

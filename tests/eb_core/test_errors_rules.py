@@ -198,6 +198,27 @@ def test_a_thing_the_render_draws_like_another_in_view_is_no_hallucination():
     assert perception_check(said, can[:1], vocabulary=["Kettle"])["hallucinated"] == ["kettle"]
 
 
+def test_a_colour_that_fits_only_a_lookalike_in_view_is_no_misperception():
+    """Navigation long_horizon_009 (session 11 calibration, a success): "The red sofa is at my front right" for a
+    red armchair filling the bottom right of the view, while a small green sofa stood across the room. The label
+    said the sofa was misperceived; a colour no object of either kind has is still wrong."""
+    view = [{"name": "ArmChair_31", "type": "ArmChair", "colour": "red", "colours": ["red"], "pixels": 1585,
+             "aliases": ["armchair"]},
+            {"name": "ArmChair_1", "type": "ArmChair", "colour": "grey", "colours": ["grey"], "pixels": 314,
+             "aliases": ["armchair"]},
+            {"name": "Sofa_1", "type": "Sofa", "colour": "green", "colours": ["green"], "pixels": 208,
+             "aliases": ["sofa"]}]
+    said = ("Image 0: the light grey mesh hamper stands almost straight ahead on the red rug, roughly 2 m away. "
+            "The red sofa is at my front right, its left side just right of my centre line.")
+    p = perception_check(said, view)
+    assert p["misperceived"] == [] and "sofa" in p["unjudged"]
+    assert perception_check("The green sofa is far ahead.", view)["correct"] == ["sofa"]
+    purple = perception_check("The purple sofa is at my front right.", view)
+    assert purple["misperceived"] == ["sofa"] and "said purple" in purple["evidence"][0]["why"]
+    grey_seat = perception_check("A red armchair is at my front right.", view)  # the armchair's own colour
+    assert grey_seat["correct"] == ["arm chair"]
+
+
 def test_object_k_with_its_coordinates_is_judged_and_the_wrong_shape_fires():
     """Manipulation: "object 6 [58, 45, 17] black rounded block, the sponge, its top longer along x than along y"
     was not judged (the coordinates' commas cut the claim; "longer" read as "no longer"), yet the player had taken
