@@ -23,7 +23,8 @@ clear way. At an in-view start every floor object on the way ahead shows in the 
 With a level's ``open_way`` knob on (on for the shipped hard set: :data:`eb_navigation.hard_set.OPEN_WAY_SETS`), a
 start also needs an open way for its first moves: nothing lower than :data:`WAY_TOP` within reach of any
 forward-and-sideways route near the start (:func:`open_way`), everything within reach of the routes in view
-(:func:`blockers_seen`), room for a wider body (:func:`wide_enough`); and, since such open starts are what the bump
+(:func:`blockers_seen`), room for a wider body (:func:`wide_enough`), a long_horizon target that shows once the
+player turns toward it (:func:`found_by_turning`); and, since such open starts are what the bump
 agents solve, the target stands in the open (:data:`TARGET_WALL_GAP` from the walls), the extra floor things lower than
 :data:`WAY_TOP` stand along the walls with more tall seats among them (:data:`OPEN_FLOOR_CLUTTER`), and no start that
 more than :data:`OPEN_MAX_SOLVERS` feedback-only agents solve is taken (:data:`OPEN_SOLVER_COST` ranks the rest).
@@ -70,8 +71,8 @@ __all__ = ["CHECK_AGENTS", "DIFFICULTIES", "HARD_TYPES", "LEVELS", "LOW_TOP", "L
            "MIN_WAY_PIXELS", "NEAR_START", "OPEN_FLOOR_CLUTTER", "OPEN_MAX_SOLVERS", "OPEN_SOLVER_COST",
            "SEED_BASE", "Scene", "TARGET_WALL_GAP", "Tally", "WALL_BAND", "WAY_MARGIN", "WAY_TOP",
            "WIDE_SLACK",
-           "blockers_seen", "clear_corridor", "draw_scene", "facing_target", "free_run", "lookalike_first",
-           "not_in_pocket", "open_way", "scene_tasks", "way_blockers", "way_box", "way_objects", "way_seen",
+           "blockers_seen", "clear_corridor", "draw_scene", "facing_target", "found_by_turning", "free_run",
+           "lookalike_first", "not_in_pocket", "open_way", "scene_tasks", "way_blockers", "way_box", "way_objects", "way_seen",
            "wide_enough", "wide_space"]
 
 DIFFICULTIES = ("classic", "medium", "hard")
@@ -529,9 +530,21 @@ def _visible(room: NavRoom, st: _Start, target_id: str, looks: list[str], level:
                                                        or blockers_seen(room, st.state, target, vis))
 
 
+def found_by_turning(room: NavRoom, s: AgentState, target: NavObject, level: Level, vis: Any | None) -> bool:
+    """The target shows at least the level's ``min_target_pixels`` (what an in-view start promises) in the view
+    from ``s`` turned toward it (:func:`facing_target`): a long_horizon player that looks around from the start
+    finds it by looking. A calibration player lost long_horizon_041 of the first open-way set, whose white teddy
+    bear showed only as a sliver behind a red chair from every heading of the start (session 11)."""
+    return vis is None or vis.pixels(room, facing_target(s, target), target.id) >= level.min_target_pixels
+
+
 def _hidden(room: NavRoom, st: _Start, target_id: str, level: Level, vis: Any | None) -> bool:
-    return vis is None or (vis.pixels(room, st.state, target_id) == 0
-                           and (not level.open_way or blockers_seen(room, st.state, room.get(target_id), vis)))
+    if vis is None:
+        return True
+    target = room.get(target_id)
+    return vis.pixels(room, st.state, target_id) == 0 and (
+        not level.open_way or (blockers_seen(room, st.state, target, vis)
+                               and found_by_turning(room, st.state, target, level, vis)))
 
 
 # -- one scene ----------------------------------------------------------------------------------------------------

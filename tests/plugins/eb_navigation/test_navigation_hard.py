@@ -713,3 +713,27 @@ def test_every_shipped_start_has_an_open_way_and_few_feedback_agents_solve_it(ha
             assert blockers_seen(room, s, room.get(t.target.id), vis), t.id
     finally:
         vis.close()
+
+
+def test_every_shipped_long_horizon_target_shows_once_the_player_turns_toward_it(hard, rooms) -> None:
+    """Session 11: a long_horizon start hides the target from the first image, and the player finds its direction
+    by turning. Turned toward it, the target shows at least what an in-view start promises (``min_target_pixels``
+    at 128 px). A calibration player lost long_horizon_041 of session 10's set, whose white teddy bear showed
+    5 pixels behind a red chair from every heading of the start; 17 of that set's 60 showed fewer than 15."""
+    from eb_navigation.hard import found_by_turning
+    from eb_navigation.visibility import Visibility
+
+    level = LEVELS["hard"]
+    long = [t for t in hard if t.subset == "long_horizon"]
+    assert len(long) == 60
+    vis = Visibility()
+    try:
+        shown = {}
+        for t in long:
+            room = rooms(t)
+            s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
+            assert vis.pixels(room, s, t.target.id) == 0, t.id  # out of the first image
+            shown[t.id] = found_by_turning(room, s, room.get(t.target.id), level, vis)
+    finally:
+        vis.close()
+    assert all(shown.values()), sorted(k for k, v in shown.items() if not v)
