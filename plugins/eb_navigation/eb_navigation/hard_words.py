@@ -12,8 +12,8 @@ import numpy as np
 
 from eb_navigation.instructions import colour_word, display_name
 
-__all__ = ["HARD_COLOUR_WORDS", "HARD_COMMON_SENSE", "HARD_SHAPES", "HARD_TEMPLATES", "hard_colour_word",
-           "hard_instruction"]
+__all__ = ["HARD_ALT_NAMES", "HARD_COLOUR_WORDS", "HARD_COMMON_SENSE", "HARD_SHAPES", "HARD_TEMPLATES",
+           "hard_colour_word", "hard_instruction"]
 
 #: Where a kit colour renders as another word on one type (checked against the rendered pixels in the tests):
 #: the "white" wicker of the laundry hamper renders light grey (median about RGB 160 at 500 px).
@@ -51,6 +51,19 @@ HARD_SHAPES: dict[str, str] = {
     "HousePlant": "pot of leafy green stems",
     "Ottoman": "low padded cube you could rest your feet on",
     "LaundryHamper": "thigh-high round wicker basket with clothes in it",
+}
+
+#: A second everyday name per target type: base and long_horizon (one template list of ten) use it as their
+#: second wording, so a type and colour drawn more than ten times in a subset still gets a new instruction (the
+#: session 11 regeneration drew eleven white trash cans among its 60 base targets).
+HARD_ALT_NAMES: dict[str, str] = {
+    "Vase": "flower vase",
+    "WateringCan": "plant watering can",
+    "TeddyBear": "toy bear",
+    "GarbageCan": "bin",
+    "HousePlant": "house plant",
+    "Ottoman": "footstool",
+    "LaundryHamper": "hamper",
 }
 
 _BASE = (
@@ -126,7 +139,7 @@ def _fill(subset: str, k: int, type_name: str, colour: str, other_colour: str, v
     name = display_name(type_name)
     c, oc = hard_colour_word(type_name, colour), hard_colour_word(type_name, other_colour)
     if subset in ("base", "long_horizon"):
-        return tpl.format(name=name, colour=c)
+        return tpl.format(name=HARD_ALT_NAMES.get(type_name, name) if variant else name, colour=c)
     if subset == "common_sense":
         descs = HARD_COMMON_SENSE[type_name]
         return tpl.format(desc=descs[variant % len(descs)].format(colour=c))

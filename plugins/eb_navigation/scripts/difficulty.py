@@ -32,6 +32,7 @@ from collections import defaultdict
 import numpy as np
 from eb_navigation.env import NavigationEnv, build_room
 from eb_navigation.geometry import AgentState
+from eb_navigation.hard_words import HARD_ALT_NAMES
 from eb_navigation.instructions import colour_word, display_name
 from eb_navigation.tasks import SUBSETS, load_taskset, spec_of
 from eb_navigation.visibility import VIS_SIZE
@@ -83,6 +84,7 @@ def _views(tasks) -> dict[str, dict[str, float]]:
 
 _ENTRY = re.compile(r"^(an? )?(?P<name>.+?) about [0-9.]+ m away, (?P<where>.+)$")
 _TYPE_NAMES = sorted({display_name(t) for t in CATALOGUE}, key=len, reverse=True)
+_NAMES = {display_name(t): (display_name(t), alt) for t, alt in HARD_ALT_NAMES.items()}  # "trash can" or "bin"
 _COLOUR_WORDS = sorted({colour_word(c) for t in CATALOGUE.values() for c in t.colors}, key=len, reverse=True)
 
 
@@ -107,7 +109,7 @@ def _text_agent(env: NavigationEnv, task) -> bool:
             if not m:
                 continue
             colour, noun = _split(m["name"])
-            if not re.search(rf"\b{re.escape(noun.lower())}\b", words):
+            if not any(re.search(rf"\b{re.escape(n.lower())}\b", words) for n in _NAMES.get(noun, (noun,))):
                 continue
             if colour_named and colour.lower() not in words:
                 continue

@@ -737,3 +737,21 @@ def test_every_shipped_long_horizon_target_shows_once_the_player_turns_toward_it
     finally:
         vis.close()
     assert all(shown.values()), sorted(k for k, v in shown.items() if not v)
+
+
+def test_a_type_and_colour_drawn_more_than_ten_times_still_gets_new_instructions() -> None:
+    """base and long_horizon have ten templates; the session 11 regeneration drew eleven white trash cans among
+    its 60 base targets, and two got the same words. The second everyday name (``HARD_ALT_NAMES``) gives ten more,
+    and the first ten are the words they were before."""
+    from eb_navigation.hard_words import HARD_ALT_NAMES, hard_instruction
+    from eb_navigation.instructions import display_name
+
+    for subset in ("base", "long_horizon"):
+        for type_name in HARD_TYPES:
+            used: dict[str, int] = {}
+            rng = np.random.default_rng(7)
+            texts = [hard_instruction(subset, type_name, "white", "blue", rng, used)[0] for _ in range(20)]
+            assert len(set(texts)) == 20, (subset, type_name)
+            name, alt = display_name(type_name), HARD_ALT_NAMES[type_name]
+            assert all(name in t and alt not in t.replace(name, "") for t in texts[:10]), texts
+            assert all(alt in t and name not in t.replace(alt, "") for t in texts[10:]), texts
