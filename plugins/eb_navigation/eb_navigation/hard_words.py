@@ -12,8 +12,8 @@ import numpy as np
 
 from eb_navigation.instructions import colour_word, display_name
 
-__all__ = ["HARD_ALT_NAMES", "HARD_COLOUR_WORDS", "HARD_COMMON_SENSE", "HARD_SHAPES", "HARD_TEMPLATES",
-           "hard_colour_word", "hard_instruction"]
+__all__ = ["HARD_ALT_NAMES", "HARD_ALT_SHAPES", "HARD_COLOUR_WORDS", "HARD_COMMON_SENSE", "HARD_SHAPES",
+           "HARD_TEMPLATES", "hard_colour_word", "hard_instruction"]
 
 #: Where a kit colour renders as another word on one type (checked against the rendered pixels in the tests):
 #: the "white" wicker of the laundry hamper renders light grey (median about RGB 160 at 500 px).
@@ -53,9 +53,9 @@ HARD_SHAPES: dict[str, str] = {
     "LaundryHamper": "thigh-high round wicker basket with clothes in it",
 }
 
-#: A second everyday name per target type: base and long_horizon (one template list of ten) use it as their
-#: second wording, so a type and colour drawn more than ten times in a subset still gets a new instruction (the
-#: session 11 regeneration drew eleven white trash cans among its 60 base targets).
+#: A second everyday name per target type: base and long_horizon (one template list of ten) offer it as every
+#: template's second wording, so a type and colour drawn more than ten times in a subset still gets a new
+#: instruction (the session 11 regeneration drew eleven white trash cans among its 60 base targets).
 HARD_ALT_NAMES: dict[str, str] = {
     "Vase": "flower vase",
     "WateringCan": "plant watering can",
@@ -64,6 +64,19 @@ HARD_ALT_NAMES: dict[str, str] = {
     "HousePlant": "house plant",
     "Ottoman": "footstool",
     "LaundryHamper": "hamper",
+}
+
+#: A second shape description per type, for visual_appearance's text when all ten of its templates have already
+#: given this type and colour's words in the subset (the session 11 set repeated "Go to the white knee-high round
+#: bin." once): only such a repeat changes, the template and every other text stay as drawn.
+HARD_ALT_SHAPES: dict[str, str] = {
+    "Vase": "tall jar with a narrow neck standing on the floor",
+    "WateringCan": "can with a handle over the top and a long thin spout",
+    "TeddyBear": "soft toy with round ears sitting on the floor",
+    "GarbageCan": "round open-topped container about knee high",
+    "HousePlant": "pot with green leaves growing out of it",
+    "Ottoman": "low cushioned block about shin high",
+    "LaundryHamper": "round woven basket about thigh high holding clothes",
 }
 
 _BASE = (
@@ -146,7 +159,7 @@ def _fill(subset: str, k: int, type_name: str, colour: str, other_colour: str, v
     if subset == "complex_instruction":
         return tpl.format(name=name, colour=c, other_colour=oc)
     if subset == "visual_appearance":
-        return tpl.format(colour=c, shape=HARD_SHAPES[type_name])
+        return tpl.format(colour=c, shape=(HARD_ALT_SHAPES if variant >= 2 else HARD_SHAPES)[type_name])
     raise ValueError(f"unknown subset {subset!r}; available: {', '.join(HARD_TEMPLATES)}")
 
 
@@ -164,6 +177,8 @@ def hard_instruction(subset: str, type_name: str, colour: str, other_colour: str
     assert best is not None
     _, _, k, v = best
     text = _fill(subset, k, type_name, colour, other_colour, v)
+    if used.get(text, 0) and subset == "visual_appearance":  # every template's words taken: the other shape words
+        text = _fill(subset, k, type_name, colour, other_colour, 2)
     used[text] = used.get(text, 0) + 1
     used[f"#{k}"] = used.get(f"#{k}", 0) + 1
     return text, f"{subset}.{k:02d}"

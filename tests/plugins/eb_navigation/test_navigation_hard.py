@@ -755,3 +755,11 @@ def test_a_type_and_colour_drawn_more_than_ten_times_still_gets_new_instructions
             name, alt = display_name(type_name), HARD_ALT_NAMES[type_name]
             assert all(name in t and alt not in t.replace(name, "") for t in texts[:10]), texts
             assert all(alt in t and name not in t.replace(alt, "") for t in texts[10:]), texts
+    from eb_navigation.hard_words import HARD_ALT_SHAPES, HARD_SHAPES
+
+    for type_name in HARD_TYPES:  # visual_appearance: only a repeat takes the other shape words
+        used = {}
+        rng = np.random.default_rng(7)
+        texts = [hard_instruction("visual_appearance", type_name, "white", "blue", rng, used)[0] for _ in range(11)]
+        assert all(HARD_SHAPES[type_name] in t for t in texts[:10]) and HARD_ALT_SHAPES[type_name] in texts[10]
+        assert len(set(texts)) == 11, texts
