@@ -259,9 +259,9 @@ def test_the_generator_refuses_an_old_offending_start(entry) -> None:
 
 
 def test_the_open_way_knob_draws_only_open_starts() -> None:
-    """With the level's ``open_way`` on (off for the shipped set: see docs/hard_tasks/navigation.md), every start
-    of a drawn scene has an open way for its first moves, a way a 0.5 m body fits, and everything within reach of
-    its routes in the view facing the target (rendered)."""
+    """With the level's ``open_way`` on (on for the shipped hard set since session 10: see
+    docs/hard_tasks/navigation.md), every start of a drawn scene has an open way for its first moves, a way a 0.5 m
+    body fits, and everything within reach of its routes in the view facing the target (rendered)."""
     from dataclasses import replace
 
     from eb_navigation.hard import Tally, draw_scene
