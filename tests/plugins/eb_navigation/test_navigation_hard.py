@@ -71,6 +71,16 @@ def hard():
 
 
 @pytest.fixture(scope="module")
+def vis():
+    """One 128 x 128 visibility renderer for the rendered checks of this module, closed at its end."""
+    from eb_navigation.visibility import Visibility
+
+    v = Visibility()
+    yield v
+    v.close()
+
+
+@pytest.fixture(scope="module")
 def rooms(hard):
     out = {}
     for t in hard:
@@ -444,20 +454,14 @@ def test_hard_colour_words_match_the_render() -> None:
     assert HARD_COLOUR_WORDS == {("LaundryHamper", "white"): "light grey"}
 
 
-def test_first_images_show_everything_on_the_way(hard, rooms) -> None:
+def test_first_images_show_everything_on_the_way(hard, rooms, vis) -> None:
     """Rendered (128 x 128 segmentation): on every fifth in-view start every floor object on the straight way
     ahead (taller ones; low ones are refused) shows in the first image, so nothing the agent walks into first is
     out of the picture."""
-    from eb_navigation.visibility import Visibility
-
-    vis = Visibility()
-    try:
-        for t in [t for t in hard if t.subset != "long_horizon" and int(t.id[-3:]) % 5 == 0]:
-            room = rooms(t)
-            s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
-            assert way_seen(room, s, room.get(t.target.id), vis), t.id
-    finally:
-        vis.close()
+    for t in [t for t in hard if t.subset != "long_horizon" and int(t.id[-3:]) % 5 == 0]:
+        room = rooms(t)
+        s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
+        assert way_seen(room, s, room.get(t.target.id), vis), t.id
 
 
 def test_low_extra_floor_things_stand_along_the_walls(hard, rooms) -> None:
@@ -590,21 +594,15 @@ def test_random_agent_rarely_succeeds() -> None:
     assert wins <= 1
 
 
-def test_first_views_show_target_and_a_lookalike(hard) -> None:
-    from eb_navigation.visibility import Visibility
-
-    vis = Visibility()
-    try:
-        for t in [t for t in hard if t.id.endswith(("_000", "_031"))]:
-            room = build_room(t)
-            s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
-            px = vis.pixels(room, s, t.target.id)
-            if t.subset == "long_horizon":
-                assert px == 0, t.id
-            else:
-                assert px >= LEVELS["hard"].min_target_pixels, t.id
-    finally:
-        vis.close()
+def test_first_views_show_target_and_a_lookalike(hard, vis) -> None:
+    for t in [t for t in hard if t.id.endswith(("_000", "_031"))]:
+        room = build_room(t)
+        s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
+        px = vis.pixels(room, s, t.target.id)
+        if t.subset == "long_horizon":
+            assert px == 0, t.id
+        else:
+            assert px >= LEVELS["hard"].min_target_pixels, t.id
 
 
 def test_hard_splits_are_deterministic_and_solvable() -> None:
@@ -677,7 +675,7 @@ def test_generate_rejects_an_unknown_difficulty(tmp_path) -> None:
         generate(difficulty="extreme", out=str(tmp_path / "x"))
 
 
-def test_every_shipped_start_has_an_open_way_and_few_feedback_agents_solve_it(hard, rooms) -> None:
+def test_every_shipped_start_has_an_open_way_and_few_feedback_agents_solve_it(hard, rooms, vis) -> None:
     """Session 10: the shipped hard set is drawn with the open-way rule on (``hard_set.OPEN_WAY_SETS``). On every
     start, nothing lower than ``WAY_TOP`` stands within reach of the first metre of the forward and sideways routes
     to the target, a body 5 cm wider on each side still gets there within two actions of the expert, the target
@@ -687,8 +685,6 @@ def test_every_shipped_start_has_an_open_way_and_few_feedback_agents_solve_it(ha
     from eb_navigation.baselines import plan_lengths
     from eb_navigation.hard import OPEN_MAX_SOLVERS, TARGET_WALL_GAP
     from eb_navigation.hard_set import OPEN_WAY_SETS
-    from eb_navigation.visibility import Visibility
-
     assert "hard" in OPEN_WAY_SETS
     wides: dict[int, dict] = {}
     closed = []
@@ -705,37 +701,27 @@ def test_every_shipped_start_has_an_open_way_and_few_feedback_agents_solve_it(ha
         solved = rule_agent_successes(free, s, (target.x, target.y), agents=CHECK_AGENTS)
         assert sum(solved.values()) <= OPEN_MAX_SOLVERS, (t.id, [k for k, v in solved.items() if v])
     assert not closed, closed
-    vis = Visibility()
-    try:
-        for t in hard[::25]:
-            room = rooms(t)
-            s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
-            assert blockers_seen(room, s, room.get(t.target.id), vis), t.id
-    finally:
-        vis.close()
+    for t in hard[::25]:
+        room = rooms(t)
+        s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
+        assert blockers_seen(room, s, room.get(t.target.id), vis), t.id
 
 
-def test_every_shipped_long_horizon_target_shows_once_the_player_turns_toward_it(hard, rooms) -> None:
+def test_every_shipped_long_horizon_target_shows_once_the_player_turns_toward_it(hard, rooms, vis) -> None:
     """Session 11: a long_horizon start hides the target from the first image, and the player finds its direction
     by turning. Turned toward it, the target shows at least what an in-view start promises (``min_target_pixels``
     at 128 px). A calibration player lost long_horizon_041 of session 10's set, whose white teddy bear showed
     5 pixels behind a red chair from every heading of the start; 17 of that set's 60 showed fewer than 15."""
     from eb_navigation.hard import found_by_turning
-    from eb_navigation.visibility import Visibility
-
     level = LEVELS["hard"]
     long = [t for t in hard if t.subset == "long_horizon"]
     assert len(long) == 60
-    vis = Visibility()
-    try:
-        shown = {}
-        for t in long:
-            room = rooms(t)
-            s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
-            assert vis.pixels(room, s, t.target.id) == 0, t.id  # out of the first image
-            shown[t.id] = found_by_turning(room, s, room.get(t.target.id), level, vis)
-    finally:
-        vis.close()
+    shown = {}
+    for t in long:
+        room = rooms(t)
+        s = AgentState.from_pose(t.start.x, t.start.y, t.start.yaw)
+        assert vis.pixels(room, s, t.target.id) == 0, t.id  # out of the first image
+        shown[t.id] = found_by_turning(room, s, room.get(t.target.id), level, vis)
     assert all(shown.values()), sorted(k for k, v in shown.items() if not v)
 
 
