@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+import sysconfig
 from pathlib import Path
 
 import yaml
@@ -37,8 +38,12 @@ def test_env_yaml_has_the_papers_rules() -> None:
 
 
 def test_eb_tasks_generate_cli(tmp_path: Path) -> None:
+    # The console script installed beside this interpreter, so the test holds when pytest runs as
+    # `venv/bin/python -m pytest` without the venv on PATH.
+    eb = Path(sysconfig.get_path("scripts")) / "eb"
+    assert eb.is_file(), f"the `eb` console script is not installed in {eb.parent}"
     out = tmp_path / "cli.json"
-    proc = subprocess.run(["eb", "tasks", "generate", "env=navigation", "seed=3", "scenes=1", "min_distance=2.5",
+    proc = subprocess.run([str(eb), "tasks", "generate", "env=navigation", "seed=3", "scenes=1", "min_distance=2.5",
                            f"out={out}"], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert "wrote 5 tasks" in proc.stdout and out.is_file()
