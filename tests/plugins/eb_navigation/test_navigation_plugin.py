@@ -7,9 +7,9 @@ import sys
 import sysconfig
 from pathlib import Path
 
+import eb_navigation
 import yaml
 
-import eb_navigation
 from eb_core.config import EnvConfig
 
 
