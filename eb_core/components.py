@@ -121,8 +121,10 @@ class Components:
 
 
 def select_tasks(tasks: Sequence[Task], cfg: RunConfig) -> list[Task]:
-    """Apply ``tasks=``, ``subset=`` and ``limit=``: ``limit=N`` takes the first N of the selection in one stable
-    order in every world: subset by subset (in the world's subset order), each in its task file's order."""
+    """Apply ``tasks=``, ``subset=``, ``sample=`` and ``limit=``: ``sample=K`` keeps a seeded simple random
+    sample of K tasks of every selected subset (:func:`sample_of_subsets`); ``limit=N`` takes the first N of the
+    selection in one stable order in every world: subset by subset (in the world's subset order), each in its
+    task file's order."""
     if cfg.tasks:
         by_id = {t.id: t for t in tasks}
         missing = [t for t in cfg.tasks if t not in by_id]
@@ -142,10 +144,32 @@ def select_tasks(tasks: Sequence[Task], cfg: RunConfig) -> list[Task]:
             raise ConfigError(f"unknown subset {bad[0]!r} for env {cfg.env.name!r}; available: {', '.join(known)}"
                               f"{also}")
         selected = [t for t in selected if t.subset in wanted]
+    if cfg.sample is not None:
+        if cfg.limit is not None:
+            raise ConfigError(f"sample={cfg.sample} and limit={cfg.limit} both choose how many tasks to play; "
+                              f"keep one of them (sample=K: K random tasks per subset; limit=N: the first N)")
+        selected = sample_of_subsets(selected, cfg.sample, cfg.seed)
     if cfg.limit is not None:
         rank = {s: i for i, s in enumerate(dict.fromkeys(t.subset for t in tasks))}
         selected = sorted(selected, key=lambda t: rank[t.subset])[: cfg.limit]  # stable: file order in a subset
     return selected
+
+
+def sample_of_subsets(tasks: Sequence[Task], k: int, seed: int) -> list[Task]:
+    """``k`` tasks of every subset of ``tasks`` (all of a smaller subset), a simple random sample drawn per
+    subset from its own seeded stream (the seed, the subset's name and size), so every task of a subset is as
+    likely to be played, the subsets' draws are independent, and the same seed gives the same sample on every
+    machine. Kept in the input's order."""
+    import random
+
+    by_subset: dict[str, list[int]] = {}
+    for i, t in enumerate(tasks):
+        by_subset.setdefault(t.subset, []).append(i)
+    keep: set[int] = set()
+    for name, idx in by_subset.items():
+        rng = random.Random(f"eb-run-sample:{int(seed)}:{name}:{len(idx)}")
+        keep.update(idx if k >= len(idx) else rng.sample(idx, k))
+    return [t for i, t in enumerate(tasks) if i in keep]
 
 
 def label_record(rec: EpisodeRecord, steps: Sequence[StepRecord]) -> EpisodeRecord:

@@ -153,6 +153,9 @@ class RunConfig(_Strict):
     """One subset name, a list, or null for all."""
     limit: int | None = Field(default=None, ge=1)
     """Take the first N tasks of the selection in their stable order."""
+    sample: int | None = Field(default=None, ge=1)
+    """Play K tasks of every selected subset: a simple random sample drawn with ``seed`` (a cheap, unbiased
+    estimate of each subset's rate, e.g. ``sample=2`` for 12 tasks of a six-subset world)."""
     tasks: list[str] | None = None
     """Explicit task ids (overrides subset and limit)."""
     experiment: str = "default"

@@ -1,4 +1,4 @@
-"""The rule that a run directory holds one task selection (``subset=``, ``tasks=``, ``limit=``): the selection is
+"""The rule that a run directory holds one task selection (``subset=``, ``tasks=``, ``sample=``, ``limit=``): the selection is
 part of a run's identity, recorded in ``fingerprint.json``. (Which tasks a selection picks:
 :func:`eb_core.components.select_tasks`.)"""
 
@@ -11,11 +11,14 @@ from eb_core.config import RunConfig
 __all__ = ["SELECTION_KEYS", "selection_conflict", "selection_of"]
 
 #: The keys that choose a run's tasks; a run directory holds one selection (``limit`` may only grow).
-SELECTION_KEYS = ("subset", "tasks", "limit")
+SELECTION_KEYS = ("subset", "tasks", "sample", "limit")
 
 
 def selection_of(cfg: RunConfig) -> dict[str, Any]:
-    return {"subset": cfg.subset, "tasks": cfg.tasks, "limit": cfg.limit}
+    out: dict[str, Any] = {"subset": cfg.subset, "tasks": cfg.tasks, "limit": cfg.limit}
+    if cfg.sample is not None:  # recorded only when used, so runs from before sample= keep their selection
+        out["sample"] = cfg.sample
+    return out
 
 
 def selection_conflict(old: dict[str, Any] | None, new: dict[str, Any], root: Any) -> str | None:

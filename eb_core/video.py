@@ -135,6 +135,7 @@ def write_videos(run_dir: str | Path, *, out: str | Path | None = None, gif: boo
     cfg = RunConfig.model_validate(yaml.safe_load((root / "config.yaml").read_text(encoding="utf-8")))
     comps = Components(cfg, Registry.create())
     by_id = {t.id: t for t in select_tasks(comps.load_tasks(), cfg.model_copy(update={"tasks": None, "limit": None,
+                                                                                      "sample": None,
                                                                                       "subset": None}))}
     files, problems = [], []
     env = comps.make_env()

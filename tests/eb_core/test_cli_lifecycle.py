@@ -148,6 +148,24 @@ def test_limit_takes_the_first_tasks_subset_by_subset(tmp_path):
     assert ids == ["near-0", "near-1", "near-2", "near-3", "near-4", "far-0", "far-1"]
 
 
+def test_sample_plays_k_random_tasks_per_subset_and_is_part_of_the_runs_identity(tmp_path):
+    d = f"hydra.run.dir={tmp_path / 'r'}"
+    r = eb(*RUN, "sample=2", "seed=3", d, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    ids = [json.loads(x)["task_id"] for x in (tmp_path / "r" / "episodes.jsonl").read_text().splitlines()]
+    assert sorted(i.split("-")[0] for i in ids) == ["far", "far", "near", "near"]
+    summary = json.loads((tmp_path / "r" / "summary.json").read_text())
+    assert summary["partial"] is True and summary["selection"]["sample"] == 2 and summary["n_selected"] == 4
+    line = one_error_line(eb(*RUN, "sample=3", "seed=3", d, cwd=tmp_path))
+    assert "sample=2, this one has sample=3" in line
+    again = eb(*RUN, "sample=2", "seed=3", f"hydra.run.dir={tmp_path / 'again'}", cwd=tmp_path)
+    assert again.returncode == 0, again.stderr
+    assert [json.loads(x)["task_id"] for x in (tmp_path / "again" / "episodes.jsonl").read_text().splitlines()] \
+        == ids  # the same seed draws the same tasks
+    line = one_error_line(eb(*RUN, "sample=2", "limit=3", f"hydra.run.dir={tmp_path / 'x'}", cwd=tmp_path))
+    assert "sample=2 and limit=3 both choose" in line
+
+
 def test_tasksets_and_slashed_model_names_each_get_one_directory_level(tmp_path, plugin_dir):
     hard = eb("run", "env=hall", "model=scripted-oracle", "taskset=hard", "--quiet", cwd=tmp_path,
               plugin_dir=plugin_dir)

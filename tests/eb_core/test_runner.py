@@ -33,6 +33,22 @@ def test_subset_limit_and_task_selection():
         select_tasks(tasks, make_config(subset="middle"))
 
 
+def test_sample_draws_k_tasks_of_every_subset_seeded_and_independent():
+    tasks = fixture_plugin.CorridorEnv.load_tasks()  # near-0..4, far-0..4
+    picks = [select_tasks(tasks, make_config(sample=2, seed=s)) for s in range(40)]
+    for got in picks:
+        assert [t.subset for t in got] == ["near", "near", "far", "far"]  # two per subset, in file order
+    assert select_tasks(tasks, make_config(sample=2, seed=7)) == picks[7]  # the same seed, the same sample
+    seen = {t.id for got in picks for t in got}
+    assert seen == {t.id for t in tasks}  # every task can be drawn
+    # the subsets are drawn independently: the same positions in both is the exception, not the rule
+    same = sum([t.id[-1] for t in got[:2]] == [t.id[-1] for t in got[2:]] for got in picks)
+    assert same < 15
+    assert [t.id for t in select_tasks(tasks, make_config(sample=9, subset="far"))] == [f"far-{i}" for i in range(5)]
+    with pytest.raises(ConfigError, match="sample=2 and limit=3 both choose"):
+        select_tasks(tasks, make_config(sample=2, limit=3))
+
+
 def test_run_writes_summary_and_records(tmp_path):
     summary = run(make_config(), tmp_path, plugins=[fixture_plugin])
     assert summary["overall"]["success_rate"] == 1.0 and summary["n_finished"] == 10 and summary["complete"]
