@@ -1,5 +1,5 @@
-"""The rule that a run directory holds one task selection (``subset=``, ``tasks=``, ``sample=``, ``limit=``): the selection is
-part of a run's identity, recorded in ``fingerprint.json``. (Which tasks a selection picks:
+"""The rule that a run directory holds one task selection (``subset=``, ``tasks=``, ``sample=``, ``limit=``):
+the selection is part of a run's identity, recorded in ``fingerprint.json``. (Which tasks a selection picks:
 :func:`eb_core.components.select_tasks`.)"""
 
 from __future__ import annotations
