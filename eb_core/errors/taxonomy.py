@@ -27,6 +27,7 @@ CATEGORIES: dict[str, Category] = {c.key: c for c in (
     Category("misperceived_object", "misperceived object", "perception", "wrong recognition"),
     Category("affordance_error", "affordance error", "planning", "inaccurate action"),
     Category("precondition_error", "precondition error", "reasoning", "inaccurate understanding of the state"),
+    Category("not_in_scene", "object not in the scene", "reasoning", "inaccurate understanding of the state"),
     Category("wrong_target", "wrong target", "perception", "wrong recognition"),
     Category("collision", "collision", "planning", "collision"),
     Category("grasp_failure", "grasp failure", "planning", "inaccurate action"),
@@ -44,7 +45,10 @@ FAILURE_LABELS: dict[str, str] = {
     "affordance": "affordance_error",
     "precondition": "precondition_error",
     "wrong_target": "wrong_target",
-    "absent": "hallucinated_object",
+    # acting on a thing the scene lacks is a wrong belief about the state, not a percept: the original's action
+    # lists offer every type in every room ("find a Knife" in a kitchen without one). A description that claims
+    # to see it is judged by the perception check and labelled hallucinated_object there.
+    "absent": "not_in_scene",
     "collision": "collision",
     "grasp": "grasp_failure",
 }

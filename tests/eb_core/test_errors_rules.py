@@ -4,6 +4,7 @@ drift, colour families and synonyms, "object k", remembered and denied objects, 
 import pytest
 
 from eb_core.errors import (
+    CATEGORIES,
     INVALID_LABELS,
     invalid_count,
     label_episode,
@@ -129,6 +130,22 @@ def test_runs_without_a_description_get_no_perception_score():
     recs = [EpisodeRecord(task_id="t", subset="s", instruction="", status="ok", success=True, env_steps=4,
                           planner_steps=1, error_counts={}, perception_score=None)]
     assert error_analysis(recs)["perception_score"] is None
+
+
+def test_acting_on_a_thing_the_scene_lacks_is_a_wrong_belief_and_a_hallucination_only_when_claimed_seen():
+    """A calibration player's won ALFRED long_horizon_49: "find a Knife" first (the action list offers every
+    type; this kitchen has only a butter knife), with a description that says knives are too small to judge. The
+    world's ``absent`` failure is a wrong belief about the room (``not_in_scene``), not a hallucination; a
+    description that claims a knife in view still is one, from the perception check."""
+    view = [{"name": "CounterTop_3", "type": "CounterTop"}, {"name": "Apple_5", "type": "Apple", "colour": "red"}]
+    find = act(1, "find a Knife", ok=False, failure="absent")
+    honest = label_episode([step(1, [find], description="A grey counter with a red apple; details of the knives "
+                                 "are too small to judge.", visible=view)], vocabulary=["Knife"])
+    assert cats(honest) == ["not_in_scene"] and "hallucinated_object" not in honest["counts"]
+    assert CATEGORIES["not_in_scene"].group == "reasoning" and "not_in_scene" not in INVALID_LABELS
+    claimed = label_episode([step(1, [find], description="A knife lies on the grey counter beside a red apple.",
+                                  visible=view)], vocabulary=["Knife"])
+    assert sorted(cats(claimed)) == ["hallucinated_object", "not_in_scene"]
 
 
 def test_invalid_actions_mean_the_same_in_the_labels_and_the_summary():

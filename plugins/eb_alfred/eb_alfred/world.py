@@ -38,8 +38,8 @@ __all__ = ["Instance", "World", "parse_action", "instance_index", "VERBS", "FAIL
 #: ``affordance`` -- the thing does not support the action at all (slicing without a knife, picking up a fridge,
 #: opening a table, an object that does not fit the receptacle); ``precondition`` -- the right action in the
 #: wrong state (not close, hidden in or blocked by something closed, hand full or empty, already open/on/sliced,
-#: a running microwave); ``absent`` -- the action names a thing this room does not have (the core labels it a
-#: hallucinated object). The environment reports ``wrong_target`` when a failed action acts on a look-alike of
+#: a running microwave); ``absent`` -- the action names a thing this room does not have (the core labels it
+#: ``not_in_scene``: the action list offers every type, so trying one is a belief about the room, not a percept). The environment reports ``wrong_target`` when a failed action acts on a look-alike of
 #: the thing the goal singles out.
 FAILURES = ("affordance", "precondition", "absent", "wrong_target")
 

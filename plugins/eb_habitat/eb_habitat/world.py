@@ -48,7 +48,7 @@ def _article(label: str) -> str:
 #: the 70 skills is one of these: ``precondition`` -- the right skill in the wrong state (not standing at the
 #: receptacle, hand full or empty, the container closed or already open/closed, no free slot left, the object
 #: lies at another receptacle); ``absent`` -- a pick names a kind of object this apartment does not hold (the
-#: core labels it a hallucinated object).
+#: core labels it ``not_in_scene``).
 #: ``affordance`` never happens: the skill set has no skill that acts on something unable to take it (only the
 #: four containers have open/close skills, place skills exist only for receptacles, pick skills only for
 #: objects), so it is not in this tuple.

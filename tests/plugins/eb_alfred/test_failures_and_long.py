@@ -54,7 +54,7 @@ def scene() -> dict:
     (["find a Microwave", "turn on the Microwave", "open the Microwave"], "precondition"),  # running
     (["find a Microwave", "open the Microwave", "turn on the Microwave"], "precondition"),  # open
     (["find a Mug", "pick up the Mug", "find a Cabinet", "put down the object in hand"], "precondition"),  # closed
-    # absent: the room has no such thing (a hallucinated object for the error analysis)
+    # absent: the room has no such thing (not_in_scene for the error analysis)
     (["find a Laptop"], "absent"),
 ])
 def test_world_labels_each_failure(actions: list[str], label: str) -> None:
