@@ -146,8 +146,8 @@ class StepResult(BaseModel):
     * ``failure``: why a failed action failed, one of ``"affordance"`` (the object does not support the
       action), ``"precondition"`` (right action, wrong state: closed, hand full, not near), ``"wrong_target"``
       (a look-alike or wrong instance), ``"absent"`` (the action names a thing the scene does not have: a
-      wrong belief about the scene, ``not_in_scene``), ``"collision"``, ``"grasp"`` (manipulation); None or absent when the
-      action succeeded or the world cannot tell. Recorded per action in ``steps.jsonl``.
+      wrong belief about the scene, ``not_in_scene``), ``"collision"``, ``"grasp"`` (manipulation); None or
+      absent when the action succeeded or the world cannot tell. Recorded per action in ``steps.jsonl``.
     * ``distance_to_goal``: metres (or the world's unit) from the agent to its goal after the action, for the
       navigation-drift label.
     """
