@@ -30,7 +30,14 @@ import statistics
 from typing import Any
 
 from eb_alfred.actions import scene_actions
-from eb_alfred.audit import _targets, candidate_phrases, phrase_problems, relation_problems, use_phrase
+from eb_alfred.audit import (
+    _targets,
+    candidate_phrases,
+    held_problems,
+    phrase_problems,
+    relation_problems,
+    use_phrase,
+)
 from eb_alfred.catalog import KNIVES, TYPES, fits
 from eb_alfred.draw import (
     _PLACE_TARGETS,
@@ -384,7 +391,8 @@ def make_hard(subset: str, kind: str, seed: int, rng: random.Random, views_for: 
         views = views_for(world)
         if (image_problems(seen, views) or relation_problems(text, goal, views, own_view=True)
                 or _hidden_refused(cfg.get("check_hidden"), world, goal, xt, views)
-                or _shown_refused(cfg.get("check_shown"), world, goal, xt, views)):
+                or _shown_refused(cfg.get("check_shown"), world, goal, xt, views)
+                or held_problems(text, goal, views)):
             return None
     return rec
 

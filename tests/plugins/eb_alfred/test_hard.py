@@ -406,6 +406,35 @@ def test_a_relation_is_judged_in_the_view_of_the_thing_it_singles_out() -> None:
         renderer.close()
 
 
+def test_what_singles_out_the_destination_stays_in_view_while_the_object_is_in_hand() -> None:
+    """A stateless agent judges "the brown cabinet just to the left of the garbage can" when it gets there with
+    the object in hand, and the held thing is drawn low in the right of the view: in complex_instruction_29 of the
+    fourth regeneration the black pot hid the garbage can (0.08 of its empty-handed area), which the empty-handed
+    checks passed. ``held_problems`` refuses such a draw; no shipped hard task has one (all rendered)."""
+    from eb_alfred.audit import HELD_MIN, Views, held_problems, relation_problems
+    from eb_alfred.render import AlfredRenderer
+
+    case = json.loads((Path(__file__).parent / "data" / "held_hides.json").read_text())
+    renderer = AlfredRenderer(250)
+    try:
+        w = World.from_scene(case["scene"])
+        views = Views(w, renderer)
+        assert relation_problems(case["instruction"], case["goal"], views, own_view=True) == []  # hands empty
+        got = held_problems(case["instruction"], case["goal"], views)
+        assert len(got) == 1 and got[0].startswith("GarbageCan shows 0.") and "while holding Pot_7" in got[0]
+        dest = case["goal"]["receptacle"]["instance"]
+        assert views.held_view(dest, "Pot_7")["GarbageCan"] < HELD_MIN * views.view(dest)["GarbageCan"]
+        bad = {}
+        for t in _hard():
+            found = held_problems(t.instruction, t.metadata["goal"], Views(World.from_scene(t.metadata["scene"]),
+                                                                           renderer))
+            if found:
+                bad[t.id] = found[0]
+        assert bad == {}
+    finally:
+        renderer.close()
+
+
 # ------------------------------------------------------------------------------------------ session 8: finer looks
 def _object_type(w: World, goal: dict) -> str:
     ref = goal["object"]
