@@ -179,18 +179,23 @@ class Views:
         self._worlds: dict[str | None, World] = {}
         self._shown: dict[str, float] = {}
 
+    @staticmethod
+    def _reach(w: World, name: str) -> None:
+        """``find`` ``name`` in ``w`` and open the closed containers around it, outermost first."""
+        w.step(VERBS["find"].format(name))
+        for _ in range(3):
+            box = w.closed_container(name)
+            if box is None or box == name:
+                break
+            w.step(VERBS["find"].format(box))
+            w.step(VERBS["open"].format(box))
+            w.step(VERBS["find"].format(name))
+
     def view(self, name: str | None) -> dict[str, float]:
         if name not in self._cache:
             w = self.world.copy()
             if name is not None:
-                w.step(VERBS["find"].format(name))
-                for _ in range(3):  # open the closed containers around it, outermost first
-                    box = w.closed_container(name)
-                    if box is None or box == name:
-                        break
-                    w.step(VERBS["find"].format(box))
-                    w.step(VERBS["open"].format(box))
-                    w.step(VERBS["find"].format(name))
+                self._reach(w, name)
             self.renderer.render(w)
             self._cache[name] = self.renderer.visible_fraction(w, _RES)
             self._worlds[name] = w
@@ -204,14 +209,7 @@ class Views:
         key = f"{name}\x00{held}"
         if key not in self._cache:
             w = self.world.copy()
-            w.step(VERBS["find"].format(held))
-            for _ in range(3):
-                box = w.closed_container(held)
-                if box is None or box == held:
-                    break
-                w.step(VERBS["find"].format(box))
-                w.step(VERBS["open"].format(box))
-                w.step(VERBS["find"].format(held))
+            self._reach(w, held)
             w.step(VERBS["pickup"].format(held))
             if w.held != held:
                 self._cache[key] = {}
