@@ -397,7 +397,8 @@ def _run_phrase(tasks: list[Any], env_params: dict[str, Any]) -> Any:
 _RENDER_CHECKS: dict[str, Any] = {
     "attribute_rendered": lambda t, v: attribute_problems(t.instruction, t.metadata["goal"], v),
     "visible_area": lambda t, v: visibility_problems(t.metadata["goal"], v),
-    "relation_visible": lambda t, v: relation_problems(t.instruction, t.metadata["goal"], v),
+    "relation_visible": lambda t, v: (relation_problems(t.instruction, t.metadata["goal"], v)
+                                      or held_problems(t.instruction, t.metadata["goal"], v)),
 }
 _LAST_PASS: list[Any] = []
 """The last rendering pass: [the task list it ran on (kept alive, so its id stays unique), its findings]."""
@@ -451,6 +452,7 @@ def probes() -> list[Any]:
                    "image after the action that brings it into view.",
                    _render_probe("visible_area")),
         AuditProbe("relation_visible", "The things a spatial phrase relates are all in one image the agent "
-                   "can get (the start view or the view after finding one of them).",
+                   "can get (the start view or the view after finding one of them), and the destination and "
+                   "its neighbour stay in view with the object in hand.",
                    _render_probe("relation_visible")),
     ]

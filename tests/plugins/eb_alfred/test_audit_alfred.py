@@ -138,6 +138,19 @@ def test_relation_probe_catches_a_relation_never_in_one_image() -> None:
     assert _probe("referring_phrase").run([near, far], {}).passed
 
 
+def test_relation_probe_catches_a_neighbour_hidden_by_the_object_in_hand() -> None:
+    """hard complex_instruction_29 of the fourth regeneration: with the black pot in hand, the garbage can of "the
+    brown cabinet just to the left of the garbage can" shows 0.08 of itself; the empty-handed views see it."""
+    from pathlib import Path
+
+    case = json.loads((Path(__file__).parent / "data" / "held_hides.json").read_text())
+    task = Task(id="held", subset="complex_instruction", instruction=case["instruction"],
+                metadata={"goal": case["goal"], "scene": case["scene"], "task_type": case["goal"]["kind"]})
+    result = _probe("relation_visible").run([task], {})
+    assert not result.passed and result.failing_tasks == ["held"]
+    assert "GarbageCan" in result.rows[0]["problem"] and "while holding Pot_7" in result.rows[0]["problem"]
+
+
 @pytest.mark.parametrize("subset", ["spatial_awareness", "visual_appearance"])
 def test_shipped_files_record_template_ids(subset: str) -> None:
     data = json.loads((TASK_DIR / f"{subset}.json").read_text())
