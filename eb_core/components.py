@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib
+import random
 from collections.abc import Sequence
 from typing import Any
 
@@ -160,8 +161,6 @@ def sample_of_subsets(tasks: Sequence[Task], k: int, seed: int) -> list[Task]:
     subset from its own seeded stream (the seed, the subset's name and size), so every task of a subset is as
     likely to be played, the subsets' draws are independent, and the same seed gives the same sample on every
     machine. Kept in the input's order."""
-    import random
-
     by_subset: dict[str, list[int]] = {}
     for i, t in enumerate(tasks):
         by_subset.setdefault(t.subset, []).append(i)

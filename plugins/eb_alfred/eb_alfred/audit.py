@@ -176,6 +176,7 @@ class Views:
         self.renderer = renderer
         self.renderer.load(world)
         self._cache: dict[str | None, dict[str, float]] = {}
+        self._held: dict[tuple[str, str], dict[str, float]] = {}
         self._worlds: dict[str | None, World] = {}
         self._shown: dict[str, float] = {}
 
@@ -206,18 +207,18 @@ class Views:
         up): where an agent that remembers no earlier image judges the destination. The held thing is drawn low
         in the right of the view and can hide what stands right of the destination. ``{}`` when ``held``
         cannot be picked up from the start state."""
-        key = f"{name}\x00{held}"
-        if key not in self._cache:
+        key = (name, held)
+        if key not in self._held:
             w = self.world.copy()
             self._reach(w, held)
             w.step(VERBS["pickup"].format(held))
             if w.held != held:
-                self._cache[key] = {}
+                self._held[key] = {}
                 return {}
             w.step(VERBS["find"].format(name))
             self.renderer.render(w)
-            self._cache[key] = self.renderer.visible_fraction(w, _RES)
-        return self._cache[key]
+            self._held[key] = self.renderer.visible_fraction(w, _RES)
+        return self._held[key]
 
     def world_after(self, name: str | None) -> World:
         """The state behind :meth:`view` (start, or after finding ``name`` and opening what hides it)."""
